@@ -1,0 +1,88 @@
+# Pelt's commands. `make demo` and `make test` set up everything they need on a fresh Debian
+# machine with Rust and Python 3.11, and are quick when nothing changed.
+
+SHELL := /bin/bash
+.DEFAULT_GOAL := test
+
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+VERSION := $(shell sed -n 's/^version = "\(.*\)"/\1/p' Cargo.toml | head -n 1)
+APT_PACKAGES := mesa-vulkan-drivers libvulkan1 libegl1 libegl-mesa0 libgl1-mesa-dri
+PY_REQUIREMENTS := bpy==5.0.1 pytest==9.2.0 maturin==1.16.0 ruff==0.17.6
+
+# Everything the wheel is built from.
+RUST_SOURCES := Cargo.toml Cargo.lock pyproject.toml $(shell find src python -type f 2>/dev/null)
+ADDON_SOURCES := $(shell find addon -type f -not -path '*/__pycache__/*' 2>/dev/null)
+WHEEL_STAMP := build/wheels/.stamp
+INSTALL_STAMP := $(VENV)/.pelt-installed
+ZIP := dist/pelt-$(VERSION)-linux_x64.zip
+
+# Mesa prints a warning without a runtime folder; the tests and the renderer do not need a real one.
+export XDG_RUNTIME_DIR ?= /tmp/pelt-runtime-$(shell id -u)
+# cargo test links the `python` feature's test binaries against libpython.
+export LD_LIBRARY_PATH := $(shell $(PYTHON) -c 'import sysconfig; print(sysconfig.get_config_var("LIBDIR") or "")'):$(LD_LIBRARY_PATH)
+
+.PHONY: demo test bench package setup system-deps check-rust check-python clean
+
+demo: setup
+	$(PY) blender_scripts/demo.py
+
+test: setup $(ZIP) check-rust check-python
+
+setup: system-deps $(INSTALL_STAMP)
+	@mkdir -p -m 700 $(XDG_RUNTIME_DIR)
+
+# Mesa's Vulkan (lavapipe) and GL drivers: a real GPU device on machines without a GPU.
+system-deps:
+	@missing=$$(for p in $(APT_PACKAGES); do \
+		dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'ok installed' || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+		if [ "$$(id -u)" = 0 ]; then \
+			echo "installing $$missing"; \
+			apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing >/dev/null; \
+		else \
+			echo "warning: missing Debian packages: $$missing (install them as root)"; \
+		fi; \
+	fi
+
+$(VENV)/.requirements: Makefile
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q $(PY_REQUIREMENTS)
+	touch $@
+
+$(WHEEL_STAMP): $(VENV)/.requirements $(RUST_SOURCES)
+	rm -f build/wheels/pelt-*.whl
+	$(VENV)/bin/maturin build --release --quiet -o build/wheels
+	touch $@
+
+$(INSTALL_STAMP): $(WHEEL_STAMP)
+	$(PY) -m pip install -q --force-reinstall --no-deps build/wheels/pelt-*.whl
+	touch $@
+
+$(ZIP): $(WHEEL_STAMP) $(ADDON_SOURCES) scripts/package_extension.py
+	$(PY) scripts/package_extension.py build/wheels/pelt-*.whl --out dist
+
+package: setup $(ZIP)
+
+check-rust:
+	cargo fmt --check
+	cargo clippy --all-targets --all-features -- -D warnings
+	cargo test --all-features
+
+check-python: setup
+	$(VENV)/bin/ruff check addon blender_scripts scripts tests/blender python
+	$(VENV)/bin/ruff format --check addon blender_scripts scripts tests/blender python
+	$(PY) -m pytest tests/blender
+
+bench: setup
+	cargo build --release --features render --bin pelt
+	@mkdir -p out
+	./target/release/pelt bench --json out/bench.json
+	$(PY) blender_scripts/bench_transfer.py --json out/bench_blender.json
+	$(PY) scripts/bench_report.py out/bench.json out/bench_blender.json > docs/benchmarks.md
+
+clean:
+	rm -rf build dist out $(VENV)
+	cargo clean

@@ -1,0 +1,26 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Pelt: real-time fur on any mesh.
+
+Registration follows one pattern: each module exports ``CLASSES``; ``register()`` registers them in
+order and attaches ``bpy.types.Object.pelt``; ``unregister()`` undoes it in reverse.
+"""
+
+import bpy
+
+from . import ops, panels, props
+
+_MODULES = (props, ops, panels)
+
+
+def register() -> None:
+    for module in _MODULES:
+        for cls in module.CLASSES:
+            bpy.utils.register_class(cls)
+    bpy.types.Object.pelt = bpy.props.PointerProperty(type=props.PeltObjectSettings)
+
+
+def unregister() -> None:
+    del bpy.types.Object.pelt
+    for module in reversed(_MODULES):
+        for cls in reversed(module.CLASSES):
+            bpy.utils.unregister_class(cls)

@@ -1,0 +1,47 @@
+"""Writes docs/benchmarks.md from ``pelt bench --json`` files (and the Blender transfer benchmark).
+
+Usage: python scripts/bench_report.py out/bench.json out/bench_blender.json > docs/benchmarks.md
+"""
+
+import json
+import sys
+from pathlib import Path
+
+# Goals from the issues, in seconds, on the 2-core reference machine.
+GOALS = {
+    "mesh.build": 0.030,
+    "blender.transfer": 0.100,
+}
+
+
+def cell(value, fmt):
+    return "–" if value is None else format(value, fmt)
+
+
+def main() -> None:
+    reports = [json.loads(Path(p).read_text()) for p in sys.argv[1:]]
+    head = reports[0]
+    print("# Benchmarks\n")
+    print("Written by `make bench` (`pelt bench` and `blender_scripts/bench_transfer.py`); do not edit.")
+    print(
+        f"pelt {head.get('pelt', '?')}, {head.get('threads', '?')} threads, "
+        f"adapter: {head.get('adapter') or 'none used'}. Seconds are medians of several runs.\n"
+    )
+    print("| case | size | seconds | goal | peak MiB | error | error metric | speedup |")
+    print("|---|---|---:|---:|---:|---:|---|---:|")
+    for report in reports:
+        for case in report["cases"]:
+            goal = GOALS.get(case["name"])
+            verdict = "" if goal is None else (" ✓" if case["seconds"] <= goal else " ✗")
+            peak = None if case.get("peak_bytes") is None else case["peak_bytes"] / 2**20
+            speedup = case.get("speedup")
+            versus = "–" if speedup is None else f"{speedup:.1f}× vs `{case.get('baseline')}`"
+            print(
+                f"| `{case['name']}` | {case['size']} | {case['seconds']:.4f}{verdict} | "
+                f"{cell(goal, '.3f')} | {cell(peak, '.1f')} | {cell(case.get('error'), '.2e')} | "
+                f"{case.get('error_metric') or '–'} | {versus} |"
+            )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,171 @@
+//! Benchmark cases for `pelt bench` (DESIGN.md §3, "Benchmarks").
+//!
+//! Each case times its work several times and reports the median, the peak heap growth during one
+//! run (when the binary installed [`TrackingAllocator`]), and, where it has one, an error figure
+//! against an independent reference. Speed goals are judged on these figures, never in tests.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::error::Result;
+use crate::mesh::{FurMesh, MeshInput, shapes};
+
+/// One line of the benchmark table.
+#[derive(Debug, Clone, Serialize)]
+pub struct CaseResult {
+    /// Dotted case name, e.g. `mesh.build`.
+    pub name: String,
+    /// What was measured, in words (sizes, counts).
+    pub size: String,
+    /// Median wall-clock seconds.
+    pub seconds: f64,
+    /// Peak heap growth of one run, bytes; `None` without the tracking allocator.
+    pub peak_bytes: Option<usize>,
+    /// Error against the reference named in `error_metric`.
+    pub error: Option<f64>,
+    /// How `error` was measured.
+    pub error_metric: Option<String>,
+    /// Case this one is compared with.
+    pub baseline: Option<String>,
+    /// `baseline.seconds / seconds`, measured in the same run.
+    pub speedup: Option<f64>,
+}
+
+/// The whole report, as written by `--json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    /// Crate version.
+    pub pelt: &'static str,
+    /// Threads in Pelt's pool.
+    pub threads: usize,
+    /// GPU adapter used by render cases, if any ran.
+    pub adapter: Option<String>,
+    /// One entry per case.
+    pub cases: Vec<CaseResult>,
+}
+
+/// Options of one benchmark run.
+#[derive(Debug, Clone, Default)]
+pub struct BenchOptions {
+    /// Fewer repetitions and smaller sizes: the whole run under a minute.
+    pub quick: bool,
+    /// Only cases whose name starts with this.
+    pub only: Option<String>,
+}
+
+struct Case {
+    name: &'static str,
+    run: fn(&BenchOptions) -> Result<CaseResult>,
+}
+
+const CASES: &[Case] = &[Case {
+    name: "mesh.build",
+    run: mesh_build,
+}];
+
+/// Runs the selected cases in order.
+///
+/// # Errors
+/// Whatever a case's own work returns (none of the current cases fail on valid builds).
+pub fn run(options: &BenchOptions) -> Result<Report> {
+    let prefix = options.only.as_deref().unwrap_or("");
+    let cases = CASES
+        .iter()
+        .filter(|c| c.name.starts_with(prefix))
+        .map(|c| (c.run)(options))
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Report {
+        pelt: crate::VERSION,
+        threads: crate::threads::thread_count(),
+        adapter: None,
+        cases,
+    })
+}
+
+/// Median seconds of `reps` runs of `work`, after one warm-up run that also measures peak heap.
+fn time_median<T>(reps: usize, mut work: impl FnMut() -> T) -> (f64, Option<usize>) {
+    let peak = measure_peak(&mut work);
+    let mut times: Vec<f64> = (0..reps.max(1))
+        .map(|_| {
+            let start = Instant::now();
+            std::hint::black_box(work());
+            start.elapsed().as_secs_f64()
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    (times[times.len() / 2], peak)
+}
+
+/// `mesh.build`: validation, edge map, normals, frames and statistics of a 100k-triangle torus.
+fn mesh_build(options: &BenchOptions) -> Result<CaseResult> {
+    let (positions, triangles) = shapes::torus(224, 224);
+    let reps = if options.quick { 7 } else { 31 };
+    let mut failure = None;
+    let (seconds, peak_bytes) = time_median(reps, || {
+        if let Err(e) = FurMesh::new(MeshInput::new(&positions, &triangles)) {
+            failure = Some(e);
+        }
+    });
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    Ok(CaseResult {
+        name: "mesh.build".into(),
+        size: format!("{} triangles, {} vertices", triangles.len(), positions.len()),
+        seconds,
+        peak_bytes,
+        error: None,
+        error_metric: None,
+        baseline: None,
+        speedup: None,
+    })
+}
+
+static TRACKING: AtomicBool = AtomicBool::new(false);
+static CURRENT: AtomicUsize = AtomicUsize::new(0);
+static PEAK: AtomicUsize = AtomicUsize::new(0);
+
+/// A global allocator that counts live heap bytes, so cases can report their peak. The `pelt`
+/// binary installs it; the library and the Python module do not.
+pub struct TrackingAllocator;
+
+// SAFETY: forwards every call to the system allocator unchanged; only counts sizes.
+unsafe impl GlobalAlloc for TrackingAllocator {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        // SAFETY: same contract as the caller's.
+        let ptr = unsafe { System.alloc(layout) };
+        if !ptr.is_null() {
+            let now = CURRENT.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();
+            PEAK.fetch_max(now, Ordering::Relaxed);
+        }
+        ptr
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: same contract as the caller's.
+        unsafe { System.dealloc(ptr, layout) };
+        CURRENT.fetch_sub(layout.size(), Ordering::Relaxed);
+    }
+}
+
+impl TrackingAllocator {
+    /// Tells [`run`] that the allocator is installed (call once from `main`).
+    pub fn enable() {
+        TRACKING.store(true, Ordering::Relaxed);
+    }
+}
+
+/// Runs `work` once and returns its peak heap growth when the tracking allocator is installed.
+fn measure_peak<T>(work: &mut impl FnMut() -> T) -> Option<usize> {
+    if !TRACKING.load(Ordering::Relaxed) {
+        std::hint::black_box(work());
+        return None;
+    }
+    let base = CURRENT.load(Ordering::Relaxed);
+    PEAK.store(base, Ordering::Relaxed);
+    std::hint::black_box(work());
+    Some(PEAK.load(Ordering::Relaxed).saturating_sub(base))
+}

@@ -1,0 +1,151 @@
+//! The one error type of the crate.
+//!
+//! Every fallible public function returns [`Result`]. The Python layer maps each variant onto one
+//! exception class of the tree `pelt.PeltError` > `InvalidMeshError`, `InvalidParameterError`,
+//! `BakeCancelled`, `RenderError` (see `src/python/errors.rs`), so the variants here are the
+//! categories a user can act on, and the message names the element that is wrong.
+
+use thiserror::Error;
+
+/// Result alias used throughout the crate.
+pub type Result<T, E = PeltError> = std::result::Result<T, E>;
+
+/// Everything that can go wrong in Pelt.
+#[derive(Debug, Error)]
+pub enum PeltError {
+    /// The mesh or one of its attribute arrays is unusable; the message names the element.
+    #[error("invalid mesh: {0}")]
+    InvalidMesh(#[from] MeshError),
+
+    /// A parameter is out of its documented range.
+    #[error("invalid parameter `{name}`: {reason}")]
+    InvalidParameter {
+        /// Parameter name as the user spells it.
+        name: String,
+        /// What is wrong with it, including the allowed range.
+        reason: String,
+    },
+
+    /// A long operation was cancelled through its cancel flag.
+    #[error("cancelled")]
+    Cancelled,
+
+    /// The GPU renderer failed (no adapter, device lost, out of memory, shader error).
+    #[error("render error: {0}")]
+    Render(String),
+
+    /// Reading or writing a file failed.
+    #[error("I/O error on {path}: {source}")]
+    Io {
+        /// The file involved.
+        path: String,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+
+    /// A bug in Pelt (for example a caught panic). Please report it.
+    #[error("internal error: {0}")]
+    Internal(String),
+}
+
+impl PeltError {
+    /// Shorthand for [`PeltError::InvalidParameter`].
+    pub fn parameter(name: impl Into<String>, reason: impl Into<String>) -> Self {
+        PeltError::InvalidParameter {
+            name: name.into(),
+            reason: reason.into(),
+        }
+    }
+}
+
+/// What is wrong with a mesh. Each variant names the array and the row involved.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum MeshError {
+    /// The mesh has no vertices or no triangles.
+    #[error("the mesh has no {0}")]
+    Empty(&'static str),
+
+    /// An array does not have the expected shape (raised by bindings that receive untyped arrays).
+    #[error("`{array}` must have shape {expected}, got {got}")]
+    Shape {
+        /// Array name.
+        array: &'static str,
+        /// Expected shape, e.g. `[N, 3]`.
+        expected: String,
+        /// Actual shape.
+        got: String,
+    },
+
+    /// An array has an element type that cannot be converted losslessly.
+    #[error("`{array}` has dtype {got}, expected {expected}")]
+    DType {
+        /// Array name.
+        array: &'static str,
+        /// Expected element type.
+        expected: &'static str,
+        /// Actual element type.
+        got: String,
+    },
+
+    /// A per-vertex attribute has the wrong number of rows.
+    #[error("`{array}` has {got} rows but the mesh has {expected} vertices")]
+    AttributeLength {
+        /// Array name.
+        array: &'static str,
+        /// Number of vertices.
+        expected: usize,
+        /// Rows given.
+        got: usize,
+    },
+
+    /// A NaN or infinity was found.
+    #[error("`{array}` row {row} component {component} is {value} (not finite)")]
+    NonFinite {
+        /// Array name.
+        array: &'static str,
+        /// Row (vertex) index.
+        row: usize,
+        /// Column index.
+        component: usize,
+        /// The offending value.
+        value: f32,
+    },
+
+    /// A triangle refers to a vertex that does not exist.
+    #[error(
+        "triangle {triangle} corner {corner} refers to vertex {index}, but the mesh has {vertex_count} vertices"
+    )]
+    IndexOutOfRange {
+        /// Triangle index.
+        triangle: usize,
+        /// Corner (0, 1, 2).
+        corner: usize,
+        /// The bad index (as given, so negative values from signed arrays survive).
+        index: i64,
+        /// Number of vertices.
+        vertex_count: usize,
+    },
+
+    /// A hair length multiplier outside `[0, MAX_LENGTH]`.
+    #[error("`length` of vertex {vertex} is {value}, outside [0, {max}]")]
+    LengthOutOfRange {
+        /// Vertex index.
+        vertex: usize,
+        /// The value.
+        value: f32,
+        /// The allowed maximum.
+        max: f32,
+    },
+
+    /// A given vertex normal has zero length, so it has no direction.
+    #[error("`normals` row {row} has zero length")]
+    ZeroNormal {
+        /// Vertex index.
+        row: usize,
+    },
+
+    /// More vertices than 32-bit indices can address.
+    #[error("the mesh has {0} vertices; at most 4294967295 are supported")]
+    TooManyVertices(usize),
+}

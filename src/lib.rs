@@ -1,0 +1,25 @@
+//! # Pelt
+//!
+//! Real-time fur on any mesh, after Lengyel, Praun, Finkelstein and Hoppe, "Real-Time Fur over
+//! Arbitrary Surfaces" (I3D 2001): lapped texture patches aligned to a painted comb field, a tileable
+//! hair volume sampled into shell and fin textures, precomputed radiance transfer for hair
+//! self-shadowing, and a wgpu preview renderer.
+//!
+//! The crate is usable from Rust alone; the Python module (feature `python`) and the renderer
+//! (feature `render`) are thin layers on top. Start with [`FurMesh`].
+
+pub mod bench;
+pub mod error;
+pub mod mesh;
+pub mod threads;
+
+#[cfg(feature = "python")]
+mod python;
+#[cfg(feature = "render")]
+pub mod render;
+
+pub use error::{MeshError, PeltError, Result};
+pub use mesh::{FurMesh, MeshInput, MeshStats};
+
+/// The crate version, as reported by `pelt.__version__` and `pelt bench`.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");

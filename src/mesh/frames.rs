@@ -1,0 +1,123 @@
+//! Face normals, area-weighted vertex normals and per-vertex tangent frames.
+//!
+//! Vertex normals sum the unnormalized face normals (|n| = twice the area) of the triangles around
+//! the vertex, so large faces weigh more and degenerate ones weigh nothing. The tangent frame is the
+//! branchless orthonormal basis of Duff et al., "Building an Orthonormal Basis, Revisited" (JCGT
+//! 2017): continuous everywhere except where the normal points straight down, and cheap; the comb
+//! field measures its angles against it, so only its consistency matters, not its direction.
+
+use rayon::prelude::*;
+
+use super::topology::Topology;
+
+/// Fallback normal for a vertex whose triangles all have zero area (or that has none).
+const FALLBACK_NORMAL: [f32; 3] = [0.0, 0.0, 1.0];
+
+/// A triangle counts as degenerate when the sine of its corner angle at vertex 0 is below this.
+const DEGENERATE_SINE: f32 = 1e-6;
+
+pub(super) fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+pub(super) fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+pub(super) fn norm(a: [f32; 3]) -> f32 {
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+
+fn normalize_or(a: [f32; 3], fallback: [f32; 3]) -> [f32; 3] {
+    let n = norm(a);
+    if n > 0.0 && n.is_finite() {
+        [a[0] / n, a[1] / n, a[2] / n]
+    } else {
+        fallback
+    }
+}
+
+/// Unnormalized normal per triangle: `(p1 - p0) × (p2 - p0)`, length twice the area.
+pub(super) fn face_normals(positions: &[[f32; 3]], triangles: &[[u32; 3]]) -> Vec<[f32; 3]> {
+    triangles
+        .par_iter()
+        .map(|t| {
+            let p0 = positions[t[0] as usize];
+            cross(
+                sub(positions[t[1] as usize], p0),
+                sub(positions[t[2] as usize], p0),
+            )
+        })
+        .collect()
+}
+
+/// True for triangles with a repeated vertex or (numerically) collinear corners.
+pub(super) fn degenerate_faces(
+    positions: &[[f32; 3]],
+    triangles: &[[u32; 3]],
+    face_normals: &[[f32; 3]],
+) -> Vec<bool> {
+    triangles
+        .par_iter()
+        .zip(face_normals)
+        .map(|(t, n)| {
+            if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
+                return true;
+            }
+            let p0 = positions[t[0] as usize];
+            let e1 = norm(sub(positions[t[1] as usize], p0));
+            let e2 = norm(sub(positions[t[2] as usize], p0));
+            // |e1 × e2| = |e1| |e2| sin(angle): scale-free test for zero area
+            norm(*n) <= DEGENERATE_SINE * e1 * e2
+        })
+        .collect()
+}
+
+/// Area-weighted unit vertex normals.
+pub(super) fn vertex_normals(topology: &Topology, face_normals: &[[f32; 3]]) -> Vec<[f32; 3]> {
+    (0..topology.vertex_count())
+        .into_par_iter()
+        .map(|v| {
+            let sum = topology.vertex_faces(v).iter().fold([0.0f32; 3], |acc, &f| {
+                let n = face_normals[f as usize];
+                [acc[0] + n[0], acc[1] + n[1], acc[2] + n[2]]
+            });
+            normalize_or(sum, FALLBACK_NORMAL)
+        })
+        .collect()
+}
+
+/// Given normals scaled to unit length (validation has rejected zero rows).
+pub(super) fn normalize_given(normals: &[[f32; 3]]) -> Vec<[f32; 3]> {
+    normals
+        .par_iter()
+        .map(|&n| normalize_or(n, FALLBACK_NORMAL))
+        .collect()
+}
+
+/// Tangent and bitangent per vertex from its unit normal.
+pub(super) fn tangent_frames(normals: &[[f32; 3]]) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
+    normals
+        .par_iter()
+        .map(|&n| {
+            let [t, b] = orthonormal_basis(n);
+            (t, b)
+        })
+        .unzip()
+}
+
+/// Two unit vectors `[t, b]` completing the unit vector `n` to a right-handed basis `(t, b, n)`
+/// (Duff et al. 2017).
+pub fn orthonormal_basis(n: [f32; 3]) -> [[f32; 3]; 2] {
+    let sign = 1.0f32.copysign(n[2]);
+    let a = -1.0 / (sign + n[2]);
+    let b = n[0] * n[1] * a;
+    [
+        [1.0 + sign * n[0] * n[0] * a, sign * b, -sign * n[0]],
+        [b, sign + n[1] * n[1] * a, -n[1]],
+    ]
+}

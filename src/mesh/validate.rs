@@ -1,0 +1,103 @@
+//! Input checks for [`super::FurMesh`]. Each check reports the first offending row (lowest index),
+//! found in parallel but independent of the thread count.
+
+use rayon::prelude::*;
+
+use super::{MAX_LENGTH, MeshInput};
+use crate::error::MeshError;
+
+/// Checks every array of `input`; the order of checks is the order of the error list in the docs.
+pub(super) fn validate(input: &MeshInput<'_>) -> Result<(), MeshError> {
+    let n = input.positions.len();
+    if n == 0 {
+        return Err(MeshError::Empty("vertices"));
+    }
+    if input.triangles.is_empty() {
+        return Err(MeshError::Empty("triangles"));
+    }
+    if n > u32::MAX as usize {
+        return Err(MeshError::TooManyVertices(n));
+    }
+    for (array, rows) in [
+        ("normals", input.normals.map(<[_]>::len)),
+        ("color", input.color.map(<[_]>::len)),
+        ("comb", input.comb.map(<[_]>::len)),
+        ("length", input.length.map(<[_]>::len)),
+    ] {
+        if let Some(got) = rows
+            && got != n
+        {
+            return Err(MeshError::AttributeLength {
+                array,
+                expected: n,
+                got,
+            });
+        }
+    }
+    finite_rows("positions", input.positions)?;
+    indices_in_range(input.triangles, n)?;
+    if let Some(normals) = input.normals {
+        finite_rows("normals", normals)?;
+        if let Some(row) = normals.par_iter().position_first(|v| v.iter().all(|&c| c == 0.0)) {
+            return Err(MeshError::ZeroNormal { row });
+        }
+    }
+    if let Some(color) = input.color {
+        finite_rows("color", color)?;
+    }
+    if let Some(comb) = input.comb {
+        finite_rows("comb", comb)?;
+    }
+    if let Some(length) = input.length {
+        let rows: &[[f32; 1]] = length.as_chunks::<1>().0;
+        finite_rows("length", rows)?;
+        if let Some(vertex) = length
+            .par_iter()
+            .position_first(|&l| !(0.0..=MAX_LENGTH).contains(&l))
+        {
+            return Err(MeshError::LengthOutOfRange {
+                vertex,
+                value: length[vertex],
+                max: MAX_LENGTH,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Fails on the first row holding a NaN or infinity.
+fn finite_rows<const C: usize>(array: &'static str, rows: &[[f32; C]]) -> Result<(), MeshError> {
+    let Some(row) = rows
+        .par_iter()
+        .position_first(|r| r.iter().any(|c| !c.is_finite()))
+    else {
+        return Ok(());
+    };
+    let component = rows[row].iter().position(|c| !c.is_finite()).unwrap_or(0);
+    Err(MeshError::NonFinite {
+        array,
+        row,
+        component,
+        value: rows[row][component],
+    })
+}
+
+/// Fails on the first triangle corner that names a vertex `>= vertex_count`.
+fn indices_in_range(triangles: &[[u32; 3]], vertex_count: usize) -> Result<(), MeshError> {
+    let Some(triangle) = triangles
+        .par_iter()
+        .position_first(|t| t.iter().any(|&i| i as usize >= vertex_count))
+    else {
+        return Ok(());
+    };
+    let corner = triangles[triangle]
+        .iter()
+        .position(|&i| i as usize >= vertex_count)
+        .unwrap_or(0);
+    Err(MeshError::IndexOutOfRange {
+        triangle,
+        corner,
+        index: i64::from(triangles[triangle][corner]),
+        vertex_count,
+    })
+}

@@ -1,0 +1,158 @@
+//! numpy → Rust slices. An array that already is C-contiguous with the wanted dtype is read in
+//! place (zero-copy); any other numeric array or sequence is converted once by numpy. Shapes and
+//! dtypes that cannot be meant (strings, complex, floats as indices, wrong column counts) raise
+//! `pelt.InvalidMeshError` naming the array.
+
+use numpy::{
+    Element, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArray,
+    PyUntypedArrayMethods,
+};
+use pyo3::prelude::*;
+use pyo3::types::PyAnyMethods;
+use rayon::prelude::*;
+
+use crate::error::{MeshError, PeltError};
+
+/// A triangle index array: borrowed when it already is `uint32`, otherwise widened to `int64`
+/// so negative and too-large indices can be reported as they were given.
+pub(super) enum IndexArray<'py> {
+    Native(PyReadonlyArrayDyn<'py, u32>),
+    Wide(PyReadonlyArrayDyn<'py, i64>),
+}
+
+fn mesh_error(e: MeshError) -> PyErr {
+    PeltError::from(e).into()
+}
+
+fn shape_text(shape: &[usize]) -> String {
+    let parts: Vec<String> = shape.iter().map(usize::to_string).collect();
+    format!("[{}]", parts.join(", "))
+}
+
+/// `obj` as a numpy array (sequences go through `numpy.asarray`), with its shape checked against
+/// `[N]` (`cols == None`) or `[N, cols]`.
+fn as_checked_array<'py>(
+    obj: &Bound<'py, PyAny>,
+    name: &'static str,
+    cols: Option<usize>,
+) -> PyResult<Bound<'py, PyUntypedArray>> {
+    let expected = cols.map_or("[N]".to_string(), |c| format!("[N, {c}]"));
+    let array = match obj.cast::<PyUntypedArray>() {
+        Ok(array) => array.clone(),
+        Err(_) => {
+            let numpy = obj.py().import("numpy")?;
+            let converted = numpy.call_method1("asarray", (obj,)).map_err(|e| {
+                mesh_error(MeshError::Shape {
+                    array: name,
+                    expected: expected.clone(),
+                    got: format!("something numpy cannot read as an array ({e})"),
+                })
+            })?;
+            converted.cast_into::<PyUntypedArray>()?
+        }
+    };
+    let shape = array.shape();
+    let fits = match cols {
+        None => shape.len() == 1,
+        Some(c) => shape.len() == 2 && shape[1] == c,
+    };
+    if !fits {
+        return Err(mesh_error(MeshError::Shape {
+            array: name,
+            expected,
+            got: shape_text(shape),
+        }));
+    }
+    Ok(array)
+}
+
+fn dtype_name(array: &Bound<'_, PyUntypedArray>) -> String {
+    array
+        .dtype()
+        .str()
+        .map(|s| s.to_string())
+        .unwrap_or_else(|_| "unknown".into())
+}
+
+/// `array` as a C-contiguous `T` array, borrowed if it already is one, else converted by numpy.
+fn contiguous<'py, T: Element>(
+    array: &Bound<'py, PyUntypedArray>,
+    name: &'static str,
+    numpy_dtype: &str,
+) -> PyResult<PyReadonlyArrayDyn<'py, T>> {
+    let py = array.py();
+    let fits = array.dtype().is_equiv_to(&numpy::dtype::<T>(py)) && array.is_c_contiguous();
+    let typed = if fits {
+        array.clone()
+    } else {
+        let numpy = py.import("numpy")?;
+        let kwargs = pyo3::types::PyDict::new(py);
+        kwargs.set_item("dtype", numpy.getattr(numpy_dtype)?)?;
+        numpy
+            .call_method("ascontiguousarray", (array,), Some(&kwargs))?
+            .cast_into::<PyUntypedArray>()?
+    };
+    let typed = typed.cast_into::<PyArrayDyn<T>>()?;
+    typed
+        .try_readonly()
+        .map_err(|e| PeltError::parameter(name, format!("the array is being written elsewhere ({e})")).into())
+}
+
+/// Reads a float array of shape `[N]` or `[N, cols]` as `float32`.
+pub(super) fn float_array<'py>(
+    obj: &Bound<'py, PyAny>,
+    name: &'static str,
+    cols: Option<usize>,
+) -> PyResult<PyReadonlyArrayDyn<'py, f32>> {
+    let array = as_checked_array(obj, name, cols)?;
+    if !matches!(array.dtype().kind(), b'f' | b'i' | b'u') {
+        return Err(mesh_error(MeshError::DType {
+            array: name,
+            expected: "a real number type (float32 preferred)",
+            got: dtype_name(&array),
+        }));
+    }
+    contiguous::<f32>(&array, name, "float32")
+}
+
+/// Reads a triangle array of shape `[M, 3]` of any integer type.
+pub(super) fn index_array<'py>(obj: &Bound<'py, PyAny>, name: &'static str) -> PyResult<IndexArray<'py>> {
+    let array = as_checked_array(obj, name, Some(3))?;
+    if !matches!(array.dtype().kind(), b'i' | b'u') {
+        return Err(mesh_error(MeshError::DType {
+            array: name,
+            expected: "an integer type (uint32 preferred)",
+            got: dtype_name(&array),
+        }));
+    }
+    if array.dtype().is_equiv_to(&numpy::dtype::<u32>(array.py())) {
+        Ok(IndexArray::Native(contiguous::<u32>(&array, name, "uint32")?))
+    } else {
+        Ok(IndexArray::Wide(contiguous::<i64>(&array, name, "int64")?))
+    }
+}
+
+/// The rows of a contiguous array whose last axis has `C` entries.
+pub(super) fn rows<'a, T: Element, const C: usize>(
+    array: &'a PyReadonlyArrayDyn<'_, T>,
+) -> PyResult<&'a [[T; C]]> {
+    let flat = array
+        .as_slice()
+        .map_err(|e| PeltError::Internal(format!("array not contiguous after conversion: {e}")))?;
+    Ok(flat.as_chunks::<C>().0)
+}
+
+/// Checks widened indices against `vertex_count` and narrows them to `u32`.
+pub(super) fn narrow_indices(wide: &[[i64; 3]], vertex_count: usize) -> Result<Vec<[u32; 3]>, MeshError> {
+    let bad = |i: i64| i < 0 || i as u64 >= vertex_count as u64;
+    if let Some(triangle) = wide.par_iter().position_first(|t| t.iter().any(|&i| bad(i))) {
+        let corner = wide[triangle].iter().position(|&i| bad(i)).unwrap_or(0);
+        return Err(MeshError::IndexOutOfRange {
+            triangle,
+            corner,
+            index: wide[triangle][corner],
+            vertex_count,
+        });
+    }
+    Ok(wide.par_iter().map(|t| t.map(|i| i as u32)).collect())
+}

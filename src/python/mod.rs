@@ -1,0 +1,58 @@
+//! Python bindings (feature `python`): the only place that touches pyo3.
+//!
+//! Each binding extracts its arguments, runs the core call with the GIL released and panics
+//! caught ([`detached`]), and converts the result. The compiled module is `pelt._pelt`; the pure
+//! Python package `pelt` (under `python/pelt/`) re-exports it and ships the `.pyi` stub.
+
+mod arrays;
+mod errors;
+mod mesh;
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
+
+use pyo3::prelude::*;
+
+use crate::error::PeltError;
+
+/// Runs `work` without the GIL; a panic inside becomes `pelt.PeltError` instead of crossing into
+/// the host process (Blender) as a `PanicException` or an abort.
+pub(crate) fn detached<T, F>(py: Python<'_>, work: F) -> PyResult<T>
+where
+    F: FnOnce() -> crate::Result<T> + Send,
+    T: Send,
+{
+    let outcome = py.detach(|| catch_unwind(AssertUnwindSafe(work)));
+    match outcome {
+        Ok(result) => result.map_err(PyErr::from),
+        Err(payload) => {
+            let what = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".into());
+            Err(PeltError::Internal(format!("{what} (this is a bug in Pelt; please report it)")).into())
+        }
+    }
+}
+
+/// Number of worker threads Pelt uses (`PELT_THREADS`, default: all cores).
+#[pyfunction]
+fn thread_count() -> usize {
+    crate::threads::thread_count()
+}
+
+/// Panics inside [`detached`] on purpose, so tests can check that no panic crosses into Python.
+#[pyfunction]
+fn _panic_for_test(py: Python<'_>, message: String) -> PyResult<()> {
+    detached(py, move || -> crate::Result<()> { panic!("{message}") })
+}
+
+#[pymodule]
+fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", crate::VERSION)?;
+    errors::register(m)?;
+    m.add_class::<mesh::PyFurMesh>()?;
+    m.add_function(wrap_pyfunction!(thread_count, m)?)?;
+    m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,58 @@
+//! Copying a render target back to the CPU, with rows padded to wgpu's 256-byte copy alignment.
+
+use crate::error::{PeltError, Result};
+
+/// Reads an RGBA8 2D texture into tightly packed rows (`height × width × 4` bytes).
+pub(super) fn read_rgba8(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+) -> Result<Vec<u8>> {
+    let (width, height) = (texture.width(), texture.height());
+    let row_bytes = width * 4;
+    let padded = row_bytes.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: u64::from(padded) * u64::from(height),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("readback"),
+    });
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(height),
+            },
+        },
+        texture.size(),
+    );
+    queue.submit([encoder.finish()]);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+        // the receiver outlives the poll below; a send error cannot happen
+        let _ = sender.send(r);
+    });
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| PeltError::Render(format!("waiting for the GPU failed: {e}")))?;
+    receiver
+        .recv()
+        .map_err(|e| PeltError::Render(format!("readback never completed: {e}")))?
+        .map_err(|e| PeltError::Render(format!("mapping the readback buffer failed: {e}")))?;
+    let mapped = buffer
+        .get_mapped_range(..)
+        .map_err(|e| PeltError::Render(format!("reading the readback buffer failed: {e}")))?;
+    let mut pixels = Vec::with_capacity((row_bytes * height) as usize);
+    for row in mapped.chunks_exact(padded as usize) {
+        pixels.extend_from_slice(&row[..row_bytes as usize]);
+    }
+    drop(mapped);
+    buffer.unmap();
+    Ok(pixels)
+}

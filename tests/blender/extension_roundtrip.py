@@ -1,0 +1,45 @@
+"""Installs the built extension zip into a fresh Blender, checks Suzanne, uninstalls; prints JSON.
+
+Run by ``test_extension_install.py`` in its own process, with the user folders of that test, so
+that the ``pelt`` module imported is the one unpacked from the zip's wheel, not the development
+copy in the virtual environment.
+"""
+
+import json
+import sys
+from pathlib import Path
+
+import bpy
+
+zip_path = sys.argv[1]
+# hide the development copy of pelt: only the extension's own wheel may serve the add-on
+sys.path[:] = [p for p in sys.path if not p.endswith("site-packages") or "extensions" in p]
+sys.modules.pop("pelt", None)
+
+bpy.ops.wm.read_factory_settings(use_empty=True)
+result = {}
+result["install"] = sorted(
+    bpy.ops.extensions.package_install_files(filepath=zip_path, repo="user_default", enable_on_install=True)
+)
+result["enabled"] = "bl_ext.user_default.pelt" in bpy.context.preferences.addons
+pelt = sys.modules.get("pelt")
+result["pelt_file"] = getattr(pelt, "__file__", None)
+result["pelt_version"] = getattr(pelt, "__version__", None)
+
+bpy.ops.mesh.primitive_monkey_add()
+obj = bpy.context.active_object
+obj.data.calc_loop_triangles()
+result["check"] = sorted(bpy.ops.pelt.check_mesh())
+result["stats"] = json.loads(obj.pelt.last_check)
+result["blender_counts"] = {"vertices": len(obj.data.vertices), "faces": len(obj.data.loop_triangles)}
+
+repos = bpy.context.preferences.extensions.repos
+index = next(i for i, repo in enumerate(repos) if repo.module == "user_default")
+package_dir = Path(bpy.utils.user_resource("EXTENSIONS")) / "user_default" / "pelt"
+result["installed_dir_existed"] = package_dir.is_dir()
+result["uninstall"] = sorted(bpy.ops.extensions.package_uninstall(repo_index=index, pkg_id="pelt"))
+result["enabled_after"] = "bl_ext.user_default.pelt" in bpy.context.preferences.addons
+result["property_after"] = hasattr(bpy.types.Object, "pelt")
+result["operator_after"] = hasattr(bpy.types, "PELT_OT_check_mesh")
+result["installed_dir_after"] = package_dir.exists()
+print("RESULT " + json.dumps(result))
