@@ -18,6 +18,11 @@ def cell(value, fmt):
     return "–" if value is None else format(value, fmt)
 
 
+def text(value):
+    """Free text for a table cell: a `|` would end the cell."""
+    return "–" if not value else str(value).replace("|", "\\|")
+
+
 def main() -> None:
     reports = [json.loads(Path(p).read_text()) for p in sys.argv[1:]]
     head = reports[0]
@@ -37,9 +42,9 @@ def main() -> None:
             speedup = case.get("speedup")
             versus = "–" if speedup is None else f"{speedup:.1f}× vs `{case.get('baseline')}`"
             print(
-                f"| `{case['name']}` | {case['size']} | {case['seconds']:.4f}{verdict} | "
+                f"| `{case['name']}` | {text(case['size'])} | {case['seconds']:.4f}{verdict} | "
                 f"{cell(goal, '.3f')} | {cell(peak, '.1f')} | {cell(case.get('error'), '.2e')} | "
-                f"{case.get('error_metric') or '–'} | {versus} |"
+                f"{text(case.get('error_metric'))} | {versus} |"
             )
 
 

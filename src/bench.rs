@@ -11,7 +11,10 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::error::Result;
+use crate::hair::{HairParams, grow_strands};
 use crate::mesh::{FurMesh, MeshInput, shapes};
+use crate::prt::sh;
+use crate::volume::coverage::{CoverageMode, splat_disk};
 
 /// One line of the benchmark table.
 #[derive(Debug, Clone, Serialize)]
@@ -58,13 +61,28 @@ pub struct BenchOptions {
 
 struct Case {
     name: &'static str,
-    run: fn(&BenchOptions) -> Result<CaseResult>,
+    /// One or more results: a case may time its baseline in the same run.
+    run: fn(&BenchOptions) -> Result<Vec<CaseResult>>,
 }
 
-const CASES: &[Case] = &[Case {
-    name: "mesh.build",
-    run: mesh_build,
-}];
+const CASES: &[Case] = &[
+    Case {
+        name: "mesh.build",
+        run: mesh_build,
+    },
+    Case {
+        name: "hair.grow",
+        run: hair_grow,
+    },
+    Case {
+        name: "volume.coverage",
+        run: coverage_approx,
+    },
+    Case {
+        name: "prt.sh.project_equirect",
+        run: sh_project_equirect,
+    },
+];
 
 /// Runs the selected cases in order.
 ///
@@ -76,7 +94,10 @@ pub fn run(options: &BenchOptions) -> Result<Report> {
         .iter()
         .filter(|c| c.name.starts_with(prefix))
         .map(|c| (c.run)(options))
-        .collect::<Result<Vec<_>>>()?;
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .flatten()
+        .collect();
     Ok(Report {
         pelt: crate::VERSION,
         threads: crate::threads::thread_count(),
@@ -100,19 +121,11 @@ fn time_median<T>(reps: usize, mut work: impl FnMut() -> T) -> (f64, Option<usiz
 }
 
 /// `mesh.build`: validation, edge map, normals, frames and statistics of a 100k-triangle torus.
-fn mesh_build(options: &BenchOptions) -> Result<CaseResult> {
+fn mesh_build(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let (positions, triangles) = shapes::torus(224, 224);
     let reps = if options.quick { 7 } else { 31 };
-    let mut failure = None;
-    let (seconds, peak_bytes) = time_median(reps, || {
-        if let Err(e) = FurMesh::new(MeshInput::new(&positions, &triangles)) {
-            failure = Some(e);
-        }
-    });
-    if let Some(e) = failure {
-        return Err(e);
-    }
-    Ok(CaseResult {
+    let (seconds, peak_bytes) = time_fallible(reps, || FurMesh::new(MeshInput::new(&positions, &triangles)))?;
+    Ok(vec![CaseResult {
         name: "mesh.build".into(),
         size: format!("{} triangles, {} vertices", triangles.len(), positions.len()),
         seconds,
@@ -121,7 +134,127 @@ fn mesh_build(options: &BenchOptions) -> Result<CaseResult> {
         error_metric: None,
         baseline: None,
         speedup: None,
-    })
+    }])
+}
+
+/// Runs `work` through [`time_median`], keeping the first error instead of timing a failure.
+fn time_fallible<T>(reps: usize, mut work: impl FnMut() -> Result<T>) -> Result<(f64, Option<usize>)> {
+    let mut failure = None;
+    let timing = time_median(reps, || {
+        if let Err(e) = work() {
+            failure.get_or_insert(e);
+        }
+    });
+    failure.map_or(Ok(timing), Err)
+}
+
+/// `hair.grow`: one tile of strands with clumping and a helix.
+fn hair_grow(options: &BenchOptions) -> Result<Vec<CaseResult>> {
+    let params = HairParams {
+        density: if options.quick { 65_536 } else { 262_144 },
+        clump_count: 64,
+        clump_strength: 0.4,
+        helix_radius: 0.002,
+        helix_frequency: 2.0,
+        ..HairParams::default()
+    };
+    let (seconds, peak_bytes) = time_fallible(if options.quick { 5 } else { 15 }, || grow_strands(&params))?;
+    Ok(vec![CaseResult {
+        name: "hair.grow".into(),
+        size: format!(
+            "{} strands x {} segments, {} clumps",
+            params.density, params.segments, params.clump_count
+        ),
+        seconds,
+        peak_bytes,
+        error: None,
+        error_metric: None,
+        baseline: None,
+        speedup: None,
+    }])
+}
+
+/// `volume.coverage.approx`: the root cross-sections of the default strands splatted into one
+/// 128² layer with the paper's chord/wedge approximation, against the exact area in the same run.
+fn coverage_approx(options: &BenchOptions) -> Result<Vec<CaseResult>> {
+    const RES: usize = 128;
+    let strands = grow_strands(&HairParams::default())?;
+    let splat_all = |mode: CoverageMode| -> Result<Vec<f32>> {
+        let mut grid = vec![0.0f32; RES * RES];
+        for s in &strands {
+            splat_disk(&mut grid, RES, s.root[0], s.root[1], s.radii[0], mode)?;
+        }
+        Ok(grid)
+    };
+    let exact = splat_all(CoverageMode::Exact)?;
+    let approx = splat_all(CoverageMode::Approx)?;
+    let error = exact
+        .iter()
+        .zip(&approx)
+        .map(|(a, b)| f64::from((a - b).abs()))
+        .fold(0.0, f64::max);
+    let reps = if options.quick { 7 } else { 31 };
+    let (exact_seconds, exact_peak) = time_fallible(reps, || splat_all(CoverageMode::Exact))?;
+    let (seconds, peak_bytes) = time_fallible(reps, || splat_all(CoverageMode::Approx))?;
+    let size = format!("{} disks into {RES}x{RES}", strands.len());
+    Ok(vec![
+        CaseResult {
+            name: "volume.coverage.exact".into(),
+            size: size.clone(),
+            seconds: exact_seconds,
+            peak_bytes: exact_peak,
+            error: None,
+            error_metric: None,
+            baseline: None,
+            speedup: None,
+        },
+        CaseResult {
+            name: "volume.coverage.approx".into(),
+            size,
+            seconds,
+            peak_bytes,
+            error: Some(error),
+            error_metric: Some("max absolute texel coverage difference vs exact".into()),
+            baseline: Some("volume.coverage.exact".into()),
+            speedup: Some(exact_seconds / seconds),
+        },
+    ])
+}
+
+/// `prt.sh.project_equirect`: an HDR environment (a sky gradient and a sun disk) to order-8 SH.
+fn sh_project_equirect(options: &BenchOptions) -> Result<Vec<CaseResult>> {
+    let (width, height) = if options.quick { (512, 256) } else { (2048, 1024) };
+    let rgb: Vec<f32> = (0..width * height)
+        .flat_map(|i| {
+            let (x, y) = (
+                (i % width) as f32 / width as f32,
+                (i / width) as f32 / height as f32,
+            );
+            let sun = if (x - 0.3).hypot(y - 0.25) < 0.01 {
+                50.0
+            } else {
+                0.0
+            };
+            [
+                0.2 + 0.8 * (1.0 - y) + sun,
+                0.3 + 0.7 * (1.0 - y) + sun,
+                1.0 - 0.5 * y + sun,
+            ]
+        })
+        .collect();
+    let (seconds, peak_bytes) = time_fallible(if options.quick { 5 } else { 11 }, || {
+        sh::project_equirect(sh::MAX_ORDER, width, height, &rgb)
+    })?;
+    Ok(vec![CaseResult {
+        name: "prt.sh.project_equirect".into(),
+        size: format!("{width}x{height} RGB, order {}", sh::MAX_ORDER),
+        seconds,
+        peak_bytes,
+        error: None,
+        error_metric: None,
+        baseline: None,
+        speedup: None,
+    }])
 }
 
 static TRACKING: AtomicBool = AtomicBool::new(false);

@@ -10,8 +10,11 @@
 
 pub mod bench;
 pub mod error;
+pub mod hair;
 pub mod mesh;
+pub mod prt;
 pub mod threads;
+pub mod volume;
 
 #[cfg(feature = "python")]
 mod python;

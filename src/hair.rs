@@ -1,0 +1,653 @@
+//! Procedural hair strands in one toroidal tile of the hair volume.
+//!
+//! Lengyel et al. 2001, §2.2 ("Texture preprocessing") grow the geometric hair inside a small
+//! rectangular volume with toroidal symmetry along the two skin axes, so that the shell textures
+//! sampled from it tile. This module builds that geometry with the hair model of the PRT shell-fur
+//! paper (`prt-shell-fur`, §2.1 "Creating Fur"): each hair gets a random base width that falls off
+//! linearly towards the tip, and curls along a parabola in a random direction. On top of that it
+//! adds an undercoat and an overcoat of guard hairs, a helix, a slant of the growth direction,
+//! clumping and per-strand color jitter, which the paper's "varying the parameters" alludes to.
+//!
+//! Units: the tile is the unit square laterally and height 1 is the fur depth. Roots lie in
+//! `[0, 1)²`; a strand that leans over a tile edge keeps unwrapped coordinates and consumers wrap
+//! them modulo 1. Everything derives from [`HairParams::seed`] through a small counter-based
+//! generator (one independent stream per strand), so the strands are bit-identical for any thread
+//! count.
+
+use std::f64::consts::TAU;
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{PeltError, Result};
+use crate::threads::pool;
+
+/// Most hairs per tile: 1024², four times a 512² shell texture's texel count.
+pub const MAX_DENSITY: u32 = 1 << 20;
+/// Most clump centres per tile (the nearest centre is found by a linear scan).
+pub const MAX_CLUMPS: u32 = 256;
+/// Most polyline segments per strand.
+pub const MAX_SEGMENTS: u32 = 64;
+/// Largest base width of a hair, tile units (a tenth of the tile).
+pub const MAX_WIDTH: f64 = 0.1;
+/// Largest helix radius, tile units.
+pub const MAX_HELIX_RADIUS: f64 = 0.1;
+/// Most helix turns over a strand's height.
+pub const MAX_HELIX_FREQUENCY: f64 = 32.0;
+/// Largest slant, radians (80°): beyond it a strand would lie almost flat in the tile.
+pub const MAX_SLANT: f64 = 1.396_263_401_595_463_6;
+
+/// Parameters of one coat (undercoat or overcoat).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct CoatParams {
+    /// `[min, max]` height reached by the tip, in fur depths; each in `[0, 1]`, `min <= max`.
+    pub length: [f64; 2],
+    /// `[min, max]` base width (diameter) in tile units; each in `[0, MAX_WIDTH]`, `min <= max`.
+    pub width: [f64; 2],
+}
+
+/// Everything that shapes the hair of one tile. All ranges are closed intervals.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct HairParams {
+    /// Seed of every random choice; any value.
+    pub seed: u64,
+    /// Hairs per tile, `[0, MAX_DENSITY]`.
+    pub density: u32,
+    /// Share of the hairs that are guard hairs (overcoat), `[0, 1]`.
+    pub guard_fraction: f64,
+    /// The dense, short hairs.
+    pub undercoat: CoatParams,
+    /// The sparse, long guard hairs.
+    pub overcoat: CoatParams,
+    /// Polyline segments per strand, `[1, MAX_SEGMENTS]`.
+    pub segments: u32,
+    /// Tip width / base width, `[0, 1]`; the width falls off linearly in between (§2.1).
+    pub taper: f64,
+    /// Parabolic curl: lateral offset of the tip as a share of the strand's height, `[0, 1]`.
+    pub curl: f64,
+    /// Radius of the helix around the growth path, tile units, `[0, MAX_HELIX_RADIUS]`.
+    pub helix_radius: f64,
+    /// Helix turns over a strand's height, `[0, MAX_HELIX_FREQUENCY]`.
+    pub helix_frequency: f64,
+    /// Tilt of the growth direction away from the normal, radians, `[0, MAX_SLANT]`.
+    pub slant: f64,
+    /// Direction of the tilt in the tile plane, radians from +x, `[-2π, 2π]`.
+    pub slant_direction: f64,
+    /// Random shortening of each strand: its height is multiplied by `1 - length_jitter·u`, `u`
+    /// uniform in `[0, 1)`; `[0, 1]`.
+    pub length_jitter: f64,
+    /// How far tips are pulled towards their clump centre (1 = onto it), `[0, 1]`.
+    pub clump_strength: f64,
+    /// Clump centres per tile, `[0, MAX_CLUMPS]`; 0 disables clumping.
+    pub clump_count: u32,
+    /// Linear color at the root, each component in `[0, 1]`.
+    pub root_color: [f32; 3],
+    /// Linear color at the tip, each component in `[0, 1]`.
+    pub tip_color: [f32; 3],
+    /// Random darkening of each strand: its colors are multiplied by `1 - color_jitter·u`; `[0, 1]`.
+    pub color_jitter: f64,
+}
+
+impl Default for HairParams {
+    /// A short, dense pelt: 64² hairs, one in ten a guard hair, widths below one texel of a
+    /// 128² shell texture as the paper's coverage approximation assumes (§2.1).
+    fn default() -> Self {
+        HairParams {
+            seed: 1,
+            density: 4096,
+            guard_fraction: 0.1,
+            undercoat: CoatParams {
+                length: [0.55, 0.8],
+                width: [0.004, 0.006],
+            },
+            overcoat: CoatParams {
+                length: [0.85, 1.0],
+                width: [0.006, 0.0075],
+            },
+            segments: 16,
+            taper: 0.2,
+            curl: 0.1,
+            helix_radius: 0.0,
+            helix_frequency: 0.0,
+            slant: 0.2,
+            slant_direction: 0.0,
+            length_jitter: 0.1,
+            clump_strength: 0.0,
+            clump_count: 0,
+            root_color: [0.12, 0.08, 0.05],
+            tip_color: [0.45, 0.32, 0.2],
+            color_jitter: 0.15,
+        }
+    }
+}
+
+fn check_range(name: &str, value: f64, lo: f64, hi: f64) -> Result<()> {
+    if (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(PeltError::parameter(
+            name,
+            format!("must be in [{lo}, {hi}], got {value}"),
+        ))
+    }
+}
+
+fn check_pair(name: &str, pair: [f64; 2], lo: f64, hi: f64) -> Result<()> {
+    check_range(name, pair[0], lo, hi)?;
+    check_range(name, pair[1], lo, hi)?;
+    if pair[0] > pair[1] {
+        return Err(PeltError::parameter(
+            name,
+            format!(
+                "must be [min, max] with min <= max, got [{}, {}]",
+                pair[0], pair[1]
+            ),
+        ));
+    }
+    Ok(())
+}
+
+fn check_color(name: &str, color: [f32; 3]) -> Result<()> {
+    for (i, &c) in color.iter().enumerate() {
+        if !(0.0..=1.0).contains(&c) {
+            return Err(PeltError::parameter(
+                name,
+                format!("component {i} must be in [0, 1], got {c}"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+impl HairParams {
+    /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming the first field out of range (NaN is out of every
+    /// range); coat fields are named `undercoat.length`, `overcoat.width` and so on.
+    pub fn validate(&self) -> Result<()> {
+        check_range("density", f64::from(self.density), 0.0, f64::from(MAX_DENSITY))?;
+        check_range("guard_fraction", self.guard_fraction, 0.0, 1.0)?;
+        check_pair("undercoat.length", self.undercoat.length, 0.0, 1.0)?;
+        check_pair("undercoat.width", self.undercoat.width, 0.0, MAX_WIDTH)?;
+        check_pair("overcoat.length", self.overcoat.length, 0.0, 1.0)?;
+        check_pair("overcoat.width", self.overcoat.width, 0.0, MAX_WIDTH)?;
+        check_range("segments", f64::from(self.segments), 1.0, f64::from(MAX_SEGMENTS))?;
+        check_range("taper", self.taper, 0.0, 1.0)?;
+        check_range("curl", self.curl, 0.0, 1.0)?;
+        check_range("helix_radius", self.helix_radius, 0.0, MAX_HELIX_RADIUS)?;
+        check_range("helix_frequency", self.helix_frequency, 0.0, MAX_HELIX_FREQUENCY)?;
+        check_range("slant", self.slant, 0.0, MAX_SLANT)?;
+        check_range("slant_direction", self.slant_direction, -TAU, TAU)?;
+        check_range("length_jitter", self.length_jitter, 0.0, 1.0)?;
+        check_range("clump_strength", self.clump_strength, 0.0, 1.0)?;
+        check_range(
+            "clump_count",
+            f64::from(self.clump_count),
+            0.0,
+            f64::from(MAX_CLUMPS),
+        )?;
+        check_color("root_color", self.root_color)?;
+        check_color("tip_color", self.tip_color)?;
+        check_range("color_jitter", self.color_jitter, 0.0, 1.0)
+    }
+}
+
+/// Which coat a strand belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Coat {
+    /// Dense, short hair.
+    Undercoat,
+    /// Guard hair: sparse, long, thicker.
+    Overcoat,
+}
+
+/// One hair: a polyline from its root on the skin (z = 0) up to its tip (z = its height).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Strand {
+    /// Root position in `[0, 1)²`.
+    pub root: [f64; 2],
+    /// Polyline points `(x, y, z)`, root first; `x, y` unwrapped (may leave `[0, 1)`), `z` rises
+    /// evenly from 0 to the strand's height.
+    pub points: Vec<[f64; 3]>,
+    /// Radius at each point, tile units: linear from half the base width to `taper` times that.
+    pub radii: Vec<f64>,
+    /// Linear color at the root.
+    pub root_color: [f32; 3],
+    /// Linear color at the tip.
+    pub tip_color: [f32; 3],
+    /// Undercoat or guard hair.
+    pub coat: Coat,
+}
+
+/// Grows the strands of one tile, in Pelt's thread pool.
+///
+/// Roots are stratified: the tile is cut into the smallest `g × g` grid with `g² >= density`, a
+/// seeded shuffle picks `density` distinct cells, and each root is jittered inside its cell. The
+/// first `round(guard_fraction · density)` strands (in shuffled order, so spread at random) are
+/// guard hairs. The result is bit-identical for any thread count.
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] when `params` fails [`HairParams::validate`].
+pub fn grow_strands(params: &HairParams) -> Result<Vec<Strand>> {
+    params.validate()?;
+    Ok(pool().install(|| grow_validated(params)))
+}
+
+/// Stream ids keep the random sequences of roots, clumps and strands independent.
+const STREAM_CELLS: u64 = 1;
+const STREAM_CLUMPS: u64 = 2;
+const STREAM_STRANDS: u64 = 3;
+
+/// The body of [`grow_strands`], run in whatever pool is current (tests pin the thread count).
+fn grow_validated(params: &HairParams) -> Vec<Strand> {
+    let n = params.density as usize;
+    let (grid, cells) = stratified_cells(n, &mut Rng::stream(params.seed, STREAM_CELLS, 0));
+    let mut clump_rng = Rng::stream(params.seed, STREAM_CLUMPS, 0);
+    let (clump_grid, clump_cells) = stratified_cells(params.clump_count as usize, &mut clump_rng);
+    let clumps: Vec<[f64; 2]> = clump_cells
+        .iter()
+        .map(|&c| jitter_in_cell(c, clump_grid, &mut clump_rng))
+        .collect();
+    // `guard_fraction` is in [0, 1] and `n` <= MAX_DENSITY, so the product fits a usize.
+    let guards = (params.guard_fraction * n as f64).round() as usize;
+    cells
+        .par_iter()
+        .enumerate()
+        .map(|(i, &cell)| {
+            let coat = if i < guards {
+                Coat::Overcoat
+            } else {
+                Coat::Undercoat
+            };
+            grow_one(params, i, cell, grid, coat, &clumps)
+        })
+        .collect()
+}
+
+fn grow_one(
+    params: &HairParams,
+    index: usize,
+    cell: u32,
+    grid: usize,
+    coat: Coat,
+    clumps: &[[f64; 2]],
+) -> Strand {
+    let mut rng = Rng::stream(params.seed, STREAM_STRANDS, index as u64);
+    let root = jitter_in_cell(cell, grid, &mut rng);
+    let coat_params = match coat {
+        Coat::Undercoat => params.undercoat,
+        Coat::Overcoat => params.overcoat,
+    };
+    let height = lerp(coat_params.length, rng.next_f64()) * (1.0 - params.length_jitter * rng.next_f64());
+    let base_radius = 0.5 * lerp(coat_params.width, rng.next_f64());
+    let curl_angle = TAU * rng.next_f64();
+    let helix_phase = TAU * rng.next_f64();
+    let shade = (1.0 - params.color_jitter * rng.next_f64()) as f32;
+
+    let lean = params.slant.tan();
+    let (lean_x, lean_y) = (
+        lean * params.slant_direction.cos(),
+        lean * params.slant_direction.sin(),
+    );
+    let curl = params.curl * height;
+    let (curl_x, curl_y) = (curl * curl_angle.cos(), curl * curl_angle.sin());
+    let pull = nearest_clump(root, clumps).map_or([0.0, 0.0], |c| {
+        [
+            params.clump_strength * (c[0] - root[0]),
+            params.clump_strength * (c[1] - root[1]),
+        ]
+    });
+
+    let segments = params.segments as usize;
+    let mut points = Vec::with_capacity(segments + 1);
+    let mut radii = Vec::with_capacity(segments + 1);
+    for k in 0..=segments {
+        let t = k as f64 / segments as f64;
+        let z = height * t;
+        // The helix starts at the root: subtract its value at t = 0.
+        let angle = helix_phase + TAU * params.helix_frequency * t;
+        let helix_x = params.helix_radius * (angle.cos() - helix_phase.cos());
+        let helix_y = params.helix_radius * (angle.sin() - helix_phase.sin());
+        let t2 = t * t;
+        points.push([
+            root[0] + lean_x * z + curl_x * t2 + helix_x + pull[0] * t,
+            root[1] + lean_y * z + curl_y * t2 + helix_y + pull[1] * t,
+            z,
+        ]);
+        radii.push(base_radius * (1.0 - (1.0 - params.taper) * t));
+    }
+    Strand {
+        root,
+        points,
+        radii,
+        root_color: params.root_color.map(|c| c * shade),
+        tip_color: params.tip_color.map(|c| c * shade),
+        coat,
+    }
+}
+
+fn lerp(range: [f64; 2], t: f64) -> f64 {
+    range[0] + (range[1] - range[0]) * t
+}
+
+/// The clump centre nearest to `p` on the torus, as an unwrapped point near `p`.
+fn nearest_clump(p: [f64; 2], clumps: &[[f64; 2]]) -> Option<[f64; 2]> {
+    clumps
+        .iter()
+        .map(|c| {
+            // Minimum image: the copy of the centre within half a tile of `p` on each axis.
+            let dx = c[0] - p[0] - (c[0] - p[0]).round();
+            let dy = c[1] - p[1] - (c[1] - p[1]).round();
+            (dx * dx + dy * dy, [p[0] + dx, p[1] + dy])
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, c)| c)
+}
+
+/// Side `g` of the smallest square grid with `g² >= n`, and `n` distinct cells of it in seeded
+/// random order (a partial Fisher–Yates shuffle), so no cell holds two points.
+fn stratified_cells(n: usize, rng: &mut Rng) -> (usize, Vec<u32>) {
+    let mut g = (n as f64).sqrt() as usize;
+    while g * g < n {
+        g += 1;
+    }
+    // g² < 2²¹ because n <= MAX_DENSITY (and MAX_CLUMPS), so cells fit a u32.
+    let mut cells: Vec<u32> = (0..(g * g) as u32).collect();
+    for i in 0..n {
+        let j = i + rng.below((cells.len() - i) as u64) as usize;
+        cells.swap(i, j);
+    }
+    cells.truncate(n);
+    (g, cells)
+}
+
+/// A uniform point inside cell `cell` of a `grid × grid` tiling of `[0, 1)²`.
+fn jitter_in_cell(cell: u32, grid: usize, rng: &mut Rng) -> [f64; 2] {
+    let (cx, cy) = (cell as usize % grid, cell as usize / grid);
+    // (g - 1 + u) / g can round up to 1.0; the largest f64 below 1 keeps roots in [0, 1).
+    let below_one = 1.0 - f64::EPSILON / 2.0;
+    let x = ((cx as f64 + rng.next_f64()) / grid as f64).min(below_one);
+    let y = ((cy as f64 + rng.next_f64()) / grid as f64).min(below_one);
+    [x, y]
+}
+
+/// SplitMix64 (Steele, Lea and Flood 2014): tiny, fast and good enough for jitter; seeding each
+/// strand from a hash of `(seed, stream, index)` makes the strands independent of work order.
+struct Rng(u64);
+
+impl Rng {
+    fn stream(seed: u64, stream: u64, index: u64) -> Self {
+        Rng(mix64(mix64(mix64(seed) ^ stream) ^ index))
+    }
+
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        mix64(self.0)
+    }
+
+    /// Uniform in `[0, 1)` with 53 random bits.
+    fn next_f64(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+
+    /// Uniform integer in `[0, n)` by multiply-shift; the bias, below `n / 2⁶⁴`, is irrelevant
+    /// for shuffling at most 2²¹ cells.
+    fn below(&mut self, n: u64) -> u64 {
+        ((u128::from(self.next_u64()) * u128::from(n)) >> 64) as u64
+    }
+}
+
+/// SplitMix64's output function, a bijection on u64 with good avalanche.
+fn mix64(mut z: u64) -> u64 {
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grow_with_threads(params: &HairParams, threads: usize) -> Vec<Strand> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| grow_validated(params))
+    }
+
+    fn bits(strands: &[Strand]) -> Vec<u64> {
+        let mut out = Vec::new();
+        for s in strands {
+            out.extend(s.root.iter().map(|v| v.to_bits()));
+            out.extend(s.points.iter().flatten().map(|v| v.to_bits()));
+            out.extend(s.radii.iter().map(|v| v.to_bits()));
+            out.extend(
+                s.root_color
+                    .iter()
+                    .chain(&s.tip_color)
+                    .map(|v| u64::from(v.to_bits())),
+            );
+            out.push(s.coat as u64);
+        }
+        out
+    }
+
+    #[test]
+    fn default_validates_and_grows_density_strands() {
+        let params = HairParams::default();
+        params.validate().unwrap();
+        let strands = grow_strands(&params).unwrap();
+        assert_eq!(strands.len(), params.density as usize);
+        let guards = strands.iter().filter(|s| s.coat == Coat::Overcoat).count();
+        assert_eq!(guards, 410, "round(0.1 * 4096)");
+    }
+
+    #[test]
+    fn every_out_of_range_field_is_named() {
+        type Breaker = fn(&mut HairParams);
+        let cases: &[(&str, Breaker)] = &[
+            ("density", |p| p.density = MAX_DENSITY + 1),
+            ("guard_fraction", |p| p.guard_fraction = 1.5),
+            ("guard_fraction", |p| p.guard_fraction = f64::NAN),
+            ("undercoat.length", |p| p.undercoat.length = [-0.1, 0.5]),
+            ("undercoat.length", |p| p.undercoat.length = [0.7, 0.5]),
+            ("undercoat.width", |p| p.undercoat.width = [0.0, 0.2]),
+            ("overcoat.length", |p| p.overcoat.length = [0.5, 1.1]),
+            ("overcoat.width", |p| p.overcoat.width = [0.01, 0.005]),
+            ("segments", |p| p.segments = 0),
+            ("segments", |p| p.segments = MAX_SEGMENTS + 1),
+            ("taper", |p| p.taper = -0.01),
+            ("curl", |p| p.curl = 1.01),
+            ("helix_radius", |p| p.helix_radius = 0.2),
+            ("helix_frequency", |p| p.helix_frequency = -1.0),
+            ("slant", |p| p.slant = 1.5),
+            ("slant_direction", |p| p.slant_direction = 7.0),
+            ("length_jitter", |p| p.length_jitter = 2.0),
+            ("clump_strength", |p| p.clump_strength = f64::INFINITY),
+            ("clump_count", |p| p.clump_count = MAX_CLUMPS + 1),
+            ("root_color", |p| p.root_color = [0.5, 1.5, 0.5]),
+            ("tip_color", |p| p.tip_color = [f32::NAN, 0.0, 0.0]),
+            ("color_jitter", |p| p.color_jitter = -1.0),
+        ];
+        for (field, breaker) in cases {
+            let mut params = HairParams::default();
+            breaker(&mut params);
+            match params.validate() {
+                Err(PeltError::InvalidParameter { name, reason }) => {
+                    assert_eq!(&name, field, "{reason}");
+                    assert!(reason.contains("must be"), "{reason}");
+                }
+                other => panic!("{field}: expected InvalidParameter, got {other:?}"),
+            }
+            assert!(grow_strands(&params).is_err(), "{field}");
+        }
+    }
+
+    #[test]
+    fn zero_density_gives_no_strands() {
+        let params = HairParams {
+            density: 0,
+            ..HairParams::default()
+        };
+        assert!(grow_strands(&params).unwrap().is_empty());
+    }
+
+    #[test]
+    fn same_seed_is_bitwise_identical_and_other_seeds_differ() {
+        let params = HairParams {
+            clump_count: 20,
+            clump_strength: 0.5,
+            helix_radius: 0.01,
+            helix_frequency: 3.0,
+            ..HairParams::default()
+        };
+        let a = bits(&grow_strands(&params).unwrap());
+        let b = bits(&grow_strands(&params).unwrap());
+        assert_eq!(a, b);
+        let other = HairParams {
+            seed: params.seed + 1,
+            ..params.clone()
+        };
+        let c = bits(&grow_strands(&other).unwrap());
+        assert_eq!(a.len(), c.len());
+        let same = a.iter().zip(&c).filter(|(x, y)| x == y).count();
+        // Only the z = 0 of each root point and the coat tags may coincide.
+        assert!(same < a.len() / 10, "{same} of {} words equal", a.len());
+    }
+
+    #[test]
+    fn one_and_four_threads_agree_bitwise() {
+        let params = HairParams {
+            density: 10_000,
+            clump_count: 30,
+            clump_strength: 0.3,
+            ..HairParams::default()
+        };
+        assert_eq!(
+            bits(&grow_with_threads(&params, 1)),
+            bits(&grow_with_threads(&params, 4))
+        );
+    }
+
+    fn cell_counts(strands: &[Strand], grid: usize) -> Vec<usize> {
+        let mut counts = vec![0; grid * grid];
+        for s in strands {
+            let [x, y] = s.root;
+            assert!((0.0..1.0).contains(&x) && (0.0..1.0).contains(&y), "{x} {y}");
+            counts[(y * grid as f64) as usize * grid + (x * grid as f64) as usize] += 1;
+        }
+        counts
+    }
+
+    #[test]
+    fn roots_are_stratified() {
+        // Default density 4096 = 64²: exactly one root per cell.
+        let strands = grow_strands(&HairParams::default()).unwrap();
+        assert!(cell_counts(&strands, 64).iter().all(|&c| c == 1));
+        // 1000 hairs: 32² = 1024 cells, 1000 of them hold one root, none holds two.
+        let params = HairParams {
+            density: 1000,
+            ..HairParams::default()
+        };
+        let counts = cell_counts(&grow_strands(&params).unwrap(), 32);
+        assert_eq!(counts.iter().filter(|&&c| c == 1).count(), 1000);
+        assert!(counts.iter().all(|&c| c <= 1));
+    }
+
+    #[test]
+    fn radius_tapers_linearly_and_height_rises_evenly() {
+        let params = HairParams {
+            taper: 0.3,
+            ..HairParams::default()
+        };
+        for s in grow_strands(&params).unwrap() {
+            let n = s.radii.len() - 1;
+            assert_eq!(n, params.segments as usize);
+            let (base, tip) = (s.radii[0], s.radii[n]);
+            let width = match s.coat {
+                Coat::Undercoat => params.undercoat.width,
+                Coat::Overcoat => params.overcoat.width,
+            };
+            assert!(2.0 * base >= width[0] - 1e-15 && 2.0 * base <= width[1] + 1e-15);
+            assert!((tip - 0.3 * base).abs() <= 1e-15);
+            let height = s.points[n][2];
+            for k in 0..=n {
+                let t = k as f64 / n as f64;
+                assert!((s.radii[k] - (base + (tip - base) * t)).abs() <= 1e-15);
+                assert!((s.points[k][2] - height * t).abs() <= 1e-15);
+            }
+            assert_eq!(s.points[0], [s.root[0], s.root[1], 0.0]);
+        }
+    }
+
+    #[test]
+    fn straight_hair_without_jitter_stands_up() {
+        // No slant, curl, helix or clumping: every point sits above its root.
+        let params = HairParams {
+            curl: 0.0,
+            slant: 0.0,
+            length_jitter: 0.0,
+            ..HairParams::default()
+        };
+        for s in grow_strands(&params).unwrap() {
+            for p in &s.points {
+                assert_eq!([p[0], p[1]], s.root);
+            }
+        }
+    }
+
+    #[test]
+    fn clumping_pulls_tips_together() {
+        let spread = |strength: f64| {
+            let params = HairParams {
+                clump_count: 16,
+                clump_strength: strength,
+                curl: 0.0,
+                slant: 0.0,
+                ..HairParams::default()
+            };
+            let strands = grow_strands(&params).unwrap();
+            // Tip distance to the nearest other tip, averaged over the first 200 strands.
+            let tips: Vec<[f64; 2]> = strands
+                .iter()
+                .map(|s| {
+                    let p = s.points[s.points.len() - 1];
+                    [p[0].rem_euclid(1.0), p[1].rem_euclid(1.0)]
+                })
+                .collect();
+            tips.iter()
+                .take(200)
+                .enumerate()
+                .map(|(i, a)| {
+                    tips.iter()
+                        .enumerate()
+                        .filter(|&(j, _)| j != i)
+                        .map(|(_, b)| {
+                            let dx = a[0] - b[0] - (a[0] - b[0]).round();
+                            let dy = a[1] - b[1] - (a[1] - b[1]).round();
+                            (dx * dx + dy * dy).sqrt()
+                        })
+                        .fold(f64::INFINITY, f64::min)
+                })
+                .sum::<f64>()
+                / 200.0
+        };
+        assert!(spread(0.9) < 0.5 * spread(0.0));
+    }
+
+    #[test]
+    fn params_round_trip_through_json() {
+        let params = HairParams {
+            seed: 42,
+            ..HairParams::default()
+        };
+        let text = serde_json::to_string(&params).unwrap();
+        assert_eq!(serde_json::from_str::<HairParams>(&text).unwrap(), params);
+        let partial: HairParams = serde_json::from_str(r#"{"density": 9}"#).unwrap();
+        assert_eq!(partial.density, 9);
+        assert_eq!(partial.taper, HairParams::default().taper);
+    }
+}
