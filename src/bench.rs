@@ -37,6 +37,22 @@ pub struct CaseResult {
     pub speedup: Option<f64>,
 }
 
+impl CaseResult {
+    /// A result with a timing only (no error figure, no baseline).
+    fn timed(name: &str, size: String, (seconds, peak_bytes): (f64, Option<usize>)) -> Self {
+        CaseResult {
+            name: name.into(),
+            size,
+            seconds,
+            peak_bytes,
+            error: None,
+            error_metric: None,
+            baseline: None,
+            speedup: None,
+        }
+    }
+}
+
 /// The whole report, as written by `--json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct Report {
@@ -124,17 +140,9 @@ fn time_median<T>(reps: usize, mut work: impl FnMut() -> T) -> (f64, Option<usiz
 fn mesh_build(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let (positions, triangles) = shapes::torus(224, 224);
     let reps = if options.quick { 7 } else { 31 };
-    let (seconds, peak_bytes) = time_fallible(reps, || FurMesh::new(MeshInput::new(&positions, &triangles)))?;
-    Ok(vec![CaseResult {
-        name: "mesh.build".into(),
-        size: format!("{} triangles, {} vertices", triangles.len(), positions.len()),
-        seconds,
-        peak_bytes,
-        error: None,
-        error_metric: None,
-        baseline: None,
-        speedup: None,
-    }])
+    let timing = time_fallible(reps, || FurMesh::new(MeshInput::new(&positions, &triangles)))?;
+    let size = format!("{} triangles, {} vertices", triangles.len(), positions.len());
+    Ok(vec![CaseResult::timed("mesh.build", size, timing)])
 }
 
 /// Runs `work` through [`time_median`], keeping the first error instead of timing a failure.
@@ -158,20 +166,12 @@ fn hair_grow(options: &BenchOptions) -> Result<Vec<CaseResult>> {
         helix_frequency: 2.0,
         ..HairParams::default()
     };
-    let (seconds, peak_bytes) = time_fallible(if options.quick { 5 } else { 15 }, || grow_strands(&params))?;
-    Ok(vec![CaseResult {
-        name: "hair.grow".into(),
-        size: format!(
-            "{} strands x {} segments, {} clumps",
-            params.density, params.segments, params.clump_count
-        ),
-        seconds,
-        peak_bytes,
-        error: None,
-        error_metric: None,
-        baseline: None,
-        speedup: None,
-    }])
+    let timing = time_fallible(if options.quick { 5 } else { 15 }, || grow_strands(&params))?;
+    let size = format!(
+        "{} strands x {} segments, {} clumps",
+        params.density, params.segments, params.clump_count
+    );
+    Ok(vec![CaseResult::timed("hair.grow", size, timing)])
 }
 
 /// `volume.coverage.approx`: the root cross-sections of the default strands splatted into one
@@ -194,29 +194,17 @@ fn coverage_approx(options: &BenchOptions) -> Result<Vec<CaseResult>> {
         .map(|(a, b)| f64::from((a - b).abs()))
         .fold(0.0, f64::max);
     let reps = if options.quick { 7 } else { 31 };
-    let (exact_seconds, exact_peak) = time_fallible(reps, || splat_all(CoverageMode::Exact))?;
-    let (seconds, peak_bytes) = time_fallible(reps, || splat_all(CoverageMode::Approx))?;
+    let exact_timing = time_fallible(reps, || splat_all(CoverageMode::Exact))?;
+    let approx_timing = time_fallible(reps, || splat_all(CoverageMode::Approx))?;
     let size = format!("{} disks into {RES}x{RES}", strands.len());
     Ok(vec![
+        CaseResult::timed("volume.coverage.exact", size.clone(), exact_timing),
         CaseResult {
-            name: "volume.coverage.exact".into(),
-            size: size.clone(),
-            seconds: exact_seconds,
-            peak_bytes: exact_peak,
-            error: None,
-            error_metric: None,
-            baseline: None,
-            speedup: None,
-        },
-        CaseResult {
-            name: "volume.coverage.approx".into(),
-            size,
-            seconds,
-            peak_bytes,
             error: Some(error),
             error_metric: Some("max absolute texel coverage difference vs exact".into()),
             baseline: Some("volume.coverage.exact".into()),
-            speedup: Some(exact_seconds / seconds),
+            speedup: Some(exact_timing.0 / approx_timing.0),
+            ..CaseResult::timed("volume.coverage.approx", size, approx_timing)
         },
     ])
 }
@@ -242,19 +230,11 @@ fn sh_project_equirect(options: &BenchOptions) -> Result<Vec<CaseResult>> {
             ]
         })
         .collect();
-    let (seconds, peak_bytes) = time_fallible(if options.quick { 5 } else { 11 }, || {
+    let timing = time_fallible(if options.quick { 5 } else { 11 }, || {
         sh::project_equirect(sh::MAX_ORDER, width, height, &rgb)
     })?;
-    Ok(vec![CaseResult {
-        name: "prt.sh.project_equirect".into(),
-        size: format!("{width}x{height} RGB, order {}", sh::MAX_ORDER),
-        seconds,
-        peak_bytes,
-        error: None,
-        error_metric: None,
-        baseline: None,
-        speedup: None,
-    }])
+    let size = format!("{width}x{height} RGB, order {}", sh::MAX_ORDER);
+    Ok(vec![CaseResult::timed("prt.sh.project_equirect", size, timing)])
 }
 
 static TRACKING: AtomicBool = AtomicBool::new(false);
