@@ -20,6 +20,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{PeltError, Result};
+use crate::rng::Rng;
 use crate::threads::pool;
 
 /// Most hairs per tile: 1024², four times a 512² shell texture's texel count.
@@ -371,39 +372,6 @@ fn jitter_in_cell(cell: u32, grid: usize, rng: &mut Rng) -> [f64; 2] {
     let x = ((cx as f64 + rng.next_f64()) / grid as f64).min(below_one);
     let y = ((cy as f64 + rng.next_f64()) / grid as f64).min(below_one);
     [x, y]
-}
-
-/// SplitMix64 (Steele, Lea and Flood 2014): tiny, fast and good enough for jitter; seeding each
-/// strand from a hash of `(seed, stream, index)` makes the strands independent of work order.
-struct Rng(u64);
-
-impl Rng {
-    fn stream(seed: u64, stream: u64, index: u64) -> Self {
-        Rng(mix64(mix64(mix64(seed) ^ stream) ^ index))
-    }
-
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        mix64(self.0)
-    }
-
-    /// Uniform in `[0, 1)` with 53 random bits.
-    fn next_f64(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-
-    /// Uniform integer in `[0, n)` by multiply-shift; the bias, below `n / 2⁶⁴`, is irrelevant
-    /// for shuffling at most 2²¹ cells.
-    fn below(&mut self, n: u64) -> u64 {
-        ((u128::from(self.next_u64()) * u128::from(n)) >> 64) as u64
-    }
-}
-
-/// SplitMix64's output function, a bijection on u64 with good avalanche.
-fn mix64(mut z: u64) -> u64 {
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
 }
 
 #[cfg(test)]

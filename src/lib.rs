@@ -13,6 +13,7 @@ pub mod error;
 pub mod hair;
 pub mod mesh;
 pub mod prt;
+mod rng;
 pub mod threads;
 pub mod volume;
 

@@ -8,6 +8,8 @@
 
 use std::f64::consts::PI;
 
+use crate::rng::Rng;
+
 /// Number of bake directions used when the caller does not choose one.
 pub const DEFAULT_DIRECTIONS: usize = 256;
 
@@ -44,12 +46,12 @@ pub fn fibonacci_weight(n: usize) -> f64 {
 /// regular grid. The jitter comes from a fixed hash of `seed` and the cell, so the set is
 /// deterministic. Rows run from +Z downwards, cells within a row by increasing azimuth.
 pub fn stratified_directions(rows: usize, cols: usize, seed: u64) -> Vec<[f64; 3]> {
-    let mut state = seed;
+    let mut rng = Rng::new(seed);
     let mut out = Vec::with_capacity(rows * cols);
     for r in 0..rows {
         for c in 0..cols {
-            let u = unit_random(&mut state);
-            let v = unit_random(&mut state);
+            let u = rng.next_f64();
+            let v = rng.next_f64();
             let z = 1.0 - 2.0 * (r as f64 + u) / rows as f64;
             let phi = 2.0 * PI * (c as f64 + v) / cols as f64;
             let s = (1.0 - z * z).max(0.0).sqrt();
@@ -57,17 +59,6 @@ pub fn stratified_directions(rows: usize, cols: usize, seed: u64) -> Vec<[f64; 3
         }
     }
     out
-}
-
-/// SplitMix64 step mapped to `[0, 1)`: tiny, well mixed, and identical on every platform.
-fn unit_random(state: &mut u64) -> f64 {
-    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    let mut x = *state;
-    x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    x ^= x >> 31;
-    // The top 53 bits fill an f64 mantissa exactly.
-    (x >> 11) as f64 / (1u64 << 53) as f64
 }
 
 /// Gauss–Legendre nodes and weights on `[-1, 1]` with `n` points, exact for polynomials of degree
