@@ -11,10 +11,11 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::error::Result;
-use crate::hair::{HairParams, grow_strands};
-use crate::mesh::{FurMesh, MeshInput, shapes};
-use crate::prt::sh;
-use crate::volume::coverage::{CoverageMode, splat_disk};
+
+mod hair;
+mod mesh;
+mod prt;
+mod volume;
 
 /// One line of the benchmark table.
 #[derive(Debug, Clone, Serialize)]
@@ -39,7 +40,7 @@ pub struct CaseResult {
 
 impl CaseResult {
     /// A result with a timing only (no error figure, no baseline).
-    fn timed(name: &str, size: String, (seconds, peak_bytes): (f64, Option<usize>)) -> Self {
+    pub(crate) fn timed(name: &str, size: String, (seconds, peak_bytes): (f64, Option<usize>)) -> Self {
         CaseResult {
             name: name.into(),
             size,
@@ -84,19 +85,19 @@ struct Case {
 const CASES: &[Case] = &[
     Case {
         name: "mesh.build",
-        run: mesh_build,
+        run: mesh::mesh_build,
     },
     Case {
         name: "hair.grow",
-        run: hair_grow,
+        run: hair::hair_grow,
     },
     Case {
         name: "volume.coverage",
-        run: coverage_approx,
+        run: volume::coverage_approx,
     },
     Case {
         name: "prt.sh.project_equirect",
-        run: sh_project_equirect,
+        run: prt::sh_project_equirect,
     },
 ];
 
@@ -123,7 +124,7 @@ pub fn run(options: &BenchOptions) -> Result<Report> {
 }
 
 /// Median seconds of `reps` runs of `work`, after one warm-up run that also measures peak heap.
-fn time_median<T>(reps: usize, mut work: impl FnMut() -> T) -> (f64, Option<usize>) {
+pub(crate) fn time_median<T>(reps: usize, mut work: impl FnMut() -> T) -> (f64, Option<usize>) {
     let peak = measure_peak(&mut work);
     let mut times: Vec<f64> = (0..reps.max(1))
         .map(|_| {
@@ -136,17 +137,11 @@ fn time_median<T>(reps: usize, mut work: impl FnMut() -> T) -> (f64, Option<usiz
     (times[times.len() / 2], peak)
 }
 
-/// `mesh.build`: validation, edge map, normals, frames and statistics of a 100k-triangle torus.
-fn mesh_build(options: &BenchOptions) -> Result<Vec<CaseResult>> {
-    let (positions, triangles) = shapes::torus(224, 224);
-    let reps = if options.quick { 7 } else { 31 };
-    let timing = time_fallible(reps, || FurMesh::new(MeshInput::new(&positions, &triangles)))?;
-    let size = format!("{} triangles, {} vertices", triangles.len(), positions.len());
-    Ok(vec![CaseResult::timed("mesh.build", size, timing)])
-}
-
 /// Runs `work` through [`time_median`], keeping the first error instead of timing a failure.
-fn time_fallible<T>(reps: usize, mut work: impl FnMut() -> Result<T>) -> Result<(f64, Option<usize>)> {
+pub(crate) fn time_fallible<T>(
+    reps: usize,
+    mut work: impl FnMut() -> Result<T>,
+) -> Result<(f64, Option<usize>)> {
     let mut failure = None;
     let timing = time_median(reps, || {
         if let Err(e) = work() {
@@ -154,87 +149,6 @@ fn time_fallible<T>(reps: usize, mut work: impl FnMut() -> Result<T>) -> Result<
         }
     });
     failure.map_or(Ok(timing), Err)
-}
-
-/// `hair.grow`: one tile of strands with clumping and a helix.
-fn hair_grow(options: &BenchOptions) -> Result<Vec<CaseResult>> {
-    let params = HairParams {
-        density: if options.quick { 65_536 } else { 262_144 },
-        clump_count: 64,
-        clump_strength: 0.4,
-        helix_radius: 0.002,
-        helix_frequency: 2.0,
-        ..HairParams::default()
-    };
-    let timing = time_fallible(if options.quick { 5 } else { 15 }, || grow_strands(&params))?;
-    let size = format!(
-        "{} strands x {} segments, {} clumps",
-        params.density, params.segments, params.clump_count
-    );
-    Ok(vec![CaseResult::timed("hair.grow", size, timing)])
-}
-
-/// `volume.coverage.approx`: the root cross-sections of the default strands splatted into one
-/// 128² layer with the paper's chord/wedge approximation, against the exact area in the same run.
-fn coverage_approx(options: &BenchOptions) -> Result<Vec<CaseResult>> {
-    const RES: usize = 128;
-    let strands = grow_strands(&HairParams::default())?;
-    let splat_all = |mode: CoverageMode| -> Result<Vec<f32>> {
-        let mut grid = vec![0.0f32; RES * RES];
-        for s in &strands {
-            splat_disk(&mut grid, RES, s.root[0], s.root[1], s.radii[0], mode)?;
-        }
-        Ok(grid)
-    };
-    let exact = splat_all(CoverageMode::Exact)?;
-    let approx = splat_all(CoverageMode::Approx)?;
-    let error = exact
-        .iter()
-        .zip(&approx)
-        .map(|(a, b)| f64::from((a - b).abs()))
-        .fold(0.0, f64::max);
-    let reps = if options.quick { 7 } else { 31 };
-    let exact_timing = time_fallible(reps, || splat_all(CoverageMode::Exact))?;
-    let approx_timing = time_fallible(reps, || splat_all(CoverageMode::Approx))?;
-    let size = format!("{} disks into {RES}x{RES}", strands.len());
-    Ok(vec![
-        CaseResult::timed("volume.coverage.exact", size.clone(), exact_timing),
-        CaseResult {
-            error: Some(error),
-            error_metric: Some("max absolute texel coverage difference vs exact".into()),
-            baseline: Some("volume.coverage.exact".into()),
-            speedup: Some(exact_timing.0 / approx_timing.0),
-            ..CaseResult::timed("volume.coverage.approx", size, approx_timing)
-        },
-    ])
-}
-
-/// `prt.sh.project_equirect`: an HDR environment (a sky gradient and a sun disk) to order-8 SH.
-fn sh_project_equirect(options: &BenchOptions) -> Result<Vec<CaseResult>> {
-    let (width, height) = if options.quick { (512, 256) } else { (2048, 1024) };
-    let rgb: Vec<f32> = (0..width * height)
-        .flat_map(|i| {
-            let (x, y) = (
-                (i % width) as f32 / width as f32,
-                (i / width) as f32 / height as f32,
-            );
-            let sun = if (x - 0.3).hypot(y - 0.25) < 0.01 {
-                50.0
-            } else {
-                0.0
-            };
-            [
-                0.2 + 0.8 * (1.0 - y) + sun,
-                0.3 + 0.7 * (1.0 - y) + sun,
-                1.0 - 0.5 * y + sun,
-            ]
-        })
-        .collect();
-    let timing = time_fallible(if options.quick { 5 } else { 11 }, || {
-        sh::project_equirect(sh::MAX_ORDER, width, height, &rgb)
-    })?;
-    let size = format!("{width}x{height} RGB, order {}", sh::MAX_ORDER);
-    Ok(vec![CaseResult::timed("prt.sh.project_equirect", size, timing)])
 }
 
 static TRACKING: AtomicBool = AtomicBool::new(false);
