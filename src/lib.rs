@@ -12,6 +12,7 @@ pub mod bench;
 pub mod error;
 pub mod hair;
 pub mod mesh;
+pub mod progress;
 pub mod prt;
 mod rng;
 pub mod threads;
