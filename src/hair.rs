@@ -222,6 +222,13 @@ pub struct Strand {
     pub coat: Coat,
 }
 
+impl Strand {
+    /// Height of the tip above the skin, in fur depths.
+    pub fn height(&self) -> f64 {
+        self.points.last().map_or(0.0, |p| p[2])
+    }
+}
+
 /// Grows the strands of one tile, in Pelt's thread pool.
 ///
 /// Roots are stratified: the tile is cut into the smallest `g × g` grid with `g² >= density`, a

@@ -9,6 +9,7 @@
 //! (feature `render`) are thin layers on top. Start with [`FurMesh`].
 
 pub mod bench;
+pub mod color;
 pub mod error;
 pub mod hair;
 pub mod mesh;

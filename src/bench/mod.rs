@@ -96,6 +96,10 @@ const CASES: &[Case] = &[
         run: volume::coverage_approx,
     },
     Case {
+        name: "volume.bake",
+        run: volume::volume_bake,
+    },
+    Case {
         name: "prt.sh.project_equirect",
         run: prt::sh_project_equirect,
     },

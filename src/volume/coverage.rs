@@ -15,7 +15,13 @@
 use std::f64::consts::PI;
 use std::str::FromStr;
 
+use super::footprint::{FootprintScratch, visit_exact};
 use crate::error::{PeltError, Result};
+
+thread_local! {
+    /// Buffers of the exact footprint, reused by every disk splatted on this thread.
+    static SCRATCH: std::cell::RefCell<FootprintScratch> = std::cell::RefCell::default();
+}
 
 /// Most sub-samples per axis in [`CoverageMode::Supersample`].
 pub const MAX_SUPERSAMPLE: u32 = 64;
@@ -261,7 +267,7 @@ pub fn disk_texel_coverage(
     cy: f64,
     r: f64,
     mode: CoverageMode,
-    mut visit: impl FnMut(usize, f64),
+    visit: impl FnMut(usize, f64),
 ) -> Result<()> {
     if !(1..=MAX_RESOLUTION).contains(&resolution) {
         return Err(PeltError::parameter(
@@ -277,6 +283,21 @@ pub fn disk_texel_coverage(
     if !(0.0..0.5).contains(&r) {
         return Err(PeltError::parameter("r", format!("must be in [0, 0.5), got {r}")));
     }
+    SCRATCH.with_borrow_mut(|scratch| visit_disk_texels(resolution, cx, cy, r, mode, scratch, visit));
+    Ok(())
+}
+
+/// The body of [`disk_texel_coverage`] for arguments already known to be valid (the volume bake
+/// checks its strands once instead of once per disk), with the caller's buffers.
+pub(crate) fn visit_disk_texels(
+    resolution: usize,
+    cx: f64,
+    cy: f64,
+    r: f64,
+    mode: CoverageMode,
+    scratch: &mut FootprintScratch,
+    mut visit: impl FnMut(usize, f64),
+) {
     // In texel units the texel area is 1, so areas are already shares of a texel.
     let res = resolution as f64;
     let (px, py, pr) = (cx.rem_euclid(1.0) * res, cy.rem_euclid(1.0) * res, r * res);
@@ -284,6 +305,23 @@ pub fn disk_texel_coverage(
     let span = |c: f64| ((c - pr).floor() as i64, (c + pr).floor() as i64);
     let ((ix0, ix1), (iy0, iy1)) = (span(px), span(py));
     let wrap = |i: i64| i.rem_euclid(resolution as i64) as usize;
+    if mode == CoverageMode::Exact {
+        visit_exact(
+            px,
+            py,
+            pr,
+            (ix0, ix1),
+            (iy0, iy1),
+            scratch,
+            |column, row, share| {
+                visit(
+                    wrap(iy0 + row as i64) * resolution + wrap(ix0 + column as i64),
+                    share,
+                );
+            },
+        );
+        return;
+    }
     for iy in iy0..=iy1 {
         let y0 = iy as f64;
         for ix in ix0..=ix1 {
@@ -294,7 +332,6 @@ pub fn disk_texel_coverage(
             }
         }
     }
-    Ok(())
 }
 
 /// Adds the covered share of each texel of the disk `(cx, cy, r)` (tile units) to the toroidal

@@ -1,9 +1,28 @@
 //! The hair volume: strands sampled into the layers of a tileable shell texture.
 //!
 //! Lengyel et al. 2001, §2.2 sample the geometric hair of one toroidal tile into an RGBA image per
-//! shell layer; the PRT shell-fur paper (`prt-shell-fur`, §2.1) computes each hair's contribution
-//! to a texel as the share of the texel its cross-section covers, so that hairs do not jump from
-//! texel to texel between layers. This module holds that sampling, one stage per file. Today:
-//! [`coverage`], the area a hair's circular cross-section covers in each texel of a layer.
+//! shell layer and a fin texture; §2.4 reduces the stack for distant objects. The PRT shell-fur
+//! paper (`prt-shell-fur`, §2.1) computes each hair's contribution to a texel as the share of the
+//! texel its cross-section covers, so that hairs do not jump from texel to texel between layers.
+//! One stage per file:
+//!
+//! - [`coverage`]: the area a hair's circular cross-section covers in each texel (exact, the
+//!   paper's approximation, supersampled), and [`footprint`], the fast exact path over a disk;
+//! - [`strand_table`]: the strands flattened and sorted by height for sampling;
+//! - [`shells`]: one layer's coverage, color and hair tangent;
+//! - [`fin`]: the fin texture, a slab of hair seen from the side;
+//! - [`lod`]: composited shell pairs and mipmaps;
+//! - [`bake`]: the whole volume ([`bake_volume`]) with its trim and statistics.
 
+pub mod bake;
 pub mod coverage;
+pub mod fin;
+pub mod footprint;
+pub mod lod;
+pub mod shells;
+pub mod strand_table;
+
+#[cfg(test)]
+mod tests;
+
+pub use bake::{HairVolume, VolumeParams, VolumeStats, bake_strands, bake_volume};

@@ -1,0 +1,334 @@
+//! The hair-volume bake: strands to shell stack, fin texture, LOD chain, tangents and density.
+//!
+//! Follows Lengyel et al. 2001, §2.2 (shell and fin textures from one tile of geometric hair) and
+//! §2.4 (level of detail), with the coverage of the PRT shell-fur paper, §2.1. The tile is the unit
+//! cube: unit square laterally (toroidal), height 1 = the fur depth; layer `i` of `L` samples the
+//! height `i / L`, so a renderer places it at `i / L` of the hair length (the shell offset of §2.3).
+//! Layer 0 is the opaque skin. Layers above the tallest strand hold no hair and are trimmed.
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::error::{PeltError, Result};
+use crate::hair::{HairParams, Strand, grow_strands};
+use crate::progress::{Progress, ProgressCallback};
+use crate::threads::pool;
+
+use super::coverage::CoverageMode;
+use super::fin::{fin_row, slab_candidates};
+use super::lod::{downsample, lod_chain, mip_count};
+use super::shells::{LayerOut, LayerScratch, sample_layer};
+use super::strand_table::StrandTable;
+
+/// Most shell layers.
+pub const MAX_LAYERS: usize = 256;
+/// Largest shell texture side.
+pub const MAX_RESOLUTION: usize = 4096;
+/// Largest fin texture side.
+pub const MAX_FIN_SIZE: usize = 4096;
+/// Widest tall-Gaussian filter, standard deviation in layer spacings.
+pub const MAX_VERTICAL_FILTER: f64 = 8.0;
+/// Height samples per layer spacing taken by the tall Gaussian filter.
+const FILTER_SAMPLES_PER_LAYER: f64 = 4.0;
+
+/// How the hair volume is sampled.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VolumeParams {
+    /// Shell layers including the skin, `[1, MAX_LAYERS]`; default 16.
+    pub layers: usize,
+    /// Shell texture side in texels, `[1, MAX_RESOLUTION]`; default 128.
+    pub resolution: usize,
+    /// How a cross-section's share of a texel is computed; default exact.
+    pub coverage: CoverageMode,
+    /// Tall Gaussian filter along the height (Lengyel §2.2), standard deviation in layer spacings,
+    /// `[0, MAX_VERTICAL_FILTER]`; 0 (default) samples each layer at its own height only.
+    pub vertical_filter: f64,
+    /// Fin texture `[width, height]`, each `[1, MAX_FIN_SIZE]`; default 512 × 128.
+    pub fin_size: [usize; 2],
+    /// Depth of the slab of hair seen in the fin texture, tile units, `(0, 1]`; default 0.1.
+    pub fin_slab: f64,
+    /// Drop layers above the tallest strand (and report it); default true.
+    pub trim: bool,
+    /// Build the LOD chain of composited shells; default true.
+    pub lod: bool,
+    /// Build the mipmaps of every layer; default true.
+    pub mipmaps: bool,
+}
+
+impl Default for VolumeParams {
+    fn default() -> Self {
+        VolumeParams {
+            layers: 16,
+            resolution: 128,
+            coverage: CoverageMode::Exact,
+            vertical_filter: 0.0,
+            fin_size: [512, 128],
+            fin_slab: 0.1,
+            trim: true,
+            lod: true,
+            mipmaps: true,
+        }
+    }
+}
+
+fn out_of_range(name: &str, range: &str, got: impl std::fmt::Display) -> PeltError {
+    PeltError::parameter(name, format!("must be in {range}, got {got}"))
+}
+
+impl VolumeParams {
+    /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming the first field out of range.
+    pub fn validate(&self) -> Result<()> {
+        if !(1..=MAX_LAYERS).contains(&self.layers) {
+            return Err(out_of_range("layers", &format!("[1, {MAX_LAYERS}]"), self.layers));
+        }
+        if !(1..=MAX_RESOLUTION).contains(&self.resolution) {
+            return Err(out_of_range(
+                "resolution",
+                &format!("[1, {MAX_RESOLUTION}]"),
+                self.resolution,
+            ));
+        }
+        if !(0.0..=MAX_VERTICAL_FILTER).contains(&self.vertical_filter) {
+            let range = format!("[0, {MAX_VERTICAL_FILTER}]");
+            return Err(out_of_range("vertical_filter", &range, self.vertical_filter));
+        }
+        for (name, side) in [
+            ("fin_size[0]", self.fin_size[0]),
+            ("fin_size[1]", self.fin_size[1]),
+        ] {
+            if !(1..=MAX_FIN_SIZE).contains(&side) {
+                return Err(out_of_range(name, &format!("[1, {MAX_FIN_SIZE}]"), side));
+            }
+        }
+        if !(self.fin_slab > 0.0 && self.fin_slab <= 1.0) {
+            return Err(out_of_range("fin_slab", "(0, 1]", self.fin_slab));
+        }
+        Ok(())
+    }
+}
+
+/// What the trim and the sampling found, for the bake report.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct VolumeStats {
+    /// Strands sampled.
+    pub strands: usize,
+    /// Height of the tallest tip, fur depths.
+    pub tallest: f64,
+    /// Layers asked for.
+    pub layers_requested: usize,
+    /// Layers kept after the trim.
+    pub layers: usize,
+    /// Layers dropped because no hair reaches them.
+    pub trimmed: usize,
+    /// Mean coverage of each kept layer (the share of the tile covered by hair cross-sections).
+    pub mean_coverage: Vec<f64>,
+}
+
+/// The baked hair volume. Arrays are layer-major, rows top to bottom of the tile's `y`, straight
+/// (not premultiplied) RGBA8 with sRGB-encoded color.
+#[derive(Debug, Clone)]
+pub struct HairVolume {
+    /// Texture side `R`.
+    pub resolution: usize,
+    /// Kept layers `L'` (after the trim).
+    pub layers: usize,
+    /// Height between layers, fur depths (`1 / layers_requested`).
+    pub layer_spacing: f64,
+    /// `[L'][R][R][4]` shell colors and alpha; layer 0 opaque.
+    pub shells: Vec<u8>,
+    /// `[L'][R][R]` covered share per texel (summed over hairs, can exceed 1): the density volume.
+    pub coverage: Vec<f32>,
+    /// `[L'][R][R][4]` hair tangent packed `0.5·d + 0.5` in RGB (x, y in the tile, z up), alpha
+    /// as the shells'.
+    pub tangents: Vec<u8>,
+    /// Fin texture `[width, height]`.
+    pub fin_size: [usize; 2],
+    /// `[height][width][4]` fin colors and alpha; row 0 is the top of the fur.
+    pub fin: Vec<u8>,
+    /// LOD levels 1.. of the shells: level `k` has `ceil(L' / 2^k)` layers of `[R][R][4]`.
+    pub lod: Vec<Vec<u8>>,
+    /// Mip levels 1.. of every layer: level `k` is `[L'][max(1, R >> k)]²[4]`.
+    pub mips: Vec<Vec<u8>>,
+    /// Trim and coverage figures.
+    pub stats: VolumeStats,
+}
+
+/// Grows the strands of `hair` and bakes them (see [`bake_strands`]).
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] for a bad `hair` or `volume` field, [`PeltError::Cancelled`]
+/// when `progress` asks to stop.
+pub fn bake_volume(
+    hair: &HairParams,
+    volume: &VolumeParams,
+    progress: Option<ProgressCallback<'_>>,
+) -> Result<HairVolume> {
+    volume.validate()?;
+    let strands = grow_strands(hair)?;
+    bake_strands(&strands, volume, progress)
+}
+
+/// Bakes given strands (radii below half a tile) into a hair volume, in Pelt's thread pool.
+/// The output is bit-identical for any thread count.
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] for a bad `volume` field or a strand radius of half a tile or
+/// more, [`PeltError::Cancelled`] when `progress` asks to stop.
+pub fn bake_strands(
+    strands: &[Strand],
+    volume: &VolumeParams,
+    progress: Option<ProgressCallback<'_>>,
+) -> Result<HairVolume> {
+    volume.validate()?;
+    validate_strands(strands)?;
+    pool().install(|| bake_validated(strands, volume, progress))
+}
+
+/// Checks what the sampling relies on: one point count for all strands (at least 2), a radius per
+/// point in `[0, 0.5)`, finite coordinates.
+fn validate_strands(strands: &[Strand]) -> Result<()> {
+    let points = strands.first().map_or(2, |s| s.points.len());
+    for (i, s) in strands.iter().enumerate() {
+        let bad = |reason: String| Err(PeltError::parameter(format!("strands[{i}]"), reason));
+        if s.points.len() != points || points < 2 || s.radii.len() != points {
+            return bad(format!(
+                "must have {points} points and radii like strands[0] (at least 2), got {} and {}",
+                s.points.len(),
+                s.radii.len()
+            ));
+        }
+        if !s.points.iter().flatten().all(|c| c.is_finite()) {
+            return bad("has a coordinate that is not finite".into());
+        }
+        if let Some(r) = s.radii.iter().find(|r| !(0.0..0.5).contains(*r)) {
+            return bad(format!("radius must be in [0, 0.5) tile units, got {r}"));
+        }
+    }
+    Ok(())
+}
+
+/// `(z, weight)` samples of layer `layer` of `layers`: its own height, or the tall Gaussian.
+fn layer_heights(layer: usize, layers: usize, filter: f64) -> Vec<(f64, f64)> {
+    let spacing = 1.0 / layers as f64;
+    let z = layer as f64 * spacing;
+    if layer == 0 || filter == 0.0 {
+        return vec![(z, 1.0)];
+    }
+    let n = (3.0 * filter * FILTER_SAMPLES_PER_LAYER).ceil() as i64;
+    let step = 3.0 * filter / n as f64; // in layer spacings
+    let samples: Vec<(f64, f64)> = (-n..=n)
+        .map(|k| {
+            let d = k as f64 * step;
+            (z + d * spacing, (-0.5 * (d / filter).powi(2)).exp())
+        })
+        .filter(|&(h, _)| h >= 0.0)
+        .collect();
+    let total: f64 = samples.iter().map(|s| s.1).sum();
+    samples.into_iter().map(|(h, w)| (h, w / total)).collect()
+}
+
+pub(crate) fn bake_validated(
+    strands: &[Strand],
+    volume: &VolumeParams,
+    callback: Option<ProgressCallback<'_>>,
+) -> Result<HairVolume> {
+    let (res, requested) = (volume.resolution, volume.layers);
+    let table = StrandTable::new(strands);
+    let tallest = table.tallest();
+    let layers = if volume.trim {
+        // Highest layer any sample of the filter can still find hair at.
+        let reach = 3.0 * volume.vertical_filter / requested as f64;
+        (((tallest + reach) * requested as f64).floor() as usize + 1).min(requested)
+    } else {
+        requested
+    };
+    let texels = res * res;
+    let [fin_w, fin_h] = volume.fin_size;
+    let progress = Progress::new(layers + fin_h, callback);
+
+    let mut shells = vec![0u8; layers * texels * 4];
+    let mut coverage = vec![0.0f32; layers * texels];
+    let mut tangents = vec![0u8; layers * texels * 4];
+    shells
+        .par_chunks_mut(texels * 4)
+        .zip(coverage.par_chunks_mut(texels))
+        .zip(tangents.par_chunks_mut(texels * 4))
+        .enumerate()
+        .try_for_each_init(LayerScratch::default, |scratch, (layer, ((rgba, cov), tan))| {
+            progress.check()?;
+            let heights = layer_heights(layer, requested, volume.vertical_filter);
+            let out = LayerOut {
+                coverage: cov,
+                rgba,
+                tangent: tan,
+            };
+            sample_layer(&table, &heights, res, volume.coverage, layer == 0, scratch, out);
+            progress.advance(1)
+        })?;
+
+    let mut fin = vec![0u8; fin_w * fin_h * 4];
+    let candidates = slab_candidates(&table, volume.fin_slab);
+    fin.par_chunks_mut(fin_w * 4)
+        .enumerate()
+        .try_for_each(|(row, rgba)| {
+            progress.check()?;
+            fin_row(&table, &candidates, volume.fin_slab, volume.fin_size, row, rgba);
+            progress.advance(1)
+        })?;
+
+    let lod = if volume.lod {
+        lod_chain(&shells, layers, texels)
+    } else {
+        Vec::new()
+    };
+    let mips = if volume.mipmaps {
+        mip_chain(&shells, layers, res)
+    } else {
+        Vec::new()
+    };
+    let mean_coverage = coverage
+        .chunks_exact(texels)
+        .map(|layer| layer.iter().map(|&c| f64::from(c)).sum::<f64>() / texels as f64)
+        .collect();
+    Ok(HairVolume {
+        resolution: res,
+        layers,
+        layer_spacing: 1.0 / requested as f64,
+        shells,
+        coverage,
+        tangents,
+        fin_size: volume.fin_size,
+        fin,
+        lod,
+        mips,
+        stats: VolumeStats {
+            strands: strands.len(),
+            tallest,
+            layers_requested: requested,
+            layers,
+            trimmed: requested - layers,
+            mean_coverage,
+        },
+    })
+}
+
+/// Mip levels 1.. of every layer, each level computed from the previous one.
+fn mip_chain(shells: &[u8], layers: usize, res: usize) -> Vec<Vec<u8>> {
+    let mut levels: Vec<Vec<u8>> = Vec::new();
+    let mut side = res;
+    for _ in 1..mip_count(res) {
+        let source = levels.last().map_or(shells, Vec::as_slice);
+        let layer_bytes = 4 * side * side;
+        let next: Vec<Vec<u8>> = source
+            .par_chunks_exact(layer_bytes)
+            .take(layers)
+            .map(|layer| downsample(layer, side))
+            .collect();
+        levels.push(next.concat());
+        side = (side / 2).max(1);
+    }
+    levels
+}

@@ -1,0 +1,108 @@
+//! The fin texture: the hair of a thin slab of the tile seen from the side.
+//!
+//! Shells seen edge-on at the silhouette show gaps between layers; Lengyel et al. 2001, §2.2 cover
+//! them with "fins", quads standing on mesh edges, textured with an image of the same hair
+//! geometry rendered sideways: the strands whose roots lie in a slab of the tile along one surface
+//! tangent, composited along that tangent. Here the view runs along +y: each image row is one
+//! height, each strand crossing that height inside the slab `y ∈ [0, slab)` (toroidally) covers
+//! the interval `[x − r, x + r]` of the row, and the pieces are composited front to back
+//! ("over", nearest first) with their exact interval coverage per texel.
+//!
+//! Image rows run top to bottom: row 0 is the top of the fur (height 1), the last row the skin.
+//! The x axis is the tile's and wraps, so the texture repeats along the fin.
+
+use super::strand_table::StrandTable;
+use crate::color::{srgb8_encoder, unit_to_u8};
+
+/// One strand's cut through a row.
+struct Piece {
+    depth: f64,
+    index: usize,
+    x: f64,
+    radius: f64,
+    color: [f32; 3],
+}
+
+/// Renders row `row` of a `width × height` fin texture into `rgba` (straight RGBA8, color
+/// sRGB-encoded).
+///
+/// `candidates` are the table indices (ascending) of the strands that can enter the slab at all
+/// (see [`slab_candidates`]).
+pub fn fin_row(
+    strands: &StrandTable,
+    candidates: &[usize],
+    slab: f64,
+    [width, height]: [usize; 2],
+    row: usize,
+    rgba: &mut [u8],
+) {
+    let z = 1.0 - (row as f64 + 0.5) / height as f64;
+    let mut pieces: Vec<Piece> = candidates
+        .iter()
+        .filter(|&&k| strands.reaches(k, z))
+        .filter_map(|&k| {
+            let cut = strands.cut(k, z);
+            let depth = cut.y.rem_euclid(1.0);
+            (depth < slab).then(|| {
+                let [root, tip] = strands.colors(k);
+                Piece {
+                    depth,
+                    index: k,
+                    x: cut.x.rem_euclid(1.0) * width as f64,
+                    radius: cut.radius * width as f64,
+                    color: std::array::from_fn(|c| root[c] + (tip[c] - root[c]) * cut.along),
+                }
+            })
+        })
+        .collect();
+    // Nearest first; the strand index breaks ties so the order never depends on the sort.
+    pieces.sort_by(|a, b| a.depth.total_cmp(&b.depth).then(a.index.cmp(&b.index)));
+
+    let mut transmit = vec![1.0f32; width];
+    let mut premul = vec![[0.0f32; 3]; width];
+    for p in &pieces {
+        let (lo, hi) = (p.x - p.radius, p.x + p.radius);
+        for ix in lo.floor() as i64..=hi.floor() as i64 {
+            let cover = (hi.min(ix as f64 + 1.0) - lo.max(ix as f64)).clamp(0.0, 1.0) as f32;
+            if cover <= 0.0 {
+                continue;
+            }
+            let t = ix.rem_euclid(width as i64) as usize;
+            let visible = transmit[t] * cover;
+            for (sum, &c) in premul[t].iter_mut().zip(&p.color) {
+                *sum += visible * c;
+            }
+            transmit[t] *= 1.0 - cover;
+        }
+    }
+    // Empty texels get the row's mean hair color so filtering does not pull in black.
+    let covered: f32 = transmit.iter().map(|t| 1.0 - t).sum();
+    let fill: [f32; 3] = if covered > 0.0 {
+        std::array::from_fn(|c| premul.iter().map(|p| p[c]).sum::<f32>() / covered)
+    } else {
+        [0.0; 3]
+    };
+    for (t, px) in rgba.chunks_exact_mut(4).enumerate() {
+        let alpha = 1.0 - transmit[t];
+        let rgb = if alpha > 0.0 {
+            premul[t].map(|c| c / alpha)
+        } else {
+            fill
+        };
+        px[..3].copy_from_slice(&rgb.map(|c| srgb8_encoder().encode(c)));
+        px[3] = unit_to_u8(alpha);
+    }
+}
+
+/// Table indices of the strands whose lateral extent meets the slab `y ∈ [0, slab)` (mod 1).
+pub fn slab_candidates(strands: &StrandTable, slab: f64) -> Vec<usize> {
+    (0..strands.len())
+        .filter(|&k| {
+            let [lo, hi] = strands.y_range(k);
+            // Shift the range so it starts in [0, 1); it meets the slab there or one tile on.
+            let shift = lo.floor();
+            let (lo, hi) = (lo - shift, hi - shift);
+            hi - lo >= 1.0 || lo < slab || hi >= 1.0
+        })
+        .collect()
+}

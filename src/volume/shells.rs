@@ -1,0 +1,160 @@
+//! One shell layer sampled from the strands: coverage, color and hair tangent per texel.
+//!
+//! Lengyel et al. 2001, §2.2 sample the hair geometry into a stack of semi-transparent layers,
+//! the innermost one opaque (the skin), optionally through a "tall Gaussian" filter along the
+//! height; the PRT shell-fur paper (§2.1) gives each hair's contribution as the share of the texel
+//! its disk-shaped cross-section covers at the layer's height. Here a layer takes one or more
+//! weighted sample heights (one without the filter), finds where each strand crosses each height,
+//! and splats the cross-section with the chosen coverage mode. Color and tangent are averages
+//! weighted by coverage; the hair tangent is what per-pixel Kajiya–Kay lighting needs (Lengyel
+//! lists it as future work in §2.4).
+
+use crate::color::{srgb8_encoder, unit_to_u8};
+
+use super::coverage::{CoverageMode, visit_disk_texels};
+use super::footprint::FootprintScratch;
+use super::strand_table::StrandTable;
+
+/// Per-texel sums of one layer, one 32-byte record per texel so a hair's visit touches one cache
+/// line: `[Σ w, Π (1 − w), Σ w·color (3), Σ w·direction (3)]` with `w = share · weight`.
+type Sums = [f32; 8];
+
+/// Buffers of one worker, reused across the layers it samples.
+#[derive(Debug, Default)]
+pub struct LayerScratch {
+    sums: Vec<Sums>,
+    footprint: FootprintScratch,
+}
+
+/// Where one layer's results go: slices of the volume's arrays for this layer.
+pub struct LayerOut<'a> {
+    /// Coverage per texel (summed shares, may exceed 1 where hairs overlap): the density.
+    pub coverage: &'a mut [f32],
+    /// Straight RGBA8, color sRGB-encoded; alpha is the hairs composited over each other,
+    /// `1 − Π (1 − share)` (1 on the skin).
+    pub rgba: &'a mut [u8],
+    /// Hair tangent packed `0.5 · d + 0.5` in RGB, alpha as in `rgba`.
+    pub tangent: &'a mut [u8],
+}
+
+/// Samples one layer.
+///
+/// `heights` are `(z, weight)` pairs (weights summing to 1); `skin` makes the layer opaque.
+/// Texels no hair reaches keep alpha 0 but get the layer's mean color and tangent, so that
+/// filtering (mipmaps, bilinear lookups at hair borders) does not pull in black. The strands
+/// must have passed the bake's checks (finite, radius below half a tile).
+pub fn sample_layer(
+    strands: &StrandTable,
+    heights: &[(f64, f64)],
+    resolution: usize,
+    mode: CoverageMode,
+    skin: bool,
+    scratch: &mut LayerScratch,
+    out: LayerOut<'_>,
+) {
+    let texels = resolution * resolution;
+    let sums = &mut scratch.sums;
+    sums.clear();
+    sums.resize(texels, [0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    // Layer totals for the fill values, per hair (f64, in strand order: thread-count independent).
+    let mut totals = [0.0f64; 7];
+    for &(z, weight) in heights {
+        for k in (0..strands.len()).filter(|&k| strands.reaches(k, z)) {
+            let cut = strands.cut(k, z);
+            let [root, tip] = strands.colors(k);
+            let color: [f32; 3] = std::array::from_fn(|c| root[c] + (tip[c] - root[c]) * cut.along);
+            let d = cut.direction;
+            let footprint = &mut scratch.footprint;
+            let mut hair_total = 0.0f64;
+            visit_disk_texels(
+                resolution,
+                cut.x,
+                cut.y,
+                cut.radius,
+                mode,
+                footprint,
+                |texel, share| {
+                    let w = (share * weight) as f32;
+                    hair_total += f64::from(w);
+                    let t = &mut sums[texel];
+                    t[0] += w;
+                    t[1] *= 1.0 - w;
+                    t[2] += w * color[0];
+                    t[3] += w * color[1];
+                    t[4] += w * color[2];
+                    t[5] += w * d[0];
+                    t[6] += w * d[1];
+                    t[7] += w * d[2];
+                },
+            );
+            totals[0] += hair_total;
+            for c in 0..3 {
+                totals[1 + c] += hair_total * f64::from(color[c]);
+                totals[4 + c] += hair_total * f64::from(d[c]);
+            }
+        }
+    }
+    finish_layer(sums, &totals, skin, out);
+}
+
+/// Turns the sums into straight color and unit tangents; empty texels get the layer's mean color
+/// and tangent (from `totals`: Σ w, Σ w·color, Σ w·direction).
+fn finish_layer(sums: &[Sums], totals: &[f64; 7], skin: bool, out: LayerOut<'_>) {
+    let fill_color: [f32; 3] = if totals[0] > 0.0 {
+        std::array::from_fn(|c| (totals[1 + c] / totals[0]) as f32)
+    } else {
+        [0.0; 3]
+    };
+    let fill_tangent = unit_or(
+        [totals[4] as f32, totals[5] as f32, totals[6] as f32],
+        [0.0, 0.0, 1.0],
+    );
+    let srgb = srgb8_encoder();
+    let empty_alpha = if skin { 255 } else { 0 };
+    let pack = |dir: [f32; 3], alpha: u8| -> [u8; 4] {
+        [
+            unit_to_u8(0.5 * dir[0] + 0.5),
+            unit_to_u8(0.5 * dir[1] + 0.5),
+            unit_to_u8(0.5 * dir[2] + 0.5),
+            alpha,
+        ]
+    };
+    let empty_px = [
+        srgb.encode(fill_color[0]),
+        srgb.encode(fill_color[1]),
+        srgb.encode(fill_color[2]),
+        empty_alpha,
+    ];
+    let empty_tx = pack(fill_tangent, empty_alpha);
+    let pixels = out.rgba.chunks_exact_mut(4).zip(out.tangent.chunks_exact_mut(4));
+    for ((t, cov), (px, tx)) in sums.iter().zip(out.coverage.iter_mut()).zip(pixels) {
+        *cov = t[0];
+        if t[0] <= 0.0 {
+            // Most texels of the upper layers: no hair, constant bytes.
+            px.copy_from_slice(&empty_px);
+            tx.copy_from_slice(&empty_tx);
+            continue;
+        }
+        let inv = 1.0 / t[0];
+        let dir = unit_or([t[5], t[6], t[7]], fill_tangent);
+        let alpha = if skin { 255 } else { unit_to_u8(1.0 - t[1]) };
+        px.copy_from_slice(&[
+            srgb.encode(t[2] * inv),
+            srgb.encode(t[3] * inv),
+            srgb.encode(t[4] * inv),
+            alpha,
+        ]);
+        tx.copy_from_slice(&pack(dir, alpha));
+    }
+}
+
+/// `v` normalized, or `fallback` when `v` is (nearly) zero, e.g. hairs crossing in opposite
+/// directions inside one texel.
+fn unit_or(v: [f32; 3], fallback: [f32; 3]) -> [f32; 3] {
+    let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if len > 1e-12 && len.is_finite() {
+        v.map(|c| c / len)
+    } else {
+        fallback
+    }
+}

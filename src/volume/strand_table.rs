@@ -1,0 +1,135 @@
+//! The strands in one flat table, tallest first, for sampling many heights quickly.
+//!
+//! Each layer asks every strand where it crosses the layer's height. With one heap allocation per
+//! strand that walk is bound by scattered memory reads; here the polylines sit in one array
+//! (single precision is ample: a thousandth of a texel at 4096²), ordered by where their roots
+//! stand (rows of the tile, then x), so that consecutive strands splat into neighbouring texels
+//! and a layer's sums stay in cache.
+
+use crate::hair::Strand;
+
+/// A strand's cut through a horizontal plane.
+#[derive(Debug, Clone, Copy)]
+pub struct Cut {
+    /// Unwrapped position in the tile.
+    pub x: f64,
+    /// Unwrapped position in the tile.
+    pub y: f64,
+    /// Radius, tile units.
+    pub radius: f64,
+    /// Height along the strand as a share of its own height.
+    pub along: f32,
+    /// Unit direction of the strand there.
+    pub direction: [f32; 3],
+}
+
+/// Strands as flat arrays in raster order of their roots (ties keep their input order).
+pub struct StrandTable {
+    /// Points per strand (segments + 1), the same for all strands of the table.
+    stride: usize,
+    /// Per strand: `(height, input index)`.
+    heights: Vec<(f64, usize)>,
+    /// `stride` points per strand: `(x, y, radius)`; heights rise evenly from 0 to the strand's.
+    points: Vec<[f32; 3]>,
+    /// Per strand: root and tip color.
+    colors: Vec<[[f32; 3]; 2]>,
+}
+
+impl StrandTable {
+    /// Builds the table; strands with a different point count from the first one, fewer than two
+    /// points or a height that is not positive and finite are left out (they cross no layer).
+    pub fn new(strands: &[Strand]) -> Self {
+        let stride = strands.first().map_or(2, |s| s.points.len().max(2));
+        let mut order: Vec<(f64, usize)> = strands
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.points.len() == stride && s.radii.len() == stride)
+            .map(|(i, s)| (s.height(), i))
+            .filter(|&(h, _)| h > 0.0 && h.is_finite())
+            .collect();
+        // Rows of 1/256 of the tile: finer than any shell texture's cache-relevant span.
+        let key = |i: usize| {
+            let r = strands[i].root;
+            ((r[1].rem_euclid(1.0) * 256.0) as u32, r[0].rem_euclid(1.0))
+        };
+        order.sort_by(|a, b| {
+            let (ka, kb) = (key(a.1), key(b.1));
+            ka.0.cmp(&kb.0).then(ka.1.total_cmp(&kb.1)).then(a.1.cmp(&b.1))
+        });
+        let mut points = Vec::with_capacity(order.len() * stride);
+        let mut colors = Vec::with_capacity(order.len());
+        for &(_, i) in &order {
+            let s = &strands[i];
+            points.extend(
+                s.points
+                    .iter()
+                    .zip(&s.radii)
+                    .map(|(p, &r)| [p[0] as f32, p[1] as f32, r as f32]),
+            );
+            colors.push([s.root_color, s.tip_color]);
+        }
+        StrandTable {
+            stride,
+            heights: order,
+            points,
+            colors,
+        }
+    }
+
+    /// Number of strands in the table.
+    pub fn len(&self) -> usize {
+        self.heights.len()
+    }
+
+    /// Whether the table holds no strand.
+    pub fn is_empty(&self) -> bool {
+        self.heights.is_empty()
+    }
+
+    /// Height of the tallest strand (0 without strands).
+    pub fn tallest(&self) -> f64 {
+        self.heights.iter().map(|h| h.0).fold(0.0, f64::max)
+    }
+
+    /// Whether table strand `k` reaches height `z` (`z` within `[0, height]`).
+    #[inline]
+    pub fn reaches(&self, k: usize, z: f64) -> bool {
+        z >= 0.0 && self.heights[k].0 >= z
+    }
+
+    /// Root and tip color of table strand `k`.
+    pub fn colors(&self, k: usize) -> [[f32; 3]; 2] {
+        self.colors[k]
+    }
+
+    /// Where table strand `k` crosses height `z`, which must lie in `[0, height]` (see
+    /// [`StrandTable::reaches`]). Position and radius are linear along the segment holding `z`.
+    pub fn cut(&self, k: usize, z: f64) -> Cut {
+        let height = self.heights[k].0;
+        let segments = self.stride - 1;
+        let t = (z / height * segments as f64).max(0.0);
+        let s = (t as usize).min(segments - 1);
+        let f = t - s as f64;
+        let a = self.points[k * self.stride + s];
+        let b = self.points[k * self.stride + s + 1];
+        let (dx, dy) = (f64::from(b[0] - a[0]), f64::from(b[1] - a[1]));
+        let dz = height / segments as f64;
+        let inv = 1.0 / (dx * dx + dy * dy + dz * dz).sqrt();
+        Cut {
+            x: f64::from(a[0]) + f * dx,
+            y: f64::from(a[1]) + f * dy,
+            radius: f64::from(a[2]) + f * f64::from(b[2] - a[2]),
+            along: (z / height) as f32,
+            direction: [(dx * inv) as f32, (dy * inv) as f32, (dz * inv) as f32],
+        }
+    }
+
+    /// The lateral extent `[min y, max y]` of table strand `k`, unwrapped.
+    pub fn y_range(&self, k: usize) -> [f64; 2] {
+        let pts = &self.points[k * self.stride..(k + 1) * self.stride];
+        pts.iter()
+            .fold([f64::INFINITY, f64::NEG_INFINITY], |[lo, hi], p| {
+                [lo.min(f64::from(p[1])), hi.max(f64::from(p[1]))]
+            })
+    }
+}
