@@ -10,6 +10,7 @@
 
 pub mod bench;
 pub mod error;
+pub mod export;
 pub mod hair;
 pub mod mesh;
 pub mod progress;
