@@ -11,6 +11,7 @@
 pub mod bench;
 pub mod color;
 pub mod error;
+pub mod export;
 pub mod hair;
 pub mod mesh;
 pub mod progress;

@@ -12,6 +12,7 @@ use serde::Serialize;
 
 use crate::error::Result;
 
+mod export;
 mod hair;
 mod mesh;
 mod prt;
@@ -102,6 +103,10 @@ const CASES: &[Case] = &[
     Case {
         name: "prt.sh.project_equirect",
         run: prt::sh_project_equirect,
+    },
+    Case {
+        name: "export",
+        run: export::export_writers,
     },
 ];
 

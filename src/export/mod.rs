@@ -1,0 +1,64 @@
+//! Image writers for baked textures: PNG, OpenEXR and KTX2, plus the atlas layout.
+//!
+//! Lengyel et al. 2001, §2.2 store the shell layers as a stack of RGBA textures. Engines sample
+//! them as a 2D-array texture (KTX2, with mipmaps), while Blender materials and many engines have
+//! no texture arrays, so the layers are also laid out side by side in one atlas image
+//! ([`atlas`]). Float data (coverage, density, transfer coefficients) goes to OpenEXR.
+//!
+//! Every writer takes an [`ImageRef`] (or a [`Ktx2Texture`]), validates it up front and writes
+//! bytes that depend only on its input: no timestamps, no thread-dependent ordering, so the same
+//! bake always gives the same files. Colors are written as given: straight (not premultiplied)
+//! alpha, in whatever encoding the caller chose; [`PngOptions::srgb`] and [`Ktx2Format`] say which
+//! one the file declares.
+//!
+//! The EXR and KTX2 writers are written by hand from the OpenEXR file layout and the KTX 2.0
+//! specification (no encoder crates); the tests read their output back with independent readers.
+
+pub mod atlas;
+pub mod exr;
+pub mod image;
+pub mod ktx2;
+pub mod mip;
+pub mod png;
+
+#[cfg(test)]
+mod tests;
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+use crate::error::{PeltError, Result};
+
+pub use atlas::{AtlasLayout, pack_atlas};
+pub use exr::{ExrCompression, ExrOptions, ExrSample, save_exr, write_exr};
+pub use image::{Image, ImageRef, layer_views};
+pub use ktx2::{Ktx2Format, Ktx2Texture, save_ktx2, write_ktx2};
+pub use mip::{MipAlpha, MipLevels, MipOptions, full_mip_count, mip_chain_rgba8, mip_chain_rgba16f};
+pub use png::{PngCompression, PngOptions, PngSample, save_png, write_png};
+
+/// The name [`PeltError::Io`] reports for failures of a caller's `Write` (it has no path).
+pub const WRITER_NAME: &str = "<writer>";
+
+/// Wraps an I/O error on the caller's writer.
+fn writer_error(source: std::io::Error) -> PeltError {
+    PeltError::Io {
+        path: WRITER_NAME.into(),
+        source,
+    }
+}
+
+/// Creates `path`, lets `write` fill it through a buffer, and flushes; every I/O failure becomes
+/// [`PeltError::Io`] naming the path.
+fn save_to_path(path: &Path, write: impl FnOnce(&mut BufWriter<File>) -> Result<()>) -> Result<()> {
+    let io = |source| PeltError::Io {
+        path: path.display().to_string(),
+        source,
+    };
+    let mut out = BufWriter::new(File::create(path).map_err(io)?);
+    write(&mut out).map_err(|e| match e {
+        PeltError::Io { source, .. } => io(source),
+        other => other,
+    })?;
+    out.flush().map_err(io)
+}
