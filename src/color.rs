@@ -95,8 +95,9 @@ pub fn unit_to_u8(value: f32) -> u8 {
 }
 
 /// The 256 linear values of the sRGB-encoded bytes, for decoding whole images quickly.
-pub fn srgb8_to_linear_table() -> [f32; 256] {
-    std::array::from_fn(|i| srgb_to_linear(i as f32 / 255.0))
+pub fn srgb8_to_linear_table() -> &'static [f32; 256] {
+    static TABLE: OnceLock<[f32; 256]> = OnceLock::new();
+    TABLE.get_or_init(|| std::array::from_fn(|i| srgb_to_linear(i as f32 / 255.0)))
 }
 
 #[cfg(test)]

@@ -14,11 +14,10 @@
 //! alpha is always linear. Every texel is computed on its own from fixed inputs in a fixed order,
 //! so the result does not depend on the thread count.
 
-use std::sync::OnceLock;
-
 use half::f16;
 use rayon::prelude::*;
 
+use crate::color::{srgb8_encoder, srgb8_to_linear_table};
 use crate::error::{PeltError, Result};
 use crate::threads::pool;
 
@@ -88,7 +87,8 @@ pub fn mip_chain_rgba8(
     options: &MipOptions,
 ) -> Result<Vec<Vec<u8>>> {
     let count = validate(width, height, layers, base.len(), options.levels)?;
-    Ok(pool().install(|| chain_rgba8(width, height, layers, base, srgb, options.alpha, count)))
+    let smaller = pool().install(|| chain_rgba8(width, height, layers, base, srgb, options.alpha, count));
+    Ok(std::iter::once(base.to_vec()).chain(smaller).collect())
 }
 
 /// [`mip_chain_rgba8`] for half-float RGBA (linear values, e.g. HDR color or coverage).
@@ -105,7 +105,8 @@ pub fn mip_chain_rgba16f(
 ) -> Result<Vec<Vec<f16>>> {
     let count = validate(width, height, layers, base.len(), options.levels)?;
     check_finite_f16("base", width, height, base)?;
-    Ok(pool().install(|| chain_rgba16f(width, height, layers, base, options.alpha, count)))
+    let smaller = pool().install(|| chain_rgba16f(width, height, layers, base, options.alpha, count));
+    Ok(std::iter::once(base.to_vec()).chain(smaller).collect())
 }
 
 /// The number of levels to build, after checking the sizes.
@@ -165,6 +166,8 @@ pub(crate) fn check_finite_f16(name: &str, width: usize, height: usize, data: &[
     ))
 }
 
+/// Levels `1..count` of the chain of [`mip_chain_rgba8`] (the base not repeated), sizes unchecked.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn chain_rgba8(
     width: usize,
     height: usize,
@@ -174,13 +177,13 @@ pub(crate) fn chain_rgba8(
     alpha: MipAlpha,
     count: usize,
 ) -> Vec<Vec<u8>> {
-    let table = srgb_to_linear_table();
+    let (table, encoder) = (srgb8_to_linear_table(), srgb8_encoder());
     let decode = |p: &[u8]| -> [f64; 4] {
         if srgb {
             [
-                table[p[0] as usize],
-                table[p[1] as usize],
-                table[p[2] as usize],
+                f64::from(table[p[0] as usize]),
+                f64::from(table[p[1] as usize]),
+                f64::from(table[p[2] as usize]),
                 f64::from(p[3]),
             ]
         } else {
@@ -189,7 +192,11 @@ pub(crate) fn chain_rgba8(
     };
     let encode = |v: [f64; 4]| -> [u8; 4] {
         let color = |c: f64| {
-            if srgb { linear_to_srgb8(c) } else { round_u8(c) }
+            if srgb {
+                encoder.encode(c as f32)
+            } else {
+                round_u8(c)
+            }
         };
         [color(v[0]), color(v[1]), color(v[2]), round_u8(v[3])]
     };
@@ -220,10 +227,11 @@ fn chain<T: Copy + Default + Send + Sync>(
     decode: impl Fn(&[T]) -> [f64; 4] + Sync,
     encode: impl Fn([f64; 4]) -> [T; 4] + Sync,
 ) -> Vec<Vec<T>> {
-    let mut levels = vec![base.to_vec()];
+    // Levels 1..count only: the callers that want level 0 copy it, the volume bake does not.
+    let mut levels: Vec<Vec<T>> = Vec::new();
     let (mut w, mut h) = (width, height);
     for _ in 1..count {
-        let Some(previous) = levels.last() else { break };
+        let previous = levels.last().map_or(base, Vec::as_slice);
         let next = halve(previous, w, h, layers, alpha, &decode, &encode);
         levels.push(next);
         (w, h) = (level_side(w, 1), level_side(h, 1));
@@ -313,32 +321,6 @@ fn halve<T: Copy + Default + Send + Sync>(
         }
     });
     out
-}
-
-/// sRGB EOTF of every byte value, in `[0, 1]`.
-fn srgb_to_linear_table() -> &'static [f64; 256] {
-    static TABLE: OnceLock<[f64; 256]> = OnceLock::new();
-    TABLE.get_or_init(|| {
-        std::array::from_fn(|v| {
-            let s = v as f64 / 255.0;
-            if s <= 0.04045 {
-                s / 12.92
-            } else {
-                ((s + 0.055) / 1.055).powf(2.4)
-            }
-        })
-    })
-}
-
-/// Inverse sRGB EOTF of a linear value in `[0, 1]`, to the nearest byte.
-fn linear_to_srgb8(linear: f64) -> u8 {
-    let l = linear.clamp(0.0, 1.0);
-    let s = if l <= 0.003_130_8 {
-        12.92 * l
-    } else {
-        1.055 * l.powf(1.0 / 2.4) - 0.055
-    };
-    round_u8(s * 255.0)
 }
 
 /// Nearest byte, halves rounding up (the values here are never negative).

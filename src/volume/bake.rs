@@ -16,9 +16,12 @@ use crate::threads::pool;
 
 use super::coverage::CoverageMode;
 use super::fin::{fin_row, slab_candidates};
-use super::lod::{downsample, lod_chain, mip_count};
+use super::lod::lod_chain;
 use super::shells::{LayerOut, LayerScratch, sample_layer};
 use super::strand_table::StrandTable;
+use crate::export::MipAlpha;
+use crate::export::full_mip_count;
+use crate::export::mip::chain_rgba8;
 
 /// Most shell layers.
 pub const MAX_LAYERS: usize = 256;
@@ -285,7 +288,16 @@ pub(crate) fn bake_validated(
         Vec::new()
     };
     let mips = if volume.mipmaps {
-        mip_chain(&shells, layers, res)
+        // Alpha-weighted box filter in linear light, as the exported KTX2 chains.
+        chain_rgba8(
+            res,
+            res,
+            layers,
+            &shells,
+            true,
+            MipAlpha::Straight,
+            full_mip_count(res, res),
+        )
     } else {
         Vec::new()
     };
@@ -313,22 +325,4 @@ pub(crate) fn bake_validated(
             mean_coverage,
         },
     })
-}
-
-/// Mip levels 1.. of every layer, each level computed from the previous one.
-fn mip_chain(shells: &[u8], layers: usize, res: usize) -> Vec<Vec<u8>> {
-    let mut levels: Vec<Vec<u8>> = Vec::new();
-    let mut side = res;
-    for _ in 1..mip_count(res) {
-        let source = levels.last().map_or(shells, Vec::as_slice);
-        let layer_bytes = 4 * side * side;
-        let next: Vec<Vec<u8>> = source
-            .par_chunks_exact(layer_bytes)
-            .take(layers)
-            .map(|layer| downsample(layer, side))
-            .collect();
-        levels.push(next.concat());
-        side = (side / 2).max(1);
-    }
-    levels
 }
