@@ -96,3 +96,32 @@ def fur_mesh_from_object(obj) -> pelt.FurMesh:
     if obj.mode == "EDIT":
         obj.update_from_editmode()
     return read_mesh(obj.data).fur_mesh()
+
+
+def image_pixels(rgba: np.ndarray) -> np.ndarray:
+    """``[H, W, 4] uint8`` rows top to bottom (Pelt's order) as the flat float32 buffer of a
+    Blender image, whose rows run bottom to top."""
+    if rgba.ndim != 3 or rgba.shape[2] != 4 or rgba.dtype != np.uint8:
+        raise pelt.InvalidParameterError(
+            f"invalid parameter `rgba`: must be [H, W, 4] uint8, got {rgba.shape}"
+        )
+    return (rgba[::-1].astype(np.float32) / 255.0).ravel()
+
+
+def write_image(images, name: str, rgba: np.ndarray, *, color: bool = True):
+    """Creates (or refills) the byte image ``name`` in ``images`` (``bpy.data.images``) from
+    ``[H, W, 4] uint8`` straight-alpha pixels, rows top to bottom. ``color`` marks the bytes as
+    sRGB-encoded color; otherwise they are data (tangents, coverage) and tagged Non-Color."""
+    pixels = image_pixels(rgba)
+    height, width = rgba.shape[:2]
+    image = images.get(name)
+    if image is not None and tuple(image.size) != (width, height):
+        images.remove(image)
+        image = None
+    if image is None:
+        image = images.new(name, width, height, alpha=True, float_buffer=False)
+    image.colorspace_settings.name = "sRGB" if color else "Non-Color"
+    image.alpha_mode = "STRAIGHT"
+    image.pixels.foreach_set(pixels)
+    image.update()
+    return image

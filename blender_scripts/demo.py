@@ -2,11 +2,13 @@
 
 Run with the project's Python (``make demo``): builds Suzanne, paints a default hair color (a
 brown gradient, darker at the bottom), a comb pointing down the surface and a length of one, runs
-the pipeline as far as it exists (today: reading the mesh into Pelt and checking it), and writes
-under ``out/demo/``:
+the pipeline as far as it exists (today: checking the mesh in Pelt and baking the default hair
+volume), and writes under ``out/demo/``:
 
-- ``suzanne.blend``: the scene with the painted ``pelt_*`` attributes;
-- ``stats.json``: Pelt's statistics of the mesh and the time each step took.
+- ``suzanne.blend``: the scene with the painted ``pelt_*`` attributes and the ``Pelt …`` images;
+- ``shell_atlas.png``, ``tangent_atlas.png``, ``fin.png``: the default hair volume's shell layers
+  (4×4 atlas, layer 0 = skin top left), hair tangents and fin texture, saved by Blender;
+- ``stats.json``: Pelt's statistics of the mesh and the volume, and the time each step took.
 """
 
 import argparse
@@ -43,6 +45,8 @@ def main() -> None:
     import pelt
 
     register_addon()
+    from addon import bridge
+
     bpy.ops.wm.read_factory_settings(use_empty=True)
     timings = {}
 
@@ -60,9 +64,24 @@ def main() -> None:
     timings["check_mesh_s"] = time.perf_counter() - start
     stats = json.loads(obj.pelt.last_check)
 
+    start = time.perf_counter()
+    volume = pelt.bake_volume(pelt.HairParams())
+    timings["bake_volume_s"] = time.perf_counter() - start
+    images = {
+        "shell_atlas": (pelt.pack_atlas(volume["shells"])[0], True),
+        "tangent_atlas": (pelt.pack_atlas(volume["tangents"])[0], False),
+        "fin": (volume["fin"], True),
+    }
+    for stem, (pixels, color) in images.items():
+        image = bridge.write_image(bpy.data.images, f"Pelt {stem} {obj.name}", pixels, color=color)
+        image.filepath_raw = str((args.out / f"{stem}.png").resolve())
+        image.file_format = "PNG"
+        image.save()
+
     blend = args.out / "suzanne.blend"
     bpy.ops.wm.save_as_mainfile(filepath=str(blend.resolve()))
     report = {"pelt": pelt.__version__, "threads": pelt.thread_count(), "object": obj.name, "stats": stats}
+    report["volume"] = volume["stats"]
     report["timings"] = timings
     (args.out / "stats.json").write_text(json.dumps(report, indent=2) + "\n")
 
@@ -76,7 +95,12 @@ def main() -> None:
         f"{stats['boundary_edges']} boundary edges, {stats['components']} components, "
         f"area {stats['surface_area']:.3f}"
     )
-    print(f"  wrote {blend} and {args.out / 'stats.json'}")
+    vs = volume["stats"]
+    print(
+        f"  baked the default hair volume: {vs['strands']} strands into {vs['layers']} layers of "
+        f"{volume['resolution']}² ({vs['trimmed']} trimmed) in {timings['bake_volume_s'] * 1000:.0f} ms"
+    )
+    print(f"  wrote {blend}, {', '.join(f'{s}.png' for s in images)} and {args.out / 'stats.json'}")
 
 
 if __name__ == "__main__":

@@ -91,13 +91,13 @@ pub struct HairParams {
 }
 
 impl Default for HairParams {
-    /// A short, dense pelt: 64² hairs, one in ten a guard hair, widths below one texel of a
+    /// A short, dense pelt: 128² hairs, one in twenty a guard hair, widths below one texel of a
     /// 128² shell texture as the paper's coverage approximation assumes (§2.1).
     fn default() -> Self {
         HairParams {
             seed: 1,
-            density: 4096,
-            guard_fraction: 0.1,
+            density: 16384,
+            guard_fraction: 0.05,
             undercoat: CoatParams {
                 length: [0.55, 0.8],
                 width: [0.004, 0.006],
@@ -417,7 +417,7 @@ mod tests {
         let strands = grow_strands(&params).unwrap();
         assert_eq!(strands.len(), params.density as usize);
         let guards = strands.iter().filter(|s| s.coat == Coat::Overcoat).count();
-        assert_eq!(guards, 410, "round(0.1 * 4096)");
+        assert_eq!(guards, 819, "round(0.05 * 16384)");
     }
 
     #[test]
@@ -519,9 +519,9 @@ mod tests {
 
     #[test]
     fn roots_are_stratified() {
-        // Default density 4096 = 64²: exactly one root per cell.
+        // Default density 16384 = 128²: exactly one root per cell.
         let strands = grow_strands(&HairParams::default()).unwrap();
-        assert!(cell_counts(&strands, 64).iter().all(|&c| c == 1));
+        assert!(cell_counts(&strands, 128).iter().all(|&c| c == 1));
         // 1000 hairs: 32² = 1024 cells, 1000 of them hold one root, none holds two.
         let params = HairParams {
             density: 1000,

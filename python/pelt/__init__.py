@@ -8,21 +8,27 @@ numpy (float32 / uint32, C-contiguous; other numeric dtypes are converted). Ever
 from ._pelt import (
     BakeCancelled,
     FurMesh,
+    HairParams,
     InvalidMeshError,
     InvalidParameterError,
     PeltError,
     RenderError,
     __version__,
+    bake_volume,
+    pack_atlas,
     thread_count,
 )
 
 __all__ = [
     "BakeCancelled",
     "FurMesh",
+    "HairParams",
     "InvalidMeshError",
     "InvalidParameterError",
     "PeltError",
     "RenderError",
     "__version__",
+    "bake_volume",
+    "pack_atlas",
     "thread_count",
 ]

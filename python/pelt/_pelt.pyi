@@ -1,5 +1,6 @@
 """Type stub of the compiled module ``pelt._pelt`` (re-exported by ``pelt``)."""
 
+from collections.abc import Callable
 from typing import TypedDict
 
 import numpy as np
@@ -82,3 +83,91 @@ class FurMesh:
 
 def thread_count() -> int:
     """Number of worker threads Pelt uses (``PELT_THREADS``, default: all cores)."""
+
+class CoatParams(TypedDict):
+    length: list[float]
+    width: list[float]
+
+class HairParams:
+    """Parameters of the hair grown in one tile (see ``help(pelt.HairParams)`` for every field
+    with its default and range). Keywords set fields; attributes read and write them; a bad value
+    raises :class:`InvalidParameterError` naming the field and keeps the old value."""
+
+    seed: int
+    density: int
+    guard_fraction: float
+    undercoat: CoatParams
+    overcoat: CoatParams
+    segments: int
+    taper: float
+    curl: float
+    helix_radius: float
+    helix_frequency: float
+    slant: float
+    slant_direction: float
+    length_jitter: float
+    clump_strength: float
+    clump_count: int
+    root_color: list[float]
+    tip_color: list[float]
+    color_jitter: float
+    def __init__(self, **fields: object) -> None: ...
+    def to_dict(self) -> dict[str, object]: ...
+    @staticmethod
+    def fields() -> list[str]: ...
+
+class VolumeStats(TypedDict):
+    strands: int
+    tallest: float
+    layers_requested: int
+    layers: int
+    trimmed: int
+    mean_coverage: list[float]
+
+class HairVolume(TypedDict):
+    """Arrays of a baked hair volume. ``shells``/``tangents`` ``[L, R, R, 4] uint8`` (straight
+    alpha, sRGB color; tangent packed ``0.5·d + 0.5``), ``coverage`` (= ``density``)
+    ``[L, R, R] float32``, ``fin`` ``[H, W, 4] uint8`` (row 0 = top of the fur), ``lod[k]``
+    ``[ceil(L / 2^(k+1)), R, R, 4]``, ``mips[k]`` ``[L, R >> (k+1), R >> (k+1), 4]``."""
+
+    resolution: int
+    layers: int
+    layer_spacing: float
+    shells: npt.NDArray[np.uint8]
+    coverage: npt.NDArray[np.float32]
+    density: npt.NDArray[np.float32]
+    tangents: npt.NDArray[np.uint8]
+    fin: npt.NDArray[np.uint8]
+    lod: list[npt.NDArray[np.uint8]]
+    mips: list[npt.NDArray[np.uint8]]
+    stats: VolumeStats
+
+def bake_volume(
+    params: HairParams | None = None,
+    layers: int = 16,
+    resolution: int = 128,
+    *,
+    coverage: str = "exact",
+    vertical_filter: float = 0.0,
+    fin_size: tuple[int, int] = (512, 128),
+    fin_slab: float = 0.1,
+    trim: bool = True,
+    lod: bool = True,
+    mipmaps: bool = True,
+    progress: Callable[[float], bool | None] | None = None,
+) -> HairVolume:
+    """Grow the hair of ``params`` and bake the hair volume (GIL released). ``coverage`` is
+    ``"exact"``, ``"approx"`` or ``"supersample:N"``; ``progress(fraction)`` returning ``False``
+    cancels with :class:`BakeCancelled`."""
+
+class AtlasLayout(TypedDict):
+    layers: int
+    tile: int
+    columns: int
+    rows: int
+    width: int
+    height: int
+
+def pack_atlas(layers: npt.NDArray[np.uint8]) -> tuple[npt.NDArray[np.uint8], AtlasLayout]:
+    """Lay ``[L, R, R, C]`` layers out in a grid (``ceil(sqrt(L))`` columns, layer 0 top left,
+    rows top to bottom); unused cells are zero."""

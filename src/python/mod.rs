@@ -6,7 +6,10 @@
 
 mod arrays;
 mod errors;
+mod export;
 mod mesh;
+mod progress;
+mod volume;
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
@@ -52,6 +55,9 @@ fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", crate::VERSION)?;
     errors::register(m)?;
     m.add_class::<mesh::PyFurMesh>()?;
+    m.add_class::<volume::PyHairParams>()?;
+    m.add_function(wrap_pyfunction!(volume::bake_volume_py, m)?)?;
+    m.add_function(wrap_pyfunction!(export::pack_atlas_py, m)?)?;
     m.add_function(wrap_pyfunction!(thread_count, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     Ok(())
