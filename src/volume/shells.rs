@@ -20,11 +20,19 @@ use super::strand_table::StrandTable;
 type Sums = [f32; 8];
 
 /// Buffers of one worker, reused across the layers it samples.
+///
+/// The upper layers of a pelt hold few hairs, so the sums are not cleared and read whole for
+/// every layer: `dirty` marks the rows that hairs touched, only those are finished from the sums
+/// and reset afterwards, and every other row is written as empty directly.
 #[derive(Debug, Default)]
 pub struct LayerScratch {
     sums: Vec<Sums>,
+    dirty: Vec<bool>,
     footprint: FootprintScratch,
 }
+
+/// The sums of a texel no hair touched.
+const EMPTY: Sums = [0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
 
 /// Where one layer's results go: slices of the volume's arrays for this layer.
 pub struct LayerOut<'a> {
@@ -53,9 +61,11 @@ pub fn sample_layer(
     out: LayerOut<'_>,
 ) {
     let texels = resolution * resolution;
-    let sums = &mut scratch.sums;
-    sums.clear();
-    sums.resize(texels, [0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    if scratch.sums.len() != texels {
+        scratch.sums = vec![EMPTY; texels];
+        scratch.dirty = vec![false; resolution];
+    }
+    let (sums, dirty) = (&mut scratch.sums, &mut scratch.dirty);
     // Layer totals for the fill values, per hair (f64, in strand order: thread-count independent).
     let mut totals = [0.0f64; 7];
     for &(z, weight) in heights {
@@ -66,6 +76,13 @@ pub fn sample_layer(
             let d = cut.direction;
             let footprint = &mut scratch.footprint;
             let mut hair_total = 0.0f64;
+            // The rows the disk can touch (wrapped), with one row of margin on each side against
+            // rounding differences with the footprint's own wrapped span.
+            let res = resolution as f64;
+            let (lo, hi) = ((cut.y - cut.radius) * res, (cut.y + cut.radius) * res);
+            for row in lo.floor() as i64 - 1..=hi.floor() as i64 + 1 {
+                dirty[row.rem_euclid(resolution as i64) as usize] = true;
+            }
             visit_disk_texels(
                 resolution,
                 cut.x,
@@ -94,12 +111,24 @@ pub fn sample_layer(
             }
         }
     }
-    finish_layer(sums, &totals, skin, out);
+    finish_layer(sums, dirty, resolution, &totals, skin, out);
+    for (row, flag) in dirty.iter_mut().enumerate() {
+        if std::mem::take(flag) {
+            sums[row * resolution..(row + 1) * resolution].fill(EMPTY);
+        }
+    }
 }
 
 /// Turns the sums into straight color and unit tangents; empty texels get the layer's mean color
 /// and tangent (from `totals`: Σ w, Σ w·color, Σ w·direction).
-fn finish_layer(sums: &[Sums], totals: &[f64; 7], skin: bool, out: LayerOut<'_>) {
+fn finish_layer(
+    sums: &[Sums],
+    dirty: &[bool],
+    resolution: usize,
+    totals: &[f64; 7],
+    skin: bool,
+    out: LayerOut<'_>,
+) {
     let fill_color: [f32; 3] = if totals[0] > 0.0 {
         std::array::from_fn(|c| (totals[1 + c] / totals[0]) as f32)
     } else {
@@ -126,25 +155,42 @@ fn finish_layer(sums: &[Sums], totals: &[f64; 7], skin: bool, out: LayerOut<'_>)
         empty_alpha,
     ];
     let empty_tx = pack(fill_tangent, empty_alpha);
-    let pixels = out.rgba.chunks_exact_mut(4).zip(out.tangent.chunks_exact_mut(4));
-    for ((t, cov), (px, tx)) in sums.iter().zip(out.coverage.iter_mut()).zip(pixels) {
-        *cov = t[0];
-        if t[0] <= 0.0 {
-            // Most texels of the upper layers: no hair, constant bytes.
-            px.copy_from_slice(&empty_px);
-            tx.copy_from_slice(&empty_tx);
+    let rows = out
+        .coverage
+        .chunks_exact_mut(resolution)
+        .zip(out.rgba.chunks_exact_mut(4 * resolution))
+        .zip(out.tangent.chunks_exact_mut(4 * resolution));
+    for (row, ((coverage, rgba), tangent)) in rows.enumerate() {
+        if !dirty[row] {
+            coverage.fill(0.0);
+            rgba.chunks_exact_mut(4)
+                .for_each(|px| px.copy_from_slice(&empty_px));
+            tangent
+                .chunks_exact_mut(4)
+                .for_each(|tx| tx.copy_from_slice(&empty_tx));
             continue;
         }
-        let inv = 1.0 / t[0];
-        let dir = unit_or([t[5], t[6], t[7]], fill_tangent);
-        let alpha = if skin { 255 } else { unit_to_u8(1.0 - t[1]) };
-        px.copy_from_slice(&[
-            srgb.encode(t[2] * inv),
-            srgb.encode(t[3] * inv),
-            srgb.encode(t[4] * inv),
-            alpha,
-        ]);
-        tx.copy_from_slice(&pack(dir, alpha));
+        let row_sums = &sums[row * resolution..(row + 1) * resolution];
+        let pixels = rgba.chunks_exact_mut(4).zip(tangent.chunks_exact_mut(4));
+        for ((t, cov), (px, tx)) in row_sums.iter().zip(coverage.iter_mut()).zip(pixels) {
+            *cov = t[0];
+            if t[0] <= 0.0 {
+                // Most texels of the upper layers: no hair, constant bytes.
+                px.copy_from_slice(&empty_px);
+                tx.copy_from_slice(&empty_tx);
+                continue;
+            }
+            let inv = 1.0 / t[0];
+            let dir = unit_or([t[5], t[6], t[7]], fill_tangent);
+            let alpha = if skin { 255 } else { unit_to_u8(1.0 - t[1]) };
+            px.copy_from_slice(&[
+                srgb.encode(t[2] * inv),
+                srgb.encode(t[3] * inv),
+                srgb.encode(t[4] * inv),
+                alpha,
+            ]);
+            tx.copy_from_slice(&pack(dir, alpha));
+        }
     }
 }
 
