@@ -50,8 +50,13 @@ pub fn composite_pairs(shells: &[u8], layers: usize, texels: usize) -> Vec<u8> {
             .zip(inner.chunks_exact(4))
             .zip(outer.chunks_exact(4))
         {
+            // Trivial cases first: most texels of a sparse pelt are empty in one of the two.
             if o[3] == 0 {
                 d.copy_from_slice(i);
+                continue;
+            }
+            if i[3] == 0 || o[3] == 255 {
+                d.copy_from_slice(o);
                 continue;
             }
             let (pi, po) = (premultiplied(i, table), premultiplied(o, table));
