@@ -13,6 +13,8 @@ from ._pelt import (
     PeltError,
     RenderError,
     __version__,
+    bake_transfer,
+    sh_project_equirect,
     thread_count,
 )
 
@@ -24,5 +26,7 @@ __all__ = [
     "PeltError",
     "RenderError",
     "__version__",
+    "bake_transfer",
+    "sh_project_equirect",
     "thread_count",
 ]

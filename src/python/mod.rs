@@ -7,6 +7,7 @@
 mod arrays;
 mod errors;
 mod mesh;
+mod prt;
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
@@ -53,6 +54,8 @@ fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::register(m)?;
     m.add_class::<mesh::PyFurMesh>()?;
     m.add_function(wrap_pyfunction!(thread_count, m)?)?;
+    m.add_function(wrap_pyfunction!(prt::bake_transfer, m)?)?;
+    m.add_function(wrap_pyfunction!(prt::sh_project_equirect, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     Ok(())
 }
