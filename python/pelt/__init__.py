@@ -14,8 +14,10 @@ from ._pelt import (
     PeltError,
     RenderError,
     __version__,
+    bake_transfer,
     bake_volume,
     pack_atlas,
+    sh_project_equirect,
     thread_count,
 )
 
@@ -28,7 +30,9 @@ __all__ = [
     "PeltError",
     "RenderError",
     "__version__",
+    "bake_transfer",
     "bake_volume",
     "pack_atlas",
+    "sh_project_equirect",
     "thread_count",
 ]

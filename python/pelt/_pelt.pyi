@@ -1,7 +1,7 @@
 """Type stub of the compiled module ``pelt._pelt`` (re-exported by ``pelt``)."""
 
 from collections.abc import Callable
-from typing import TypedDict
+from typing import Literal, TypedDict
 
 import numpy as np
 import numpy.typing as npt
@@ -171,3 +171,60 @@ class AtlasLayout(TypedDict):
 def pack_atlas(layers: npt.NDArray[np.uint8]) -> tuple[npt.NDArray[np.uint8], AtlasLayout]:
     """Lay ``[L, R, R, C]`` layers out in a grid (``ceil(sqrt(L))`` columns, layer 0 top left,
     rows top to bottom); unused cells are zero."""
+
+class BandRow(TypedDict):
+    order: int
+    coefficients: int
+    band_energy: float
+    error_directional: float
+    error_environment: float
+    error: float
+    bytes_f16: int
+    bytes_u8: int
+
+class TransferResult(TypedDict):
+    coefficients: npt.NDArray[np.float32]
+    order: int
+    tolerance_met: bool | None
+    bands: list[BandRow]
+    packed_f16: npt.NDArray[np.float16]
+    packed_u8: npt.NDArray[np.uint8]
+    scale: npt.NDArray[np.float32]
+    bias: npt.NDArray[np.float32]
+    sidecar: str
+
+def bake_transfer(
+    density: npt.ArrayLike,
+    tangents: npt.ArrayLike | None = None,
+    *,
+    layer_spacing: float,
+    order: int | None = None,
+    tolerance: float = 0.02,
+    directions: int = 256,
+    phase: Literal["isotropic", "kajiya-kay"] = "isotropic",
+    method: Literal["sweep", "brute"] = "sweep",
+    sigma: float = 1.0,
+    progress: Callable[[float], bool | None] | None = None,
+) -> TransferResult:
+    """Bake the precomputed radiance transfer of a hair density volume.
+
+    ``density`` is ``[L, R, R]`` (layer 0 is the skin; coverage share per texel, >= 0),
+    ``tangents`` ``[L, R, R, 3]`` hair directions (x, y along the skin, z up; zero where there is
+    no hair), required for ``phase="kajiya-kay"``. ``layer_spacing`` is the height between layers
+    in texel widths; ``sigma`` the optical depth per texel width through full coverage.
+
+    ``order=None`` bakes 8 bands and keeps the smallest order whose relative RMS lighting error
+    under the test lights is within ``tolerance`` (``bands`` holds the table and
+    ``tolerance_met`` says whether any order met it); an explicit order (1..8) skips the selection
+    (``bands`` is empty, ``tolerance_met`` None).
+
+    Returns ``coefficients`` ``[L, R, R, n]`` (n = order²), ``packed_f16`` and ``packed_u8``
+    ``[T, L, R, R, 4]`` (T = ceil(n / 4); texture k // 4, channel k % 4 holds coefficient k),
+    the 8-bit decode table ``scale`` / ``bias`` (``value = byte / 255 * scale + bias``) and the same
+    as a JSON ``sidecar``. ``progress(fraction)`` is called from worker threads; returning False
+    cancels with :class:`BakeCancelled`, and an exception it raises is re-raised. Releases the GIL.
+    """
+
+def sh_project_equirect(image: npt.ArrayLike, order: int) -> npt.NDArray[np.float32]:
+    """Project an equirectangular ``[H, W, 3]`` image (row 0 at +Z, column 0 at azimuth 0 from +X
+    toward +Y) onto real SH of ``order`` bands; returns ``[order**2, 3]`` float32."""

@@ -108,6 +108,14 @@ const CASES: &[Case] = &[
         name: "export",
         run: export::export_writers,
     },
+    Case {
+        name: "prt.transfer",
+        run: prt::transfer,
+    },
+    Case {
+        name: "prt.bands",
+        run: prt::bands,
+    },
 ];
 
 /// Runs the selected cases in order.
@@ -144,6 +152,20 @@ pub(crate) fn time_median<T>(reps: usize, mut work: impl FnMut() -> T) -> (f64, 
         .collect();
     times.sort_by(f64::total_cmp);
     (times[times.len() / 2], peak)
+}
+
+/// Times one run of `work` that also measures its peak heap, for cases too slow to repeat (a
+/// reference method that takes minutes); returns the result with the timing.
+pub(crate) fn time_once<T>(work: impl FnOnce() -> Result<T>) -> Result<(T, (f64, Option<usize>))> {
+    let base = CURRENT.load(Ordering::Relaxed);
+    PEAK.store(base, Ordering::Relaxed);
+    let start = Instant::now();
+    let out = work()?;
+    let seconds = start.elapsed().as_secs_f64();
+    let peak = TRACKING
+        .load(Ordering::Relaxed)
+        .then(|| PEAK.load(Ordering::Relaxed).saturating_sub(base));
+    Ok((out, (seconds, peak)))
 }
 
 /// Runs `work` through [`time_median`], keeping the first error instead of timing a failure.

@@ -156,3 +156,45 @@ pub(super) fn narrow_indices(wide: &[[i64; 3]], vertex_count: usize) -> Result<V
     }
     Ok(wide.par_iter().map(|t| t.map(|i| i as u32)).collect())
 }
+
+/// Reads a real-valued array whose shape passes `fits` (described by `expected`, e.g.
+/// `[L, R, R]`) as C-contiguous `float32`; any other shape or dtype raises
+/// `pelt.InvalidParameterError` naming `name`.
+pub(super) fn float_ndarray<'py>(
+    obj: &Bound<'py, PyAny>,
+    name: &'static str,
+    expected: &str,
+    fits: impl Fn(&[usize]) -> bool,
+) -> PyResult<(PyReadonlyArrayDyn<'py, f32>, Vec<usize>)> {
+    let array = match obj.cast::<PyUntypedArray>() {
+        Ok(array) => array.clone(),
+        Err(_) => {
+            let numpy = obj.py().import("numpy")?;
+            numpy
+                .call_method1("asarray", (obj,))
+                .and_then(|a| Ok(a.cast_into::<PyUntypedArray>()?))
+                .map_err(|e| {
+                    PeltError::parameter(name, format!("must be an array of shape {expected} ({e})"))
+                })?
+        }
+    };
+    let shape = array.shape().to_vec();
+    if !fits(&shape) {
+        return Err(PeltError::parameter(
+            name,
+            format!("must have shape {expected}, got {}", shape_text(&shape)),
+        )
+        .into());
+    }
+    if !matches!(array.dtype().kind(), b'f' | b'i' | b'u') {
+        return Err(PeltError::parameter(
+            name,
+            format!(
+                "must hold real numbers (float32 preferred), got dtype {}",
+                dtype_name(&array)
+            ),
+        )
+        .into());
+    }
+    Ok((contiguous::<f32>(&array, name, "float32")?, shape))
+}

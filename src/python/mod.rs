@@ -9,6 +9,7 @@ mod errors;
 mod export;
 mod mesh;
 mod progress;
+mod prt;
 mod volume;
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -59,6 +60,8 @@ fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(volume::bake_volume_py, m)?)?;
     m.add_function(wrap_pyfunction!(export::pack_atlas_py, m)?)?;
     m.add_function(wrap_pyfunction!(thread_count, m)?)?;
+    m.add_function(wrap_pyfunction!(prt::bake_transfer, m)?)?;
+    m.add_function(wrap_pyfunction!(prt::sh_project_equirect, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     Ok(())
 }

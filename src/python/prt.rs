@@ -1,0 +1,180 @@
+//! `pelt.bake_transfer` and `pelt.sh_project_equirect`: the Python face of [`crate::prt`].
+
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use super::arrays::float_ndarray;
+use super::detached;
+use super::progress::PyProgress;
+use crate::error::PeltError;
+use crate::progress::ProgressCallback;
+use crate::prt::bands::{BandParams, BandReport, bake_transfer_auto};
+use crate::prt::pack::{pack_f16, pack_u8};
+use crate::prt::sh;
+use crate::prt::transfer::{
+    Method, Phase, Transfer, TransferParams, TransferVolume, bake_transfer as core_bake,
+};
+
+fn parse_phase(phase: &str) -> PyResult<Phase> {
+    match phase {
+        "isotropic" => Ok(Phase::Isotropic),
+        "kajiya-kay" | "kajiya_kay" => Ok(Phase::KajiyaKay),
+        _ => Err(PeltError::parameter(
+            "phase",
+            format!("must be \"isotropic\" or \"kajiya-kay\", got {phase:?}"),
+        )
+        .into()),
+    }
+}
+
+fn parse_method(method: &str) -> PyResult<Method> {
+    match method {
+        "sweep" => Ok(Method::Sweep),
+        "brute" => Ok(Method::Brute),
+        _ => Err(PeltError::parameter(
+            "method",
+            format!("must be \"sweep\" or \"brute\", got {method:?}"),
+        )
+        .into()),
+    }
+}
+
+/// The band table as a list of dicts.
+fn bands_list<'py>(py: Python<'py>, report: Option<&BandReport>) -> PyResult<Bound<'py, PyList>> {
+    let list = PyList::empty(py);
+    for row in report.map_or(&[][..], |r| &r.rows[..]) {
+        let d = PyDict::new(py);
+        d.set_item("order", row.order)?;
+        d.set_item("coefficients", row.coefficients)?;
+        d.set_item("band_energy", row.band_energy)?;
+        d.set_item("error_directional", row.error_directional)?;
+        d.set_item("error_environment", row.error_environment)?;
+        d.set_item("error", row.error)?;
+        d.set_item("bytes_f16", row.bytes_f16)?;
+        d.set_item("bytes_u8", row.bytes_u8)?;
+        list.append(d)?;
+    }
+    Ok(list)
+}
+
+/// Bakes the transfer of a density volume; see the stub for the arguments and the result.
+#[pyfunction]
+#[pyo3(signature = (
+    density, tangents=None, *, layer_spacing, order=None, tolerance=0.02, directions=256,
+    phase="isotropic", method="sweep", sigma=crate::prt::transfer::DEFAULT_SIGMA, progress=None
+))]
+#[allow(clippy::too_many_arguments)]
+pub(super) fn bake_transfer<'py>(
+    py: Python<'py>,
+    density: &Bound<'py, PyAny>,
+    tangents: Option<&Bound<'py, PyAny>>,
+    layer_spacing: f32,
+    order: Option<usize>,
+    tolerance: f64,
+    directions: usize,
+    phase: &str,
+    method: &str,
+    sigma: f32,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (density, shape) = float_ndarray(density, "density", "[L, R, R]", |s| s.len() == 3 && s[1] == s[2])?;
+    let (layers, resolution) = (shape[0], shape[1]);
+    let tangents = tangents
+        .map(|t| {
+            float_ndarray(t, "tangents", "[L, R, R, 3] matching density", |s| {
+                s.len() == 4 && s[..3] == shape[..] && s[3] == 3
+            })
+        })
+        .transpose()?;
+    let params = TransferParams {
+        order: order.unwrap_or(sh::PAPER_ORDER),
+        directions,
+        sigma,
+        phase: parse_phase(phase)?,
+        method: parse_method(method)?,
+        ..TransferParams::default()
+    };
+    let bands = BandParams {
+        tolerance,
+        ..BandParams::default()
+    };
+    let density = density
+        .as_slice()
+        .map_err(|e| PeltError::Internal(format!("array not contiguous after conversion: {e}")))?;
+    let tangents = tangents
+        .as_ref()
+        .map(|(t, _)| {
+            t.as_slice()
+                .map(|s| s.as_chunks::<3>().0)
+                .map_err(|e| PeltError::Internal(format!("array not contiguous after conversion: {e}")))
+        })
+        .transpose()?;
+    let reporter = PyProgress::new(progress.map(|p| p.into_bound(py)));
+    let report = |fraction: f64| reporter.report(fraction);
+    let callback: Option<ProgressCallback<'_>> = reporter.is_some().then_some(&report);
+    let outcome = detached(py, || {
+        let volume = TransferVolume {
+            layers,
+            resolution,
+            layer_spacing,
+            density,
+            tangents,
+        };
+        let (transfer, report): (Transfer, Option<BandReport>) = match order {
+            Some(_) => (core_bake(&volume, &params, callback)?, None),
+            None => {
+                let (t, r) = bake_transfer_auto(&volume, &params, &bands, callback)?;
+                (t, Some(r))
+            }
+        };
+        let f16 = pack_f16(&transfer)?;
+        let u8 = pack_u8(&transfer)?;
+        let sidecar = serde_json::to_string_pretty(&u8.sidecar)
+            .map_err(|e| PeltError::Internal(format!("sidecar: {e}")))?;
+        Ok((transfer, report, f16, u8, sidecar))
+    });
+    let (transfer, report, f16, u8, sidecar) = reporter.finish(outcome)?;
+    let n = transfer.coeff_count();
+    let textures = f16.textures;
+    let d = PyDict::new(py);
+    d.set_item(
+        "coefficients",
+        PyArray1::from_vec(py, transfer.coefficients).reshape([layers, resolution, resolution, n])?,
+    )?;
+    d.set_item("order", transfer.order)?;
+    d.set_item("tolerance_met", report.as_ref().map(|r| r.met))?;
+    d.set_item("bands", bands_list(py, report.as_ref())?)?;
+    let packed_shape = [textures, layers, resolution, resolution, 4];
+    d.set_item(
+        "packed_f16",
+        PyArray1::from_vec(py, f16.texels).reshape(packed_shape)?,
+    )?;
+    d.set_item(
+        "packed_u8",
+        PyArray1::from_vec(py, u8.texels).reshape(packed_shape)?,
+    )?;
+    d.set_item("scale", PyArray1::from_slice(py, &u8.sidecar.scale))?;
+    d.set_item("bias", PyArray1::from_slice(py, &u8.sidecar.bias))?;
+    d.set_item("sidecar", sidecar)?;
+    Ok(d)
+}
+
+/// Projects an equirectangular `[H, W, 3]` image onto SH; returns `[order², 3]` float32.
+#[pyfunction]
+pub(super) fn sh_project_equirect<'py>(
+    py: Python<'py>,
+    image: &Bound<'py, PyAny>,
+    order: usize,
+) -> PyResult<Bound<'py, PyAny>> {
+    let (image, shape) = float_ndarray(image, "image", "[H, W, 3]", |s| s.len() == 3 && s[2] == 3)?;
+    let (height, width) = (shape[0], shape[1]);
+    let rgb = image
+        .as_slice()
+        .map_err(|e| PeltError::Internal(format!("array not contiguous after conversion: {e}")))?;
+    let coeffs = detached(py, || sh::project_equirect(order, width, height, rgb))?;
+    let flat: Vec<f32> = coeffs.iter().flat_map(|c| c.map(|v| v as f32)).collect();
+    Ok(PyArray1::from_vec(py, flat)
+        .reshape([coeffs.len(), 3])?
+        .into_any())
+}
