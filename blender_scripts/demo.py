@@ -8,6 +8,11 @@ volume), and writes under ``out/demo/``:
 - ``suzanne.blend``: the scene with the painted ``pelt_*`` attributes and the ``Pelt …`` images;
 - ``shell_atlas.png``, ``tangent_atlas.png``, ``fin.png``: the default hair volume's shell layers
   (4×4 atlas, layer 0 = skin top left), hair tangents and fin texture, saved by Blender;
+- ``transfer_K.exr`` / ``transfer_K.png`` + ``transfer.json``: the precomputed radiance transfer
+  of that volume (order chosen by band selection), 4 SH coefficients per RGBA texture, each as a
+  4×4 layer atlas in float16 and in 8 bits with the per-coefficient scale and bias of the sidecar;
+- ``relit.png``: the volume seen from the side (layers bottom to top) lit through the transfer by
+  a light from +x, +y, −x and −y at 30° elevation, left to right;
 - ``stats.json``: Pelt's statistics of the mesh and the volume, and the time each step took.
 """
 
@@ -34,6 +39,58 @@ def paint_defaults(mesh) -> None:
     comb = np.tile(np.array([0.0, 0.0, -1.0], np.float32), n)
     mesh.attributes.new("pelt_comb", "FLOAT_VECTOR", "POINT").data.foreach_set("vector", comb)
     mesh.attributes.new("pelt_length", "FLOAT", "POINT").data.foreach_set("value", np.ones(n, np.float32))
+
+
+def srgb_to_linear(c: np.ndarray) -> np.ndarray:
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
+def relit_side_view(volume: dict, coefficients: np.ndarray, light: np.ndarray) -> np.ndarray:
+    """The shells lit by ``light`` (SH coefficients) through the transfer, composited along +y
+    front to back: ``[L·s, R, 3]`` linear, the top layer first, each layer ``s = R / L`` rows."""
+    shells = volume["shells"].astype(np.float32) / 255.0
+    radiance = np.maximum(coefficients @ light, 0.0)
+    color = srgb_to_linear(shells[..., :3]) * radiance[..., None]
+    alpha = shells[..., 3]
+    layers, res = alpha.shape[:2]
+    seen = np.zeros((layers, res, 3), np.float32)
+    through = np.ones((layers, res), np.float32)
+    for y in range(res):
+        a = alpha[:, y, :]
+        seen += (through * a)[..., None] * color[:, y, :]
+        through *= 1.0 - a
+    return np.repeat(seen[::-1], max(1, res // layers), axis=0)
+
+
+def bake_and_write_transfer(pelt, volume: dict, out: Path, timings: dict) -> dict:
+    """PRT of the volume (fur one tile deep), its textures, and the four relit side views."""
+    start = time.perf_counter()
+    spacing = volume["layer_spacing"] * volume["resolution"]
+    covered = volume["coverage"] > 0
+    tangents = np.where(covered[..., None], volume["tangents"][..., :3] / 127.5 - 1.0, 0.0).astype(np.float32)
+    transfer = pelt.bake_transfer(volume["density"], tangents, layer_spacing=spacing, phase="kajiya-kay")
+    timings["bake_transfer_s"] = time.perf_counter() - start
+    for k in range(transfer["packed_f16"].shape[0]):
+        pelt.save_exr(out / f"transfer_{k}.exr", pelt.pack_atlas(transfer["packed_f16"][k])[0])
+        pelt.save_png(out / f"transfer_{k}.png", pelt.pack_atlas(transfer["packed_u8"][k])[0], srgb=False)
+    (out / "transfer.json").write_text(transfer["sidecar"] + "\n")
+
+    views = []
+    for azimuth in (0.0, 90.0, 180.0, 270.0):
+        a, e = np.radians(azimuth), np.radians(30.0)
+        light = pelt.sh_project_light(
+            (np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)), transfer["order"]
+        )
+        views.append(relit_side_view(volume, transfer["coefficients"], light))
+    exposure = 1.0 / max(float(np.percentile(np.concatenate(views, axis=1), 99.5)), 1e-6)
+    gap = np.zeros((views[0].shape[0], 4, 3), np.float32)
+    picture = np.concatenate([x for v in views for x in (v * exposure, gap)][:-1], axis=1)
+    encoded = np.where(
+        picture <= 0.0031308, 12.92 * picture, 1.055 * np.clip(picture, 0, 1) ** (1 / 2.4) - 0.055
+    )
+    rgba = np.concatenate([encoded, np.ones(encoded.shape[:2] + (1,))], axis=2)
+    pelt.save_png(out / "relit.png", (np.clip(rgba, 0, 1) * 255 + 0.5).astype(np.uint8))
+    return transfer
 
 
 def main() -> None:
@@ -77,11 +134,13 @@ def main() -> None:
         image.filepath_raw = str((args.out / f"{stem}.png").resolve())
         image.file_format = "PNG"
         image.save()
+    transfer = bake_and_write_transfer(pelt, volume, args.out, timings)
 
     blend = args.out / "suzanne.blend"
     bpy.ops.wm.save_as_mainfile(filepath=str(blend.resolve()))
     report = {"pelt": pelt.__version__, "threads": pelt.thread_count(), "object": obj.name, "stats": stats}
     report["volume"] = volume["stats"]
+    report["transfer"] = {"order": transfer["order"], "bands": transfer["bands"]}
     report["timings"] = timings
     (args.out / "stats.json").write_text(json.dumps(report, indent=2) + "\n")
 
@@ -100,7 +159,15 @@ def main() -> None:
         f"  baked the default hair volume: {vs['strands']} strands into {vs['layers']} layers of "
         f"{volume['resolution']}² ({vs['trimmed']} trimmed) in {timings['bake_volume_s'] * 1000:.0f} ms"
     )
-    print(f"  wrote {blend}, {', '.join(f'{s}.png' for s in images)} and {args.out / 'stats.json'}")
+    chosen = next(row for row in transfer["bands"] if row["order"] == transfer["order"])
+    print(
+        f"  baked the transfer (Kajiya-Kay phase): order {transfer['order']} chosen by band selection "
+        f"(error {chosen['error']:.2%}) in {timings['bake_transfer_s']:.2f} s"
+    )
+    print(
+        f"  wrote {blend}, {', '.join(f'{s}.png' for s in images)}, transfer_*.exr/png, relit.png "
+        f"and {args.out / 'stats.json'}"
+    )
 
 
 if __name__ == "__main__":

@@ -17,7 +17,10 @@ from ._pelt import (
     bake_transfer,
     bake_volume,
     pack_atlas,
+    save_exr,
+    save_png,
     sh_project_equirect,
+    sh_project_light,
     thread_count,
 )
 
@@ -33,6 +36,9 @@ __all__ = [
     "bake_transfer",
     "bake_volume",
     "pack_atlas",
+    "save_exr",
+    "save_png",
     "sh_project_equirect",
+    "sh_project_light",
     "thread_count",
 ]

@@ -1,5 +1,6 @@
 """Type stub of the compiled module ``pelt._pelt`` (re-exported by ``pelt``)."""
 
+import os
 from collections.abc import Callable
 from typing import Literal, TypedDict
 
@@ -228,3 +229,17 @@ def bake_transfer(
 def sh_project_equirect(image: npt.ArrayLike, order: int) -> npt.NDArray[np.float32]:
     """Project an equirectangular ``[H, W, 3]`` image (row 0 at +Z, column 0 at azimuth 0 from +X
     toward +Y) onto real SH of ``order`` bands; returns ``[order**2, 3]`` float32."""
+
+def save_png(
+    path: str | os.PathLike[str], image: npt.NDArray[np.uint8] | npt.NDArray[np.uint16], *, srgb: bool = True
+) -> None:
+    """Write ``[H, W, C]`` (C in 1..4, rows top to bottom, straight alpha) as an 8- or 16-bit PNG."""
+
+def save_exr(path: str | os.PathLike[str], image: npt.NDArray[np.float32] | npt.NDArray[np.float16]) -> None:
+    """Write ``[H, W, C]`` float32/float16 (C in 1..4: Y, YA, RGB, RGBA) as a ZIP OpenEXR."""
+
+def sh_project_light(
+    direction: tuple[float, float, float], order: int, half_angle: float = 0.0
+) -> npt.NDArray[np.float32]:
+    """SH coefficients ``[order²]`` of a unit-power light from ``direction`` over a cone of
+    ``half_angle`` radians (0: directional)."""

@@ -1,5 +1,7 @@
-//! `pelt.pack_atlas`: shell layers laid out in one image, for Blender materials and engines
-//! (neither has texture arrays everywhere); see [`crate::export::atlas`].
+//! `pelt.pack_atlas` (shell layers laid out in one image, for Blender materials and engines
+//! without texture arrays; see [`crate::export::atlas`]), `pelt.save_png` and `pelt.save_exr`.
+
+use std::path::PathBuf;
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -8,13 +10,30 @@ use pyo3::types::PyDict;
 use super::detached;
 use crate::error::PeltError;
 use crate::export::atlas::{AtlasLayout, pack_atlas};
+use crate::export::{ExrOptions, ImageRef, PngOptions, save_exr, save_png};
 
-/// Packs ``layers`` (``[L, R, R, C] uint8``, C in 1..4) into a grid atlas of ``ceil(sqrt(L))``
-/// columns, layer 0 top left, row by row; returns ``(image [H, W, C] uint8, layout dict)``.
+/// Packs ``layers`` (``[L, R, R, C]`` uint8, float16 or float32; C in 1..4) into a grid atlas of
+/// ``ceil(sqrt(L))`` columns, layer 0 top left, row by row; returns ``(image [H, W, C], layout)``.
 #[pyfunction(name = "pack_atlas")]
 pub(super) fn pack_atlas_py<'py>(
     py: Python<'py>,
-    layers: PyReadonlyArrayDyn<'py, u8>,
+    layers: &Bound<'py, PyAny>,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
+    if let Ok(a) = layers.extract::<PyReadonlyArrayDyn<'py, u8>>() {
+        return pack_typed(py, &a);
+    }
+    if let Ok(a) = layers.extract::<PyReadonlyArrayDyn<'py, half::f16>>() {
+        return pack_typed(py, &a);
+    }
+    if let Ok(a) = layers.extract::<PyReadonlyArrayDyn<'py, f32>>() {
+        return pack_typed(py, &a);
+    }
+    Err(PeltError::parameter("layers", "must be a uint8, float16 or float32 numpy array").into())
+}
+
+fn pack_typed<'py, T: numpy::Element + Copy + Default + Send + Sync>(
+    py: Python<'py>,
+    layers: &PyReadonlyArrayDyn<'py, T>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
     let shape = layers.shape().to_vec();
     let [count, rows, cols, channels] = shape[..] else {
@@ -27,9 +46,7 @@ pub(super) fn pack_atlas_py<'py>(
             PeltError::parameter("layers", format!("layers must be square, got {rows}x{cols}")).into(),
         );
     }
-    let data = layers
-        .as_slice()
-        .map_err(|_| PeltError::parameter("layers", "must be C-contiguous"))?;
+    let data = contiguous(layers)?;
     let (layout, image) = detached(py, || {
         let layout = AtlasLayout::new(count, rows)?;
         let image = pack_atlas(&layout, channels, data)?;
@@ -49,4 +66,63 @@ pub(super) fn pack_atlas_py<'py>(
     let pixels =
         PyArray1::from_vec(py, image.into_data()).reshape([layout.height, layout.width, channels])?;
     Ok((pixels.into_any(), d))
+}
+
+/// Writes ``image`` (``[H, W, C] uint8 or uint16``, C in 1..4, rows top to bottom, straight
+/// alpha) as a PNG; ``srgb`` adds the sRGB chunk (color, not data).
+#[pyfunction(name = "save_png")]
+#[pyo3(signature = (path, image, *, srgb=true))]
+pub(super) fn save_png_py(
+    py: Python<'_>,
+    path: PathBuf,
+    image: &Bound<'_, PyAny>,
+    srgb: bool,
+) -> PyResult<()> {
+    let options = PngOptions {
+        srgb,
+        ..PngOptions::default()
+    };
+    if let Ok(array) = image.extract::<PyReadonlyArrayDyn<'_, u16>>() {
+        let (w, h, c) = image_shape(array.shape())?;
+        let data = contiguous(&array)?;
+        return detached(py, || save_png(&path, &ImageRef::new(w, h, c, data)?, &options));
+    }
+    let array: PyReadonlyArrayDyn<'_, u8> = image
+        .extract()
+        .map_err(|_| PeltError::parameter("image", "must be a uint8 or uint16 numpy array"))?;
+    let (w, h, c) = image_shape(array.shape())?;
+    let data = contiguous(&array)?;
+    detached(py, || save_png(&path, &ImageRef::new(w, h, c, data)?, &options))
+}
+
+/// Writes ``image`` (``[H, W, C] float32 or float16``, C in 1..4) as a ZIP-compressed OpenEXR
+/// with channels Y / Y A / R G B / R G B A.
+#[pyfunction(name = "save_exr")]
+pub(super) fn save_exr_py(py: Python<'_>, path: PathBuf, image: &Bound<'_, PyAny>) -> PyResult<()> {
+    let options = ExrOptions::default();
+    if let Ok(array) = image.extract::<PyReadonlyArrayDyn<'_, half::f16>>() {
+        let (w, h, c) = image_shape(array.shape())?;
+        let data = contiguous(&array)?;
+        return detached(py, || save_exr(&path, &ImageRef::new(w, h, c, data)?, &options));
+    }
+    let array: PyReadonlyArrayDyn<'_, f32> = image
+        .extract()
+        .map_err(|_| PeltError::parameter("image", "must be a float32 or float16 numpy array"))?;
+    let (w, h, c) = image_shape(array.shape())?;
+    let data = contiguous(&array)?;
+    detached(py, || save_exr(&path, &ImageRef::new(w, h, c, data)?, &options))
+}
+
+/// `(width, height, channels)` of an `[H, W, C]` shape.
+fn image_shape(shape: &[usize]) -> PyResult<(usize, usize, usize)> {
+    match *shape {
+        [h, w, c] => Ok((w, h, c)),
+        _ => Err(PeltError::parameter("image", format!("must be [H, W, C], got shape {shape:?}")).into()),
+    }
+}
+
+fn contiguous<'a, T: numpy::Element>(array: &'a PyReadonlyArrayDyn<'_, T>) -> PyResult<&'a [T]> {
+    array
+        .as_slice()
+        .map_err(|_| PeltError::parameter("array", "must be C-contiguous").into())
 }

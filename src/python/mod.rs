@@ -59,9 +59,12 @@ fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<volume::PyHairParams>()?;
     m.add_function(wrap_pyfunction!(volume::bake_volume_py, m)?)?;
     m.add_function(wrap_pyfunction!(export::pack_atlas_py, m)?)?;
+    m.add_function(wrap_pyfunction!(export::save_png_py, m)?)?;
+    m.add_function(wrap_pyfunction!(export::save_exr_py, m)?)?;
     m.add_function(wrap_pyfunction!(thread_count, m)?)?;
     m.add_function(wrap_pyfunction!(prt::bake_transfer, m)?)?;
     m.add_function(wrap_pyfunction!(prt::sh_project_equirect, m)?)?;
+    m.add_function(wrap_pyfunction!(prt::sh_project_light, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     Ok(())
 }

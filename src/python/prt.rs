@@ -178,3 +178,18 @@ pub(super) fn sh_project_equirect<'py>(
         .reshape([coeffs.len(), 3])?
         .into_any())
 }
+
+/// SH coefficients (`[order²]` float32) of a light of unit power from `direction`, spread over a
+/// cone of `half_angle` radians (0: a directional light).
+#[pyfunction]
+#[pyo3(signature = (direction, order, half_angle=0.0))]
+pub(super) fn sh_project_light<'py>(
+    py: Python<'py>,
+    direction: [f64; 3],
+    order: usize,
+    half_angle: f64,
+) -> PyResult<Bound<'py, PyAny>> {
+    let coeffs = sh::project_cap(order, direction, half_angle)?;
+    let flat: Vec<f32> = coeffs.iter().map(|&c| c as f32).collect();
+    Ok(PyArray1::from_vec(py, flat).into_any())
+}
