@@ -88,7 +88,7 @@ def bake_and_write_transfer(pelt, volume: dict, out: Path, timings: dict) -> dic
     encoded = np.where(
         picture <= 0.0031308, 12.92 * picture, 1.055 * np.clip(picture, 0, 1) ** (1 / 2.4) - 0.055
     )
-    rgba = np.concatenate([encoded, np.ones(encoded.shape[:2] + (1,))], axis=2)
+    rgba = np.concatenate([encoded, np.ones((*encoded.shape[:2], 1))], axis=2)
     pelt.save_png(out / "relit.png", (np.clip(rgba, 0, 1) * 255 + 0.5).astype(np.uint8))
     return transfer
 
