@@ -16,8 +16,8 @@ GOALS = {
     "volume.bake.exact@128x128x16": 0.050,
     "volume.bake.exact@1024x1024x64": 2.0,
     "prt.transfer.sweep": 1.0,
-    "lapped.build@15": 0.100,
-    "lapped.build@100": 1.0,
+    "lapped.build.15k": 0.100,
+    "lapped.build.100k": 1.0,
 }
 
 
