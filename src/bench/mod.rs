@@ -16,6 +16,8 @@ mod export;
 mod hair;
 mod mesh;
 mod prt;
+#[cfg(feature = "render")]
+mod render;
 mod volume;
 
 /// One line of the benchmark table.
@@ -116,6 +118,11 @@ const CASES: &[Case] = &[
         name: "prt.bands",
         run: prt::bands,
     },
+    #[cfg(feature = "render")]
+    Case {
+        name: "render.frame",
+        run: render::render_frame,
+    },
 ];
 
 /// Runs the selected cases in order.
@@ -135,9 +142,17 @@ pub fn run(options: &BenchOptions) -> Result<Report> {
     Ok(Report {
         pelt: crate::VERSION,
         threads: crate::threads::thread_count(),
-        adapter: None,
+        adapter: adapter_used(),
         cases,
     })
+}
+
+/// The GPU adapter the render cases ran on, if any ran.
+fn adapter_used() -> Option<String> {
+    #[cfg(feature = "render")]
+    return render::adapter();
+    #[cfg(not(feature = "render"))]
+    None
 }
 
 /// Median seconds of `reps` runs of `work`, after one warm-up run that also measures peak heap.

@@ -25,3 +25,24 @@ pub fn torus(around: usize, across: usize) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
     }
     (positions, triangles)
 }
+
+/// Per-corner UVs of [`torus`]`(around, across)`: the parametric angles scaled to `repeats` tiles
+/// around the ring and around the tube (`uvs[f][k]` for corner `k` of triangle `f`). The quads
+/// that close the ring and the tube take the end of the range (`repeats`, not 0), so the UVs jump
+/// there like at a seam between texture patches.
+pub fn torus_uvs(around: usize, across: usize, repeats: [f32; 2]) -> Vec<[[f32; 2]; 3]> {
+    let uv = |i: usize, j: usize| {
+        [
+            repeats[0] * i as f32 / around as f32,
+            repeats[1] * j as f32 / across as f32,
+        ]
+    };
+    let mut uvs = Vec::with_capacity(2 * around * across);
+    for i in 0..around {
+        for j in 0..across {
+            uvs.push([uv(i, j), uv(i + 1, j), uv(i + 1, j + 1)]);
+            uvs.push([uv(i, j), uv(i + 1, j + 1), uv(i, j + 1)]);
+        }
+    }
+    uvs
+}

@@ -2,15 +2,52 @@
 //!
 //! [`Renderer`] owns the device. It picks an adapter headless: a hardware GPU first, a CPU adapter
 //! (Mesa's lavapipe or llvmpipe) when asked for or when no GPU exists, and reports which one it got.
-//! Passes live one per file with their WGSL beside them; today there is the smoke pass that proves
-//! the device works end to end.
+//! Passes live one per file with their WGSL beside them.
+//!
+//! The fur renderer follows Lengyel et al. 2001, §2.3–§2.4 and §3: a [`FurScene`] (mesh split at
+//! patch seams, fin quads, the hair volume's textures) is uploaded once; [`Renderer::render`]
+//! draws the opaque skin, the fins near the silhouette and the shells (one instanced draw) with
+//! Kajiya–Kay lighting, offscreen, and returns an [`RgbaImage`]. The smoke pass proves the device
+//! works end to end.
+//!
+//! Files: `camera.rs`, `lighting.rs`, `settings.rs` (the per-frame inputs, validated);
+//! `surface_mesh.rs`, `fin_mesh.rs` (CPU geometry); `textures.rs` (volume upload, premultiplied);
+//! `scene.rs`; `pipelines.rs` (shared layouts) and one file per pass, `skin.rs`, `fins.rs`,
+//! `shells.rs`, with `common.wgsl`, `lighting.wgsl` and `surface.wgsl` shared by their shaders;
+//! `frame.rs` (one frame) and `readback.rs`.
 
+mod camera;
+mod fin_mesh;
+mod fins;
+mod frame;
+mod frame_uniforms;
+mod image;
+mod lighting;
+mod pipelines;
 mod readback;
+mod scene;
+mod settings;
+mod shells;
+mod skin;
 mod smoke;
+mod surface_mesh;
+mod textures;
 
+#[cfg(test)]
+mod tests;
+
+pub use camera::{Camera, MAX_IMAGE_SIDE};
+pub use image::RgbaImage;
+pub use lighting::{KajiyaKay, LightModel, Lighting, MAX_POWER, MAX_RADIANCE};
+pub use scene::{FurScene, UploadStats};
+pub use settings::{MAX_FUR_DEPTH, RenderSettings};
 pub use smoke::SMOKE_COLOR;
 
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Mutex, OnceLock};
+
 use crate::error::{PeltError, Result};
+use pipelines::FurPipelines;
 
 /// How to choose the adapter.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -38,6 +75,30 @@ pub struct Renderer {
     device: wgpu::Device,
     queue: wgpu::Queue,
     adapter: AdapterReport,
+    /// Tells scenes of this renderer from others' (wgpu objects of two devices must not meet).
+    id: u64,
+    /// The fur pipelines, built on first use.
+    fur: OnceLock<FurPipelines>,
+    /// Render targets of the last frame's size; the lock also serializes frames, which share
+    /// each scene's uniform buffer.
+    targets: Mutex<Option<frame::Targets>>,
+}
+
+/// Source of [`Renderer`] ids.
+static NEXT_RENDERER_ID: AtomicU64 = AtomicU64::new(0);
+
+/// Runs `work` inside validation and out-of-memory error scopes, so a device error becomes a
+/// [`PeltError::Render`] naming `what` instead of wgpu's default panic, and the device survives.
+fn scoped<T>(device: &wgpu::Device, what: &str, work: impl FnOnce() -> T) -> Result<T> {
+    let memory = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+    let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let value = work();
+    let invalid = pollster::block_on(validation.pop());
+    let out_of_memory = pollster::block_on(memory.pop());
+    match invalid.or(out_of_memory) {
+        None => Ok(value),
+        Some(e) => Err(PeltError::Render(format!("{what} failed: {e}"))),
+    }
 }
 
 impl Renderer {
@@ -97,11 +158,23 @@ impl Renderer {
                 backend: format!("{:?}", info.backend),
                 device_type: format!("{:?}", info.device_type),
             },
+            id: NEXT_RENDERER_ID.fetch_add(1, Ordering::Relaxed),
+            fur: OnceLock::new(),
+            targets: Mutex::new(None),
         })
     }
 
     /// The adapter in use.
     pub fn adapter(&self) -> &AdapterReport {
         &self.adapter
+    }
+
+    /// The fur pipelines, built on first use (a race builds them twice and keeps one).
+    fn fur_pipelines(&self) -> Result<&FurPipelines> {
+        if let Some(p) = self.fur.get() {
+            return Ok(p);
+        }
+        let built = FurPipelines::new(&self.device)?;
+        Ok(self.fur.get_or_init(|| built))
     }
 }

@@ -1,0 +1,142 @@
+//! The camera of a frame: view and projection matrices, the image size, and the viewer's position
+//! in object space that lighting (Lengyel et al. 2001, §2.4: the half vector) and the fin fade
+//! (§2.3: fin normal · view direction) need.
+
+use crate::error::{PeltError, Result};
+
+/// Largest image side accepted before the adapter's own limit is asked.
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+
+/// A camera. Matrices are column-major 4 × 4 (`m[col * 4 + row]`, as numpy's `matrix.T.ravel()`
+/// and Blender's `Matrix` columns give them).
+///
+/// `view` maps object space to view space (right-handed, the camera looking down −z);
+/// `projection` maps view space to wgpu's clip space (depth in `[0, 1]`, y up). A projection whose
+/// last row is `(0, 0, −1, 0)` is a perspective one (the eye sits at the view-space origin); one
+/// whose last row is `(0, 0, 0, 1)` is orthographic (the eye is at infinity along +z).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    /// Object to view space, column-major.
+    pub view: [f32; 16],
+    /// View to clip space, column-major.
+    pub projection: [f32; 16],
+    /// Image width in pixels, `[1, MAX_IMAGE_SIDE]` (and the adapter's limit).
+    pub width: u32,
+    /// Image height in pixels, `[1, MAX_IMAGE_SIDE]` (and the adapter's limit).
+    pub height: u32,
+}
+
+/// What the shaders need from the camera, computed in f64 once per frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct CameraFrame {
+    /// `projection · view`, column-major.
+    pub view_proj: [f32; 16],
+    /// The eye in object space, homogeneous: `w = 1` a position (perspective), `w = 0` the unit
+    /// direction toward the viewer (orthographic).
+    pub eye: [f32; 4],
+}
+
+type M4 = [[f64; 4]; 4];
+
+/// Column-major f32 to `m[row][col]` in f64.
+fn rows(m: &[f32; 16]) -> M4 {
+    std::array::from_fn(|r| std::array::from_fn(|c| f64::from(m[c * 4 + r])))
+}
+
+fn mul(a: &M4, b: &M4) -> M4 {
+    std::array::from_fn(|r| std::array::from_fn(|c| (0..4).map(|k| a[r][k] * b[k][c]).sum()))
+}
+
+/// Inverse by cofactors, or `None` when the determinant is (relatively) zero.
+pub(super) fn invert(m: &M4) -> Option<M4> {
+    let minor = |skip_r: usize, skip_c: usize| {
+        // The three indices other than `skip`, in order.
+        let idx = |skip: usize| -> [usize; 3] { std::array::from_fn(|k| k + usize::from(k >= skip)) };
+        let (r, c) = (idx(skip_r), idx(skip_c));
+        let e = |i: usize, j: usize| m[r[i]][c[j]];
+        e(0, 0) * (e(1, 1) * e(2, 2) - e(1, 2) * e(2, 1)) - e(0, 1) * (e(1, 0) * e(2, 2) - e(1, 2) * e(2, 0))
+            + e(0, 2) * (e(1, 0) * e(2, 1) - e(1, 1) * e(2, 0))
+    };
+    let cof: M4 = std::array::from_fn(|r| {
+        std::array::from_fn(|c| {
+            let sign = if (r + c) % 2 == 0 { 1.0 } else { -1.0 };
+            sign * minor(r, c)
+        })
+    });
+    let det: f64 = (0..4).map(|c| m[0][c] * cof[0][c]).sum();
+    let scale = m.iter().flatten().fold(0.0f64, |s, v| s.max(v.abs()));
+    if !det.is_finite() || det.abs() <= 1e-12 * scale.powi(4) {
+        return None;
+    }
+    // inverse = adjugate / det, the adjugate being the transposed cofactor matrix
+    Some(std::array::from_fn(|r| std::array::from_fn(|c| cof[c][r] / det)))
+}
+
+impl Camera {
+    /// Checks the sizes against `max_side` (the adapter's limit) and the matrices, and derives
+    /// what the shaders need.
+    pub(super) fn frame(&self, max_side: u32) -> Result<CameraFrame> {
+        let limit = max_side.min(MAX_IMAGE_SIDE);
+        for (name, side) in [("camera.width", self.width), ("camera.height", self.height)] {
+            if !(1..=limit).contains(&side) {
+                return Err(PeltError::parameter(
+                    name,
+                    format!("must be in [1, {limit}], got {side}"),
+                ));
+            }
+        }
+        for (name, m) in [
+            ("camera.view", &self.view),
+            ("camera.projection", &self.projection),
+        ] {
+            if let Some(i) = m.iter().position(|v| !v.is_finite()) {
+                return Err(PeltError::parameter(
+                    name,
+                    format!("element {i} (column {}, row {}) is not finite", i / 4, i % 4),
+                ));
+            }
+        }
+        let (view, proj) = (rows(&self.view), rows(&self.projection));
+        let inverse_view = invert(&view)
+            .ok_or_else(|| PeltError::parameter("camera.view", "is singular (not invertible)"))?;
+        if invert(&proj).is_none() {
+            return Err(PeltError::parameter(
+                "camera.projection",
+                "is singular (not invertible)",
+            ));
+        }
+        let last = proj[3];
+        let eye_view = match (last[0] == 0.0 && last[1] == 0.0, last[2] != 0.0, last[3] != 0.0) {
+            (true, true, false) => [0.0, 0.0, 0.0, 1.0],
+            (true, false, true) => [0.0, 0.0, 1.0, 0.0],
+            _ => {
+                return Err(PeltError::parameter(
+                    "camera.projection",
+                    "last row must be (0, 0, c, 0) (perspective) or (0, 0, 0, w) (orthographic)",
+                ));
+            }
+        };
+        let eye: [f64; 4] = std::array::from_fn(|r| (0..4).map(|k| inverse_view[r][k] * eye_view[k]).sum());
+        let eye = if eye_view[3] == 1.0 {
+            [eye[0] / eye[3], eye[1] / eye[3], eye[2] / eye[3], 1.0]
+        } else {
+            let len = (eye[0] * eye[0] + eye[1] * eye[1] + eye[2] * eye[2]).sqrt();
+            [eye[0] / len, eye[1] / len, eye[2] / len, 0.0]
+        };
+        if !eye.iter().all(|v| v.is_finite()) {
+            return Err(PeltError::parameter(
+                "camera.view",
+                "does not give a finite eye position",
+            ));
+        }
+        let vp = mul(&proj, &view);
+        let view_proj: [f32; 16] = std::array::from_fn(|i| vp[i % 4][i / 4] as f32);
+        if !view_proj.iter().all(|v| v.is_finite()) {
+            return Err(PeltError::parameter("camera", "projection · view overflows f32"));
+        }
+        Ok(CameraFrame {
+            view_proj,
+            eye: eye.map(|v| v as f32),
+        })
+    }
+}

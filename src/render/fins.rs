@@ -1,0 +1,30 @@
+//! Pass (b), the fins (Lengyel et al. 2001, §2.3): the quads of [`super::fin_mesh`], faded toward
+//! the silhouette in the vertex shader, blended premultiplied, depth tested but not written (the
+//! shells drawn next must still land on the skin behind a fin).
+
+use super::pipelines::{FurPipelines, PassState};
+use super::scene::FurScene;
+
+/// Both sides drawn (a fin is seen from either side), depth not written, premultiplied "over".
+pub(super) const STATE: PassState<'static> = PassState {
+    label: "fins",
+    source: concat!(
+        include_str!("common.wgsl"),
+        include_str!("lighting.wgsl"),
+        include_str!("fins.wgsl")
+    ),
+    fins: true,
+    cull_mode: None,
+    depth_write: false,
+    blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+};
+
+/// Draws every fin; the vertex shader drops those faded out.
+pub(super) fn draw(pass: &mut wgpu::RenderPass<'_>, pipelines: &FurPipelines, scene: &FurScene) {
+    if scene.fins.index_count == 0 {
+        return;
+    }
+    pass.set_pipeline(&pipelines.fins);
+    scene.fins.bind(pass);
+    pass.draw_indexed(0..scene.fins.index_count, 0, 0..1);
+}

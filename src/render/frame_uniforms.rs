@@ -1,0 +1,61 @@
+//! The uniform block every fur pass reads (`Frame` in `common.wgsl`), packed from the camera,
+//! lighting and settings of one frame.
+
+use bytemuck::{Pod, Zeroable};
+
+use super::camera::CameraFrame;
+use super::lighting::LightingFrame;
+use super::settings::RenderSettings;
+
+/// Mirrors `Frame` in `common.wgsl`: a matrix and `vec4`s only, so the Rust and WGSL layouts
+/// agree without padding rules.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub(super) struct FrameUniforms {
+    view_proj: [f32; 16],
+    eye: [f32; 4],
+    light_direction: [f32; 4],
+    light_color: [f32; 4],
+    ambient: [f32; 4],
+    kajiya_kay: [f32; 4],
+    fur: [f32; 4],
+    fin: [f32; 4],
+    counts: [u32; 4],
+}
+
+/// The scene's side of the frame.
+pub(super) struct SceneFrame {
+    /// Shells to draw this frame.
+    pub shells: u32,
+    /// Layers of the shell texture.
+    pub layers: u32,
+    /// Height between layers, share of the fur depth.
+    pub layer_spacing: f32,
+}
+
+impl FrameUniforms {
+    pub fn new(
+        camera: &CameraFrame,
+        light: &LightingFrame,
+        settings: &RenderSettings,
+        scene: &SceneFrame,
+    ) -> Self {
+        let v3 = |v: [f32; 3]| [v[0], v[1], v[2], 0.0];
+        FrameUniforms {
+            view_proj: camera.view_proj,
+            eye: camera.eye,
+            light_direction: v3(light.direction),
+            light_color: v3(light.color),
+            ambient: v3(light.ambient),
+            kajiya_kay: light.kajiya_kay,
+            fur: [
+                settings.fur_depth,
+                scene.layer_spacing,
+                light.self_shadow,
+                settings.alpha_test,
+            ],
+            fin: [settings.fin_opacity, 0.0, 0.0, 0.0],
+            counts: [scene.shells, scene.layers, 0, 0],
+        }
+    }
+}

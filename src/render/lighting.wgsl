@@ -1,0 +1,28 @@
+// Hair lighting (Lengyel et al. 2001, §2.4): the modified Banks / Kajiya-Kay model
+//   Ka + Kd (1 - u²)^(Pd/2) + Ks (1 - v²)^(Ps/2),  u = T·L, v = T·H,
+// evaluated per fragment instead of through a 32 × 32 table, with Banks-style darkening toward
+// the skin. Precomputed radiance transfer (prt-shell-fur §2.4) will branch here on a model flag.
+
+// Kajiya-Kay alone lights hair on the side of the body turned away from the light as brightly
+// as the lit side; the body shadows it. A wrapped N·L fades the direct terms over a soft band
+// around the terminator (wider than Lambert's, as light scatters through the fur).
+const TERMINATOR_WRAP: f32 = 0.3;
+
+// `albedo` is premultiplied by `alpha`; so is the result. `height` is the share of the fur depth
+// (0 at the skin, 1 at the top of the volume).
+fn shade(albedo: vec3<f32>, alpha: f32, tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>,
+         height: f32) -> vec4<f32> {
+    let l = frame.light_direction.xyz;
+    let h = unit_or(l + view, normal);
+    let u = dot(tangent, l);
+    let v = dot(tangent, h);
+    // The floor keeps pow's base positive (pow(0, y) is undefined in WGSL).
+    let diffuse = pow(max(1.0 - u * u, 1e-8), 0.5 * frame.kajiya_kay.z);
+    let specular = pow(max(1.0 - v * v, 1e-8), 0.5 * frame.kajiya_kay.w);
+    let lit = clamp((dot(normal, l) + TERMINATOR_WRAP) / (1.0 + TERMINATOR_WRAP), 0.0, 1.0);
+    let light = frame.light_color.rgb * lit;
+    let banks = 1.0 - frame.fur.z * (1.0 - clamp(height, 0.0, 1.0));
+    let rgb = albedo * (frame.ambient.rgb + light * (frame.kajiya_kay.x * diffuse))
+        + alpha * light * (frame.kajiya_kay.y * specular);
+    return vec4<f32>(rgb * banks, alpha);
+}

@@ -1,0 +1,306 @@
+//! [`FurScene`]: a furred mesh uploaded once — split vertex buffers, fin quads, the hair volume's
+//! textures — and updated in place when only colors or lengths change (Lengyel et al. 2001, §3:
+//! per-vertex color and length are interactive controls, so they must not re-upload the rest).
+
+use wgpu::util::DeviceExt;
+
+use super::frame_uniforms::FrameUniforms;
+use super::surface_mesh::expand;
+use super::{Renderer, fin_mesh, scoped, surface_mesh, textures};
+use crate::FurMesh;
+use crate::error::{PeltError, Result};
+use crate::mesh::MAX_LENGTH;
+use crate::volume::HairVolume;
+
+/// Hair color where the mesh has none: white, so the texture's own color shows.
+const DEFAULT_COLOR: [f32; 4] = [1.0; 4];
+/// Length multiplier where the mesh has none.
+const DEFAULT_LENGTH: f32 = 1.0;
+
+/// Bytes sent to the GPU by a scene, by kind (what [`FurScene::update_attributes`] saves).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct UploadStats {
+    /// Shell, tangent and fin textures with their mip levels.
+    pub texture_bytes: u64,
+    /// Positions, frames, UVs, comb vectors and indices of the skin, shells and fins.
+    pub geometry_bytes: u64,
+    /// Colors and lengths, summed over the initial upload and every update.
+    pub attribute_bytes: u64,
+}
+
+/// The vertex and index buffers of one kind of geometry (surface or fins).
+pub(super) struct GpuMesh {
+    geometry: wgpu::Buffer,
+    color: wgpu::Buffer,
+    length: wgpu::Buffer,
+    index: wgpu::Buffer,
+    pub index_count: u32,
+}
+
+impl GpuMesh {
+    fn new(
+        device: &wgpu::Device,
+        label: &str,
+        geometry: &[u8],
+        indices: &[u32],
+        colors: &[[f32; 4]],
+        lengths: &[f32],
+    ) -> Self {
+        let buffer = |what: &str, contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(&format!("{label} {what}")),
+                contents,
+                usage,
+            })
+        };
+        let vertex = wgpu::BufferUsages::VERTEX;
+        let dynamic = vertex | wgpu::BufferUsages::COPY_DST;
+        GpuMesh {
+            geometry: buffer("geometry", geometry, vertex),
+            color: buffer("color", bytemuck::cast_slice(colors), dynamic),
+            length: buffer("length", bytemuck::cast_slice(lengths), dynamic),
+            index: buffer("index", bytemuck::cast_slice(indices), wgpu::BufferUsages::INDEX),
+            index_count: indices.len() as u32,
+        }
+    }
+
+    /// Sets vertex buffers 0–2 and the index buffer.
+    pub fn bind(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_vertex_buffer(0, self.geometry.slice(..));
+        pass.set_vertex_buffer(1, self.color.slice(..));
+        pass.set_vertex_buffer(2, self.length.slice(..));
+        pass.set_index_buffer(self.index.slice(..), wgpu::IndexFormat::Uint32);
+    }
+}
+
+/// A furred mesh on the GPU of one [`Renderer`].
+pub struct FurScene {
+    renderer_id: u64,
+    queue: wgpu::Queue,
+    pub(super) surface: GpuMesh,
+    pub(super) fins: GpuMesh,
+    pub(super) uniforms: wgpu::Buffer,
+    pub(super) bind_group: wgpu::BindGroup,
+    surface_source: Vec<u32>,
+    fin_source: Vec<u32>,
+    mesh_vertices: usize,
+    pub(super) layers: u32,
+    pub(super) layer_spacing: f32,
+    uploads: UploadStats,
+}
+
+fn check_colors(colors: &[[f32; 4]], vertices: usize) -> Result<()> {
+    if colors.len() != vertices {
+        return Err(PeltError::parameter(
+            "color",
+            format!("must have one row per vertex ({vertices}), got {}", colors.len()),
+        ));
+    }
+    if let Some(i) = colors.iter().position(|c| !c.iter().all(|v| v.is_finite())) {
+        return Err(PeltError::parameter(
+            format!("color[{i}]"),
+            format!("must be finite, got {:?}", colors[i]),
+        ));
+    }
+    Ok(())
+}
+
+fn check_lengths(lengths: &[f32], vertices: usize) -> Result<()> {
+    if lengths.len() != vertices {
+        return Err(PeltError::parameter(
+            "length",
+            format!(
+                "must have one value per vertex ({vertices}), got {}",
+                lengths.len()
+            ),
+        ));
+    }
+    if let Some(i) = lengths.iter().position(|l| !(0.0..=MAX_LENGTH).contains(l)) {
+        return Err(PeltError::parameter(
+            format!("length[{i}]"),
+            format!("must be in [0, {MAX_LENGTH}], got {}", lengths[i]),
+        ));
+    }
+    Ok(())
+}
+
+impl FurScene {
+    /// Uploads `mesh` (its colors, comb vectors and lengths, or white, none and 1 where absent)
+    /// with per-triangle corner UVs in tile units (`corner_uvs[f][k]` for corner `k` of triangle
+    /// `f`, as the lapped patches produce them; vertices are split where they differ) and the
+    /// baked hair `volume`.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming `corner_uvs` or the `volume` array whose size does
+    /// not match (or exceeds the device), [`PeltError::Render`] when the device fails.
+    pub fn new(
+        renderer: &Renderer,
+        mesh: &FurMesh,
+        corner_uvs: &[[[f32; 2]; 3]],
+        volume: &HairVolume,
+    ) -> Result<Self> {
+        let device = &renderer.device;
+        textures::validate(volume, &device.limits())?;
+        let surface = surface_mesh::build(mesh, corner_uvs)?;
+        let fins = fin_mesh::build(mesh, surface.uv_scale);
+        let pipelines = renderer.fur_pipelines()?;
+        let colors = mesh
+            .color()
+            .map_or_else(|| vec![DEFAULT_COLOR; mesh.vertex_count()], <[_]>::to_vec);
+        let lengths = mesh
+            .length()
+            .map_or_else(|| vec![DEFAULT_LENGTH; mesh.vertex_count()], <[_]>::to_vec);
+
+        let (surface_gpu, fins_gpu, volume_gpu, uniforms, bind_group) =
+            scoped(device, "uploading the scene", || {
+                let surface_gpu = GpuMesh::new(
+                    device,
+                    "surface",
+                    bytemuck::cast_slice(&surface.vertices),
+                    &surface.indices,
+                    &expand(&colors, &surface.source),
+                    &expand(&lengths, &surface.source),
+                );
+                let fins_gpu = GpuMesh::new(
+                    device,
+                    "fins",
+                    bytemuck::cast_slice(&fins.vertices),
+                    &fins.indices,
+                    &expand(&colors, &fins.source),
+                    &expand(&lengths, &fins.source),
+                );
+                let volume_gpu = textures::upload_volume(device, &renderer.queue, volume)?;
+                let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("frame uniforms"),
+                    size: size_of::<FrameUniforms>() as u64,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("fur"),
+                    layout: &pipelines.bind_group_layout,
+                    entries: &[
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: uniforms.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: wgpu::BindingResource::TextureView(&volume_gpu.shells),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 2,
+                            resource: wgpu::BindingResource::TextureView(&volume_gpu.tangents),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 3,
+                            resource: wgpu::BindingResource::TextureView(&volume_gpu.fin),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 4,
+                            resource: wgpu::BindingResource::Sampler(&pipelines.tile_sampler),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 5,
+                            resource: wgpu::BindingResource::Sampler(&pipelines.fin_sampler),
+                        },
+                    ],
+                });
+                Ok::<_, PeltError>((surface_gpu, fins_gpu, volume_gpu, uniforms, bind_group))
+            })??;
+
+        let attribute_rows = (surface.source.len() + fins.source.len()) as u64;
+        let uploads = UploadStats {
+            texture_bytes: volume_gpu.bytes,
+            geometry_bytes: (size_of_val(surface.vertices.as_slice())
+                + size_of_val(fins.vertices.as_slice())
+                + 4 * (surface.indices.len() + fins.indices.len())) as u64,
+            attribute_bytes: attribute_rows * (16 + 4),
+        };
+        Ok(FurScene {
+            renderer_id: renderer.id,
+            queue: renderer.queue.clone(),
+            surface: surface_gpu,
+            fins: fins_gpu,
+            uniforms,
+            bind_group,
+            surface_source: surface.source,
+            fin_source: fins.source,
+            mesh_vertices: mesh.vertex_count(),
+            layers: volume.layers as u32,
+            layer_spacing: volume.layer_spacing as f32,
+            uploads,
+        })
+    }
+
+    /// Rewrites the per-vertex colors and/or lengths (one row per mesh vertex, like
+    /// [`crate::MeshInput`]'s) in place; nothing else is sent to the GPU.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming `color` / `length` (wrong row count) or the first
+    /// bad row (`color[i]` not finite, `length[i]` outside `[0, MAX_LENGTH]`); nothing is written
+    /// then.
+    pub fn update_attributes(&mut self, color: Option<&[[f32; 4]]>, length: Option<&[f32]>) -> Result<()> {
+        if let Some(c) = color {
+            check_colors(c, self.mesh_vertices)?;
+        }
+        if let Some(l) = length {
+            check_lengths(l, self.mesh_vertices)?;
+        }
+        let mut bytes = 0u64;
+        if let Some(c) = color {
+            for (mesh, source) in [
+                (&self.surface, &self.surface_source),
+                (&self.fins, &self.fin_source),
+            ] {
+                let rows = expand(c, source);
+                if rows.is_empty() {
+                    continue;
+                }
+                self.queue
+                    .write_buffer(&mesh.color, 0, bytemuck::cast_slice(&rows));
+                bytes += size_of_val(rows.as_slice()) as u64;
+            }
+        }
+        if let Some(l) = length {
+            for (mesh, source) in [
+                (&self.surface, &self.surface_source),
+                (&self.fins, &self.fin_source),
+            ] {
+                let rows = expand(l, source);
+                if rows.is_empty() {
+                    continue;
+                }
+                self.queue
+                    .write_buffer(&mesh.length, 0, bytemuck::cast_slice(&rows));
+                bytes += size_of_val(rows.as_slice()) as u64;
+            }
+        }
+        self.uploads.attribute_bytes += bytes;
+        Ok(())
+    }
+
+    /// Bytes sent to the GPU so far, by kind.
+    pub fn uploads(&self) -> UploadStats {
+        self.uploads
+    }
+
+    /// GPU vertices of the skin and shells (mesh vertices plus the copies made at UV seams).
+    pub fn surface_vertex_count(&self) -> usize {
+        self.surface_source.len()
+    }
+
+    /// Fin quads (one per mesh edge that has a fin plane).
+    pub fn fin_count(&self) -> usize {
+        self.fin_source.len() / 4
+    }
+
+    /// Layers of the shell texture, the skin included.
+    pub fn layers(&self) -> u32 {
+        self.layers
+    }
+
+    pub(super) fn renderer_id(&self) -> u64 {
+        self.renderer_id
+    }
+}

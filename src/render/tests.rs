@@ -1,0 +1,387 @@
+//! CPU-side checks of the renderer: matrices, seams and surface derivatives, fins, premultiplied
+//! colors and input validation. The GPU passes are tested in `tests/render_fur.rs`.
+
+use super::camera::{Camera, invert};
+use super::image::RgbaImage;
+use super::lighting::Lighting;
+use super::settings::RenderSettings;
+use super::textures::premultiply;
+use super::{fin_mesh, surface_mesh};
+use crate::color::{linear_to_srgb, srgb_to_linear};
+use crate::error::PeltError;
+use crate::mesh::shapes::torus;
+use crate::{FurMesh, MeshInput};
+
+fn column_major(rows: [[f64; 4]; 4]) -> [f32; 16] {
+    std::array::from_fn(|i| rows[i % 4][i / 4] as f32)
+}
+
+/// A right-handed look-at view matrix, written out from its definition.
+fn look_at(eye: [f64; 3], target: [f64; 3], up: [f64; 3]) -> [f32; 16] {
+    let norm = |v: [f64; 3]| {
+        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        v.map(|c| c / l)
+    };
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let f = norm([target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]]);
+    let s = norm(cross(f, up));
+    let u = cross(s, f);
+    column_major([
+        [s[0], s[1], s[2], -dot(s, eye)],
+        [u[0], u[1], u[2], -dot(u, eye)],
+        [-f[0], -f[1], -f[2], dot(f, eye)],
+        [0.0, 0.0, 0.0, 1.0],
+    ])
+}
+
+fn perspective() -> [f32; 16] {
+    let (near, far, t) = (0.1, 10.0, 1.0);
+    column_major([
+        [t, 0.0, 0.0, 0.0],
+        [0.0, t, 0.0, 0.0],
+        [0.0, 0.0, far / (near - far), near * far / (near - far)],
+        [0.0, 0.0, -1.0, 0.0],
+    ])
+}
+
+fn orthographic() -> [f32; 16] {
+    column_major([
+        [0.5, 0.0, 0.0, 0.0],
+        [0.0, 0.5, 0.0, 0.0],
+        [0.0, 0.0, -0.1, 0.5],
+        [0.0, 0.0, 0.0, 1.0],
+    ])
+}
+
+#[test]
+fn inverse_times_matrix_is_identity_and_singular_is_refused() {
+    let m = [
+        [2.0, 0.5, -1.0, 3.0],
+        [0.0, 1.5, 0.25, -2.0],
+        [1.0, -0.5, 4.0, 0.5],
+        [0.0, 0.0, 0.3, 1.0],
+    ];
+    let inv = invert(&m).unwrap();
+    let product: [[f64; 4]; 4] =
+        std::array::from_fn(|r| std::array::from_fn(|c| (0..4).map(|k| m[r][k] * inv[k][c]).sum()));
+    for (r, row) in product.iter().enumerate() {
+        for (c, v) in row.iter().enumerate() {
+            assert!((v - f64::from(u8::from(r == c))).abs() < 1e-12, "({r},{c}) = {v}");
+        }
+    }
+    let mut singular = m;
+    singular[3] = [4.0, 1.0, -2.0, 6.0]; // twice row 0
+    assert!(invert(&singular).is_none());
+}
+
+#[test]
+fn camera_finds_the_eye_for_perspective_and_orthographic_projections() {
+    let eye = [1.0, -3.0, 2.0];
+    let view = look_at(eye, [0.0, 0.5, 0.0], [0.0, 0.0, 1.0]);
+    let camera = Camera {
+        view,
+        projection: perspective(),
+        width: 64,
+        height: 32,
+    };
+    let frame = camera.frame(8192).unwrap();
+    for (got, want) in frame.eye.iter().zip(eye) {
+        assert!((f64::from(*got) - want).abs() < 1e-5, "{:?}", frame.eye);
+    }
+    assert_eq!(frame.eye[3], 1.0);
+    // The target projects to the centre of the image.
+    let p = [0.0f32, 0.5, 0.0, 1.0];
+    let clip: [f32; 4] = std::array::from_fn(|r| (0..4).map(|k| frame.view_proj[k * 4 + r] * p[k]).sum());
+    assert!(
+        clip[0].abs() < 1e-5 && clip[1].abs() < 1e-5 && clip[3] > 0.0,
+        "{clip:?}"
+    );
+
+    let ortho = Camera {
+        projection: orthographic(),
+        ..camera
+    };
+    let frame = ortho.frame(8192).unwrap();
+    let toward = [1.0, -3.5, 2.0];
+    let len = (1.0f64 + 3.5 * 3.5 + 4.0).sqrt();
+    for (got, want) in frame.eye.iter().zip(toward) {
+        assert!((f64::from(*got) - want / len).abs() < 1e-5, "{:?}", frame.eye);
+    }
+    assert_eq!(frame.eye[3], 0.0);
+}
+
+fn parameter_name(e: PeltError) -> String {
+    match e {
+        PeltError::InvalidParameter { name, .. } => name,
+        other => panic!("expected an invalid parameter, got {other}"),
+    }
+}
+
+#[test]
+fn camera_lighting_and_settings_name_the_bad_field() {
+    let good = Camera {
+        view: look_at([0.0, 0.0, 3.0], [0.0; 3], [0.0, 1.0, 0.0]),
+        projection: perspective(),
+        width: 16,
+        height: 16,
+    };
+    let mut nan = good;
+    nan.view[5] = f32::NAN;
+    assert_eq!(parameter_name(nan.frame(4096).unwrap_err()), "camera.view");
+    let zero_width = Camera { width: 0, ..good };
+    assert_eq!(
+        parameter_name(zero_width.frame(4096).unwrap_err()),
+        "camera.width"
+    );
+    let too_tall = Camera { height: 5000, ..good };
+    assert_eq!(parameter_name(too_tall.frame(4096).unwrap_err()), "camera.height");
+    let singular = Camera {
+        view: [0.0; 16],
+        ..good
+    };
+    assert_eq!(parameter_name(singular.frame(4096).unwrap_err()), "camera.view");
+    let mut skewed = good;
+    skewed.projection[3] = 0.5; // last row (0.5, 0, -1, 0)
+    assert_eq!(
+        parameter_name(skewed.frame(4096).unwrap_err()),
+        "camera.projection"
+    );
+
+    let dark = Lighting {
+        direction: [0.0; 3],
+        ..Lighting::default()
+    };
+    assert_eq!(parameter_name(dark.frame().unwrap_err()), "lighting.direction");
+    let light = Lighting {
+        direction: [0.0, 3.0, 4.0],
+        ..Lighting::default()
+    }
+    .frame()
+    .unwrap();
+    assert_eq!(light.direction, [0.0, 0.6, 0.8]);
+
+    let settings = RenderSettings::default();
+    assert_eq!(settings.shells_to_draw(16).unwrap(), 15);
+    let too_many = RenderSettings {
+        shell_count: Some(16),
+        ..settings
+    };
+    assert_eq!(
+        parameter_name(too_many.shells_to_draw(16).unwrap_err()),
+        "settings.shell_count"
+    );
+    let negative = RenderSettings {
+        fur_depth: -1.0,
+        ..settings
+    };
+    assert_eq!(
+        parameter_name(negative.shells_to_draw(16).unwrap_err()),
+        "settings.fur_depth"
+    );
+}
+
+/// A 2 × 2 square in the xy plane as two triangles sharing the diagonal 0–2.
+fn square() -> FurMesh {
+    let positions = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 2.0, 0.0], [0.0, 2.0, 0.0]];
+    let triangles = [[0, 1, 2], [0, 2, 3]];
+    FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap()
+}
+
+#[test]
+fn vertices_split_only_where_uvs_differ_and_derivatives_match_the_map() {
+    let mesh = square();
+    // UV = position / 2: one chart, no seam.
+    let uvs = [
+        [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]],
+        [[0.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+    ];
+    let split = surface_mesh::build(&mesh, &uvs).unwrap();
+    assert_eq!(split.vertices.len(), 4);
+    for v in &split.vertices {
+        assert_eq!(v.dpdu, [2.0, 0.0, 0.0]);
+        assert_eq!(v.dpdv, [0.0, 2.0, 0.0]);
+        let p = mesh.positions()[split.source[split.vertices.iter().position(|w| w == v).unwrap()] as usize];
+        assert_eq!(v.uv, [p[0] / 2.0, p[1] / 2.0]);
+    }
+    // Every side is twice as long in 3D as in the tile.
+    assert!((split.uv_scale - 0.5).abs() < 1e-12);
+    for (f, tri) in mesh.triangles().iter().enumerate() {
+        for k in 0..3 {
+            let gpu = split.indices[3 * f + k] as usize;
+            assert_eq!(split.source[gpu], tri[k]);
+            assert_eq!(split.vertices[gpu].uv, uvs[f][k]);
+        }
+    }
+
+    // The second triangle shifted by a whole tile: the diagonal's two vertices split.
+    let seam = [uvs[0], uvs[1].map(|[u, v]| [u + 1.0, v])];
+    let split = surface_mesh::build(&mesh, &seam).unwrap();
+    assert_eq!(split.vertices.len(), 6);
+    let mut sources = split.source.clone();
+    sources.sort_unstable();
+    assert_eq!(sources, [0, 0, 1, 2, 2, 3]);
+}
+
+#[test]
+fn torus_derivatives_follow_the_parametric_surface() {
+    let (around, across, repeats) = (48usize, 24usize, [4.0f64, 2.0]);
+    let (positions, triangles) = torus(around, across);
+    let mesh = FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap();
+    // UVs of the parametric angles (θ around, φ across), scaled to a few tiles; the wrap-around
+    // quads get the end of the range so no triangle spans the whole tile.
+    let uv_of = |i: usize, j: usize| {
+        [
+            (repeats[0] * i as f64 / around as f64) as f32,
+            (repeats[1] * j as f64 / across as f64) as f32,
+        ]
+    };
+    let mut uvs = Vec::new();
+    for i in 0..around {
+        for j in 0..across {
+            let (a, b, c, d) = (uv_of(i, j), uv_of(i + 1, j), uv_of(i + 1, j + 1), uv_of(i, j + 1));
+            uvs.push([a, b, c]);
+            uvs.push([a, c, d]);
+        }
+    }
+    let split = surface_mesh::build(&mesh, &uvs).unwrap();
+    // Seams where i or j wraps: one extra column of `across + 1` and row of `around` vertices.
+    assert_eq!(split.vertices.len(), (around + 1) * (across + 1));
+    for (v, &src) in split.vertices.iter().zip(&split.source) {
+        let (i, j) = (src as usize / across, src as usize % across);
+        let (theta, phi) = (
+            std::f64::consts::TAU * i as f64 / around as f64,
+            std::f64::consts::TAU * j as f64 / across as f64,
+        );
+        // P = ((1 + r cos φ) cos θ, (1 + r cos φ) sin θ, r sin φ), u = 4 θ / 2π, v = 2 φ / 2π.
+        let r = 1.0 + 0.35 * phi.cos();
+        let dpdu = [-r * theta.sin(), r * theta.cos(), 0.0].map(|c| c * std::f64::consts::TAU / repeats[0]);
+        let dpdv = [
+            -0.35 * phi.sin() * theta.cos(),
+            -0.35 * phi.sin() * theta.sin(),
+            0.35 * phi.cos(),
+        ]
+        .map(|c| c * std::f64::consts::TAU / repeats[1]);
+        for (got, want) in [(v.dpdu, dpdu), (v.dpdv, dpdv)] {
+            let scale = want.iter().map(|c| c * c).sum::<f64>().sqrt();
+            let err = (0..3)
+                .map(|k| (f64::from(got[k]) - want[k]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            // Averaged chords of a 48 × 24 torus are a few percent off the tangent; a copy on a
+            // seam only sees the faces on its side of it (one-sided chords, half a step off).
+            let seam = v.uv[0] == 0.0 || v.uv[0] == 4.0 || v.uv[1] == 0.0 || v.uv[1] == 2.0;
+            let tolerance = if seam { 0.2 } else { 0.03 };
+            assert!(err < tolerance * scale, "vertex {src}: {got:?} vs {want:?}");
+        }
+    }
+}
+
+#[test]
+fn bad_uvs_are_named() {
+    let mesh = square();
+    let short = [[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]];
+    assert_eq!(
+        parameter_name(surface_mesh::build(&mesh, &short).unwrap_err()),
+        "corner_uvs"
+    );
+    let nan = [
+        [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]],
+        [[0.0, 0.0], [f32::NAN, 1.0], [0.0, 1.0]],
+    ];
+    assert_eq!(
+        parameter_name(surface_mesh::build(&mesh, &nan).unwrap_err()),
+        "corner_uvs[1]"
+    );
+    let flat = [[[0.5, 0.5]; 3]; 2];
+    assert_eq!(
+        parameter_name(surface_mesh::build(&mesh, &flat).unwrap_err()),
+        "corner_uvs"
+    );
+}
+
+#[test]
+fn one_fin_per_edge_standing_on_it() {
+    let mesh = square();
+    let fins = fin_mesh::build(&mesh, 0.5);
+    assert_eq!(fins.vertices.len(), 4 * 5);
+    assert_eq!(fins.indices.len(), 6 * 5);
+    for quad in fins.vertices.chunks_exact(4) {
+        let (a, b) = (quad[0].position, quad[1].position);
+        let e = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let len = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
+        let f = quad[0].fin_normal;
+        // The fin stands on the edge along the (flat) normal +z: its normal is in the plane,
+        // perpendicular to the edge.
+        assert!(
+            (f[0] * e[0] + f[1] * e[1]).abs() < 1e-6 && f[2].abs() < 1e-6,
+            "{f:?}"
+        );
+        assert!(((f[0] * f[0] + f[1] * f[1]).sqrt() - 1.0).abs() < 1e-6);
+        assert_eq!(quad[0].center, [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0, 0.0]);
+        // The texture interval is the edge length in tile units, starting in [0, 1).
+        assert!((0.0..1.0).contains(&quad[0].uv[0]));
+        assert!((quad[1].uv[0] - quad[0].uv[0] - 0.5 * len).abs() < 1e-5);
+        assert_eq!(
+            [quad[0].uv[1], quad[1].uv[1], quad[2].uv[1], quad[3].uv[1]],
+            [1.0, 1.0, 0.0, 0.0]
+        );
+        assert_eq!((quad[2].position, quad[3].position), (a, b));
+    }
+}
+
+#[test]
+fn premultiplied_upload_and_straight_readback_agree_with_the_formulas() {
+    let straight = [255, 128, 0, 128, 10, 200, 90, 255, 77, 77, 77, 0, 0, 0, 0, 3];
+    let pm = premultiply(&straight);
+    for (s, p) in straight.chunks_exact(4).zip(pm.chunks_exact(4)) {
+        let a = f32::from(s[3]) / 255.0;
+        for c in 0..3 {
+            let want = linear_to_srgb(srgb_to_linear(f32::from(s[c]) / 255.0) * a) * 255.0;
+            assert!((f32::from(p[c]) - want).abs() <= 0.5 + 1e-3, "{s:?} -> {p:?}");
+        }
+        assert_eq!(p[3], s[3]);
+    }
+    // Back to straight: within the rounding of 8-bit premultiplied values.
+    let image = RgbaImage::from_premultiplied(4, 1, pm);
+    for (s, back) in straight.chunks_exact(4).zip(image.pixels.chunks_exact(4)) {
+        match s[3] {
+            0 => assert_eq!(back, [0, 0, 0, 0]),
+            3 => assert_eq!(back[3], 3),
+            _ => {
+                for c in 0..3 {
+                    assert!(s[c].abs_diff(back[c]) <= 2, "{s:?} -> {back:?}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn premultiplying_does_not_depend_on_the_thread_count() {
+    // Enough texels for several parallel chunks, every (color, alpha) pair present.
+    let straight: Vec<u8> = (0..3 * 65536u32)
+        .flat_map(|i| {
+            [
+                (i % 256) as u8,
+                (i / 7 % 256) as u8,
+                (i / 256 % 256) as u8,
+                (i * 13 % 256) as u8,
+            ]
+        })
+        .collect();
+    let run = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| premultiply(&straight))
+    };
+    assert!(run(1) == run(2));
+}

@@ -1,0 +1,456 @@
+//! The fur renderer on the CPU adapter (lavapipe): a furred torus with parametric UVs and a small
+//! baked hair volume. Properties are checked against renders of the same scene with passes
+//! switched off and against the torus's analytic geometry, never against stored output. The test
+//! fails (never skips) when no CPU adapter exists.
+#![cfg(feature = "render")]
+
+use std::path::Path;
+use std::sync::OnceLock;
+
+use pelt::export::{PngOptions, save_png};
+use pelt::hair::HairParams;
+use pelt::mesh::shapes::{torus, torus_uvs};
+use pelt::render::{AdapterChoice, Camera, FurScene, Lighting, RenderSettings, Renderer, RgbaImage};
+use pelt::volume::{HairVolume, VolumeParams, bake_volume};
+use pelt::{FurMesh, MeshInput, PeltError};
+
+const AROUND: usize = 32;
+const ACROSS: usize = 16;
+/// Tile repeats around the ring and around the tube (about one object unit per tile).
+const REPEATS: [f32; 2] = [6.0, 2.0];
+const SIZE: u32 = 128;
+/// Fur depth in object units: a few pixels at 128².
+const FUR_DEPTH: f32 = 0.08;
+
+struct Fixture {
+    renderer: Renderer,
+    mesh: FurMesh,
+    uvs: Vec<[[f32; 2]; 3]>,
+    volume: HairVolume,
+}
+
+fn fixture() -> &'static Fixture {
+    static FIXTURE: OnceLock<Fixture> = OnceLock::new();
+    FIXTURE.get_or_init(|| {
+        let renderer =
+            Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe) must exist under make test");
+        let (positions, triangles) = torus(AROUND, ACROSS);
+        let mesh = FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap();
+        // Parametric UVs, split where the ring and the tube close (a seam, as between patches).
+        let uvs = torus_uvs(AROUND, ACROSS, REPEATS);
+        // A small volume (64², 8 layers) keeps the bake quick in a debug build; hairs twice the
+        // default width stay about a texel wide at that resolution.
+        let defaults = HairParams::default();
+        let mut hair = HairParams {
+            density: 3000,
+            ..defaults.clone()
+        };
+        hair.undercoat.width = defaults.undercoat.width.map(|w| w * 2.0);
+        hair.overcoat.width = defaults.overcoat.width.map(|w| w * 2.0);
+        let params = VolumeParams {
+            layers: 8,
+            resolution: 64,
+            fin_size: [128, 32],
+            trim: false,
+            ..VolumeParams::default()
+        };
+        let volume = bake_volume(&hair, &params, None).unwrap();
+        Fixture {
+            renderer,
+            mesh,
+            uvs,
+            volume,
+        }
+    })
+}
+
+fn scene() -> FurScene {
+    let f = fixture();
+    FurScene::new(&f.renderer, &f.mesh, &f.uvs, &f.volume).unwrap()
+}
+
+fn column_major(rows: [[f64; 4]; 4]) -> [f32; 16] {
+    std::array::from_fn(|i| rows[i % 4][i / 4] as f32)
+}
+
+fn look_at(eye: [f64; 3], up: [f64; 3]) -> [f32; 16] {
+    let norm = |v: [f64; 3]| {
+        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        v.map(|c| c / l)
+    };
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let f = norm(eye.map(|c| -c));
+    let s = norm(cross(f, up));
+    let u = cross(s, f);
+    column_major([
+        [s[0], s[1], s[2], -dot(s, eye)],
+        [u[0], u[1], u[2], -dot(u, eye)],
+        [-f[0], -f[1], -f[2], dot(f, eye)],
+        [0.0, 0.0, 0.0, 1.0],
+    ])
+}
+
+/// Perspective camera (60° field of view) looking at the torus from above and to the side.
+fn oblique(size: u32) -> Camera {
+    let (near, far, t) = (0.5, 10.0, 1.0 / (30f64.to_radians().tan()));
+    Camera {
+        view: look_at([0.0, -2.6, 2.2], [0.0, 0.0, 1.0]),
+        projection: column_major([
+            [t, 0.0, 0.0, 0.0],
+            [0.0, t, 0.0, 0.0],
+            [0.0, 0.0, far / (near - far), near * far / (near - far)],
+            [0.0, 0.0, -1.0, 0.0],
+        ]),
+        width: size,
+        height: size,
+    }
+}
+
+/// Half the side of the orthographic top view, object units.
+const TOP_HALF: f64 = 1.6;
+
+/// Orthographic camera looking down the torus's axis: pixel centres map to `[-TOP_HALF, TOP_HALF]²`.
+fn top() -> Camera {
+    Camera {
+        view: look_at([0.0, 0.0, 3.0], [0.0, 1.0, 0.0]),
+        projection: column_major([
+            [1.0 / TOP_HALF, 0.0, 0.0, 0.0],
+            [0.0, 1.0 / TOP_HALF, 0.0, 0.0],
+            // view depth 0.5 .. 5.5 to clip depth 0 .. 1
+            [0.0, 0.0, -0.2, -0.1],
+            [0.0, 0.0, 0.0, 1.0],
+        ]),
+        width: SIZE,
+        height: SIZE,
+    }
+}
+
+fn settings() -> RenderSettings {
+    RenderSettings {
+        fur_depth: FUR_DEPTH,
+        ..RenderSettings::default()
+    }
+}
+
+fn skin_only() -> RenderSettings {
+    RenderSettings {
+        shell_count: Some(0),
+        fins: false,
+        ..settings()
+    }
+}
+
+fn render(scene: &FurScene, camera: &Camera, settings: &RenderSettings) -> RgbaImage {
+    fixture()
+        .renderer
+        .render(scene, camera, &Lighting::default(), settings)
+        .unwrap()
+}
+
+fn covered(image: &RgbaImage) -> usize {
+    image.pixels.chunks_exact(4).filter(|p| p[3] > 0).count()
+}
+
+#[test]
+fn furred_torus_renders_and_is_saved_for_viewing() {
+    let scene = scene();
+    assert_eq!(scene.layers(), 8);
+    let image = render(&scene, &oblique(512), &settings());
+    let skin = render(&scene, &oblique(512), &skin_only());
+    // The torus fills a good part of the frame, and its skin is opaque.
+    let fraction = covered(&skin) as f64 / (512.0 * 512.0);
+    assert!((0.2..0.8).contains(&fraction), "skin covers {fraction}");
+    let opaque = skin.pixels.chunks_exact(4).filter(|p| p[3] == 255).count();
+    assert!(opaque as f64 > 0.9 * covered(&skin) as f64);
+    // Lit fur is neither black nor blown out: a brown coat under a white light.
+    let lit: Vec<&[u8]> = image.pixels.chunks_exact(4).filter(|p| p[3] == 255).collect();
+    let mean = |c: usize| lit.iter().map(|p| f64::from(p[c])).sum::<f64>() / lit.len() as f64;
+    assert!(mean(0) > 30.0 && mean(0) < 220.0, "mean red {}", mean(0));
+    assert!(mean(0) > mean(2), "brown hair: red above blue");
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"));
+    let options = PngOptions {
+        srgb: true,
+        ..PngOptions::default()
+    };
+    save_png(
+        dir.join("render_furred_torus.png"),
+        &image.view().unwrap(),
+        &options,
+    )
+    .unwrap();
+    save_png(dir.join("render_skin_torus.png"), &skin.view().unwrap(), &options).unwrap();
+}
+
+#[test]
+fn fur_extends_the_silhouette_beyond_the_skin() {
+    let scene = scene();
+    let camera = oblique(SIZE);
+    let fur = render(&scene, &camera, &settings());
+    let skin = render(&scene, &camera, &skin_only());
+    // Blending "over" never removes coverage; the fur adds a rim.
+    for (f, s) in fur.pixels.chunks_exact(4).zip(skin.pixels.chunks_exact(4)) {
+        assert!(f[3] >= s[3]);
+    }
+    let (f, s) = (covered(&fur), covered(&skin));
+    assert!(f as f64 > 1.02 * s as f64, "fur covers {f} pixels, skin {s}");
+}
+
+#[test]
+fn more_shells_never_cover_less_and_change_the_image() {
+    let scene = scene();
+    let camera = oblique(SIZE);
+    // Shell sets {}, {7}, {2, 5, 7}, {1..7}: each contains the one before.
+    let images: Vec<RgbaImage> = [0, 1, 3, 7]
+        .into_iter()
+        .map(|n| {
+            let s = RenderSettings {
+                shell_count: Some(n),
+                fins: false,
+                ..settings()
+            };
+            render(&scene, &camera, &s)
+        })
+        .collect();
+    for pair in images.windows(2) {
+        assert!(covered(&pair[1]) >= covered(&pair[0]));
+    }
+    assert_ne!(images[0], images[3]);
+    assert!(covered(&images[3]) > covered(&images[0]));
+}
+
+#[test]
+fn zero_length_everywhere_renders_exactly_the_skin() {
+    let mut scene = scene();
+    let camera = oblique(SIZE);
+    let skin = render(&scene, &camera, &skin_only());
+    let before = scene.uploads();
+    scene
+        .update_attributes(None, Some(&vec![0.0; fixture().mesh.vertex_count()]))
+        .unwrap();
+    let bald = render(&scene, &camera, &settings());
+    assert!(
+        bald == skin,
+        "a bald torus with shells and fins must equal its skin render"
+    );
+    assert_eq!(scene.uploads().texture_bytes, before.texture_bytes);
+    assert_eq!(scene.uploads().geometry_bytes, before.geometry_bytes);
+}
+
+#[test]
+fn fins_change_only_pixels_near_the_silhouette() {
+    let scene = scene();
+    let camera = top();
+    let with = render(&scene, &camera, &settings());
+    let without = render(
+        &scene,
+        &camera,
+        &RenderSettings {
+            fins: false,
+            ..settings()
+        },
+    );
+    // Seen down the axis, the tube point at angle φ from the outer equator has normal
+    // (cos φ cos θ, cos φ sin θ, sin φ) and lies at radius 1 + 0.35 cos φ. A fin's normal is
+    // perpendicular to the surface normal, so |p| ≤ |cos φ|, and max(0, 2|p| − 1) > 0 needs
+    // |cos φ| > 1/2: fins show only where |radius − 1| > 0.175 (both silhouettes, outer and inner).
+    // The margin covers the mesh's chords and averaged normals (22.5° steps) and a pixel.
+    let band = 0.35 * 0.5 - 0.03;
+    let mut changed = 0;
+    for y in 0..SIZE {
+        for x in 0..SIZE {
+            if with.pixel(x, y).unwrap() == without.pixel(x, y).unwrap() {
+                continue;
+            }
+            changed += 1;
+            let px = (f64::from(x) + 0.5) / f64::from(SIZE) * 2.0 * TOP_HALF - TOP_HALF;
+            let py = TOP_HALF - (f64::from(y) + 0.5) / f64::from(SIZE) * 2.0 * TOP_HALF;
+            let radius = px.hypot(py);
+            assert!(
+                (radius - 1.0).abs() > band,
+                "pixel ({x}, {y}) at radius {radius:.3} changed by fins: {:?} vs {:?}",
+                with.pixel(x, y),
+                without.pixel(x, y)
+            );
+        }
+    }
+    assert!(changed > 50, "fins changed only {changed} pixels");
+}
+
+#[test]
+fn updating_colors_rewrites_only_the_attribute_buffers() {
+    let mut scene = scene();
+    let camera = oblique(SIZE);
+    let white = render(&scene, &camera, &settings());
+    let before = scene.uploads();
+    let red = vec![[1.0, 0.0, 0.0, 1.0]; fixture().mesh.vertex_count()];
+    scene.update_attributes(Some(&red), None).unwrap();
+    let after = scene.uploads();
+    assert_eq!(after.texture_bytes, before.texture_bytes);
+    assert_eq!(after.geometry_bytes, before.geometry_bytes);
+    // One RGBA f32 row per GPU vertex of the surface and per fin corner.
+    let rows = scene.surface_vertex_count() + 4 * scene.fin_count();
+    assert_eq!(after.attribute_bytes - before.attribute_bytes, 16 * rows as u64);
+    let reddened = render(&scene, &camera, &settings());
+    // The default color is white, so red keeps the red channel's computation exactly and leaves
+    // green and blue only the (white) specular highlight.
+    let (mut green_before, mut green_after) = (0u64, 0u64);
+    for (w, r) in white.pixels.chunks_exact(4).zip(reddened.pixels.chunks_exact(4)) {
+        assert_eq!((w[0], w[3]), (r[0], r[3]));
+        assert!(r[1] <= w[1] && r[2] <= w[2]);
+        green_before += u64::from(w[1]);
+        green_after += u64::from(r[1]);
+    }
+    assert!(
+        green_after * 2 < green_before,
+        "green {green_before} -> {green_after}"
+    );
+}
+
+#[test]
+fn renders_are_deterministic() {
+    let camera = oblique(SIZE);
+    let (a, b) = (scene(), scene());
+    let first = render(&a, &camera, &settings());
+    assert!(
+        first == render(&a, &camera, &settings()),
+        "same scene, same frame"
+    );
+    assert!(
+        first == render(&b, &camera, &settings()),
+        "a second upload of the same inputs"
+    );
+    // A frame of another size in between does not disturb the cached targets.
+    let _ = render(&a, &oblique(48), &settings());
+    assert!(first == render(&a, &camera, &settings()));
+}
+
+fn parameter_name(e: PeltError) -> String {
+    match e {
+        PeltError::InvalidParameter { name, .. } => name,
+        other => panic!("expected an invalid parameter, got {other}"),
+    }
+}
+
+#[test]
+fn bad_input_is_named_and_the_renderer_survives() {
+    let f = fixture();
+    let mut scene = scene();
+    let lighting = Lighting::default();
+    let mut nan = oblique(SIZE);
+    nan.projection[0] = f32::NAN;
+    let zero = Camera {
+        width: 0,
+        ..oblique(SIZE)
+    };
+    for (camera, name) in [(nan, "camera.projection"), (zero, "camera.width")] {
+        let e = f
+            .renderer
+            .render(&scene, &camera, &lighting, &settings())
+            .unwrap_err();
+        assert_eq!(parameter_name(e), name);
+    }
+    let e = FurScene::new(&f.renderer, &f.mesh, &f.uvs[1..], &f.volume)
+        .err()
+        .unwrap();
+    assert_eq!(parameter_name(e), "corner_uvs");
+    let mut broken = f.volume.clone();
+    broken.shells.pop();
+    let e = FurScene::new(&f.renderer, &f.mesh, &f.uvs, &broken)
+        .err()
+        .unwrap();
+    assert_eq!(parameter_name(e), "volume.shells");
+    let e = scene.update_attributes(None, Some(&[1.0; 3])).unwrap_err();
+    assert_eq!(parameter_name(e), "length");
+    let mut lengths = vec![1.0; f.mesh.vertex_count()];
+    lengths[7] = f32::NAN;
+    let e = scene.update_attributes(None, Some(&lengths)).unwrap_err();
+    assert_eq!(parameter_name(e), "length[7]");
+    let other = Renderer::new(AdapterChoice::Cpu).unwrap();
+    let e = other
+        .render(&scene, &oblique(SIZE), &lighting, &settings())
+        .unwrap_err();
+    assert_eq!(parameter_name(e), "scene");
+    // The device is still fine.
+    let image = f
+        .renderer
+        .render(&scene, &oblique(SIZE), &lighting, &settings())
+        .unwrap();
+    assert!(covered(&image) > 0);
+}
+
+/// A flat `n × n` grid over `[-1, 1]²` in the xy plane (facing +z) with UVs `(x + 1, y + 1)`
+/// tiles and the given comb vector at every vertex.
+fn combed_plane(n: usize, comb: [f32; 3]) -> (FurMesh, Vec<[[f32; 2]; 3]>) {
+    let at = |i: usize, j: usize| [2.0 * i as f32 / n as f32 - 1.0, 2.0 * j as f32 / n as f32 - 1.0];
+    let mut positions = Vec::new();
+    for i in 0..=n {
+        for j in 0..=n {
+            let [x, y] = at(i, j);
+            positions.push([x, y, 0.0]);
+        }
+    }
+    let index = |i: usize, j: usize| (i * (n + 1) + j) as u32;
+    let uv = |i: usize, j: usize| at(i, j).map(|c| c + 1.0);
+    let (mut triangles, mut uvs) = (Vec::new(), Vec::new());
+    for i in 0..n {
+        for j in 0..n {
+            triangles.push([index(i, j), index(i + 1, j), index(i + 1, j + 1)]);
+            uvs.push([uv(i, j), uv(i + 1, j), uv(i + 1, j + 1)]);
+            triangles.push([index(i, j), index(i + 1, j + 1), index(i, j + 1)]);
+            uvs.push([uv(i, j), uv(i + 1, j + 1), uv(i, j + 1)]);
+        }
+    }
+    let combs = vec![comb; positions.len()];
+    let mesh = FurMesh::new(MeshInput::new(&positions, &triangles).with_comb(&combs)).unwrap();
+    (mesh, uvs)
+}
+
+#[test]
+fn comb_shears_the_fur_along_the_comb() {
+    let f = fixture();
+    // Orthographic, from 20° above the plane along +y: image columns are world x exactly.
+    let (s, c) = 20f64.to_radians().sin_cos();
+    let camera = Camera {
+        view: look_at([0.0, -3.0 * c, 3.0 * s], [0.0, 0.0, 1.0]),
+        ..top()
+    };
+    let depth = 0.3;
+    let settings = RenderSettings {
+        fur_depth: depth,
+        ..settings()
+    };
+    let column_x = |x: u32| (f64::from(x) + 0.5) / f64::from(SIZE) * 2.0 * TOP_HALF - TOP_HALF;
+    let pixel = 2.0 * TOP_HALF / f64::from(SIZE);
+    // The covered extent along x, in object units.
+    let extent = |comb: [f32; 3]| {
+        let (mesh, uvs) = combed_plane(8, comb);
+        let scene = FurScene::new(&f.renderer, &mesh, &uvs, &f.volume).unwrap();
+        let image = render(&scene, &camera, &settings);
+        let columns: Vec<f64> = (0..SIZE)
+            .filter(|&x| (0..SIZE).any(|y| image.pixel(x, y).unwrap()[3] > 0))
+            .map(column_x)
+            .collect();
+        (columns[0], columns[columns.len() - 1])
+    };
+    let (left, right) = extent([0.0; 3]);
+    assert!(
+        left > -1.0 - 2.0 * pixel && right < 1.0 + 2.0 * pixel,
+        "uncombed: {left}..{right}"
+    );
+    // Combed along +x with slope 1, layer i stands at i/L of the depth shifted by as much in x:
+    // the top layer (7/8) overhangs the plane's right edge by 0.2625, the left edge not at all.
+    let (left, right) = extent([1.0, 0.0, 0.0]);
+    let overhang = f64::from(depth) * 7.0 / 8.0;
+    assert!(left > -1.0 - 2.0 * pixel, "combed left edge {left}");
+    assert!(
+        right > 1.0 + 0.5 * overhang && right < 1.0 + overhang + 2.0 * pixel,
+        "combed right edge {right}"
+    );
+}
