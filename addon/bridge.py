@@ -39,6 +39,7 @@ class MeshArrays:
             color=self.color,
             comb=self.comb,
             length=self.length,
+            polygons=self.triangle_polygons,
         )
 
 

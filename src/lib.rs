@@ -9,8 +9,11 @@
 //! (feature `render`) are thin layers on top. Start with [`FurMesh`].
 
 pub mod bench;
+mod cg;
 pub mod error;
+pub mod field;
 pub mod hair;
+pub mod lapped;
 pub mod mesh;
 pub mod progress;
 pub mod prt;

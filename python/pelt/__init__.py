@@ -10,9 +10,11 @@ from ._pelt import (
     FurMesh,
     InvalidMeshError,
     InvalidParameterError,
+    Patches,
     PeltError,
     RenderError,
     __version__,
+    build_patches,
     thread_count,
 )
 
@@ -21,8 +23,10 @@ __all__ = [
     "FurMesh",
     "InvalidMeshError",
     "InvalidParameterError",
+    "Patches",
     "PeltError",
     "RenderError",
     "__version__",
+    "build_patches",
     "thread_count",
 ]

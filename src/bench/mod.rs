@@ -13,6 +13,7 @@ use serde::Serialize;
 use crate::error::Result;
 
 mod hair;
+mod lapped;
 mod mesh;
 mod prt;
 mod volume;
@@ -90,6 +91,10 @@ const CASES: &[Case] = &[
     Case {
         name: "hair.grow",
         run: hair::hair_grow,
+    },
+    Case {
+        name: "lapped.build",
+        run: lapped::lapped_build,
     },
     Case {
         name: "volume.coverage",

@@ -6,6 +6,7 @@
 
 mod arrays;
 mod errors;
+mod lapped;
 mod mesh;
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -52,6 +53,8 @@ fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", crate::VERSION)?;
     errors::register(m)?;
     m.add_class::<mesh::PyFurMesh>()?;
+    m.add_class::<lapped::PyPatches>()?;
+    m.add_function(wrap_pyfunction!(lapped::build_patches, m)?)?;
     m.add_function(wrap_pyfunction!(thread_count, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     Ok(())
