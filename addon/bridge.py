@@ -39,6 +39,7 @@ class MeshArrays:
             color=self.color,
             comb=self.comb,
             length=self.length,
+            polygons=self.triangle_polygons,
         )
 
 
@@ -125,3 +126,41 @@ def write_image(images, name: str, rgba: np.ndarray, *, color: bool = True):
     image.pixels.foreach_set(pixels)
     image.update()
     return image
+
+
+UV_MAP = "PeltUV"
+PATCH_ATTRIBUTE = "pelt_patch"
+
+
+def write_patches(mesh, patches) -> None:
+    """Writes ``patches`` (from ``pelt.build_patches`` on ``read_mesh(mesh)``) into ``mesh``: the UV
+    map ``PeltUV`` (one UV per loop, tile units) and the INT face attribute ``pelt_patch`` (-1 on
+    bald faces). Every triangle of a polygon lies in one patch, so each loop gets one UV.
+
+    Checks the sizes before touching the mesh, so a mismatch raises ``pelt.InvalidMeshError`` and
+    changes nothing."""
+    mesh.calc_loop_triangles()
+    triangle_count = len(mesh.loop_triangles)
+    uv = np.asarray(patches.uv, dtype=np.float32)
+    patch = np.asarray(patches.patch, dtype=np.int32)
+    if uv.shape != (triangle_count, 3, 2) or patch.shape != (triangle_count,):
+        raise pelt.InvalidMeshError(
+            f"patches are for {patch.shape[0]} triangles, the mesh has {triangle_count}: bake them again"
+        )
+    loops = _read(mesh.loop_triangles, "loops", triangle_count, 3, np.int64)
+    polygons = _read(mesh.loop_triangles, "polygon_index", triangle_count, 1, np.int64)
+    loop_uv = np.zeros((len(mesh.loops), 2), np.float32)
+    loop_uv[loops.ravel()] = uv.reshape(-1, 2)
+    polygon_patch = np.full(len(mesh.polygons), -1, np.int32)
+    polygon_patch[polygons] = patch
+
+    layer = mesh.uv_layers.get(UV_MAP) or mesh.uv_layers.new(name=UV_MAP)
+    layer.data.foreach_set("uv", loop_uv.ravel())
+    attribute = mesh.attributes.get(PATCH_ATTRIBUTE)
+    if attribute is not None and (attribute.domain != "FACE" or attribute.data_type != "INT"):
+        mesh.attributes.remove(attribute)
+        attribute = None
+    if attribute is None:
+        attribute = mesh.attributes.new(PATCH_ATTRIBUTE, "INT", "FACE")
+    attribute.data.foreach_set("value", polygon_patch)
+    mesh.update()

@@ -99,6 +99,17 @@ pub enum MeshError {
         got: usize,
     },
 
+    /// A per-triangle attribute has the wrong number of rows.
+    #[error("`{array}` has {got} rows but the mesh has {expected} triangles")]
+    TriangleAttributeLength {
+        /// Array name.
+        array: &'static str,
+        /// Number of triangles.
+        expected: usize,
+        /// Rows given.
+        got: usize,
+    },
+
     /// A NaN or infinity was found.
     #[error("`{array}` row {row} component {component} is {value} (not finite)")]
     NonFinite {

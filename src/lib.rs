@@ -9,10 +9,13 @@
 //! (feature `render`) are thin layers on top. Start with [`FurMesh`].
 
 pub mod bench;
+mod cg;
 pub mod color;
 pub mod error;
 pub mod export;
+pub mod field;
 pub mod hair;
+pub mod lapped;
 pub mod mesh;
 pub mod progress;
 pub mod prt;

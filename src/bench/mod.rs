@@ -14,6 +14,7 @@ use crate::error::Result;
 
 mod export;
 mod hair;
+mod lapped;
 mod mesh;
 mod prt;
 #[cfg(feature = "render")]
@@ -93,6 +94,10 @@ const CASES: &[Case] = &[
     Case {
         name: "hair.grow",
         run: hair::hair_grow,
+    },
+    Case {
+        name: "lapped.build",
+        run: lapped::lapped_build,
     },
     Case {
         name: "volume.coverage",

@@ -16,7 +16,7 @@ mod validate;
 
 pub use frames::orthonormal_basis;
 pub use stats::MeshStats;
-pub use topology::{Edge, NO_EDGE, Topology, edge_key};
+pub use topology::{Edge, NO_COMPONENT, NO_EDGE, Topology, edge_key};
 
 use crate::error::Result;
 use crate::threads::pool;
@@ -39,6 +39,9 @@ pub struct MeshInput<'a> {
     pub comb: Option<&'a [[f32; 3]]>,
     /// Hair length multipliers in `[0, MAX_LENGTH]`, 0 = bald (`pelt_length`).
     pub length: Option<&'a [f32]>,
+    /// Per triangle, the polygon it was cut from (Blender's loop triangles): triangles with the
+    /// same value are kept in one lapped patch. Any values; only equality matters.
+    pub polygons: Option<&'a [u32]>,
 }
 
 impl<'a> MeshInput<'a> {
@@ -51,6 +54,7 @@ impl<'a> MeshInput<'a> {
             color: None,
             comb: None,
             length: None,
+            polygons: None,
         }
     }
 
@@ -77,6 +81,12 @@ impl<'a> MeshInput<'a> {
         self.length = Some(length);
         self
     }
+
+    /// Sets the polygon index of every triangle (one row per triangle).
+    pub fn with_polygons(mut self, polygons: &'a [u32]) -> Self {
+        self.polygons = Some(polygons);
+        self
+    }
 }
 
 /// A validated triangle mesh with its derived adjacency, normals and frames.
@@ -91,6 +101,7 @@ pub struct FurMesh {
     color: Option<Vec<[f32; 4]>>,
     comb: Option<Vec<[f32; 3]>>,
     length: Option<Vec<f32>>,
+    polygons: Option<Vec<u32>>,
     degenerate: Vec<bool>,
     topology: Topology,
     stats: MeshStats,
@@ -104,7 +115,8 @@ impl FurMesh {
     /// # Errors
     /// [`crate::PeltError::InvalidMesh`] naming the first bad element: an empty mesh, a NaN or
     /// infinity, an index out of range, an attribute array of the wrong length, a length outside
-    /// `[0, MAX_LENGTH]`, or a zero-length given normal.
+    /// `[0, MAX_LENGTH]`, a zero-length given normal, or a polygon array whose length is not the
+    /// triangle count.
     pub fn new(input: MeshInput<'_>) -> Result<Self> {
         pool().install(|| Self::build(input))
     }
@@ -132,6 +144,7 @@ impl FurMesh {
             color: input.color.map(<[_]>::to_vec),
             comb: input.comb.map(<[_]>::to_vec),
             length: input.length.map(<[_]>::to_vec),
+            polygons: input.polygons.map(<[_]>::to_vec),
             degenerate,
             topology,
             stats,
@@ -182,6 +195,11 @@ impl FurMesh {
     /// Hair length multipliers, if given.
     pub fn length(&self) -> Option<&[f32]> {
         self.length.as_deref()
+    }
+
+    /// Polygon index per triangle, if given.
+    pub fn polygons(&self) -> Option<&[u32]> {
+        self.polygons.as_deref()
     }
 
     /// Per triangle: true when it has (numerically) zero area.

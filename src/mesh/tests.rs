@@ -445,3 +445,73 @@ fn torus_is_closed_with_euler_characteristic_zero() {
         s.surface_area
     );
 }
+
+#[test]
+fn polygon_array_must_have_one_row_per_triangle() {
+    let (p, t) = quad();
+    let m = FurMesh::new(MeshInput::new(&p, &t).with_polygons(&[7, 7])).unwrap();
+    assert_eq!(m.polygons(), Some(&[7u32, 7][..]));
+    assert_eq!(
+        mesh_err(MeshInput::new(&p, &t).with_polygons(&[0])),
+        MeshError::TriangleAttributeLength {
+            array: "polygons",
+            expected: 2,
+            got: 1
+        }
+    );
+}
+
+#[test]
+fn vertex_components_label_each_piece_and_skip_loose_vertices() {
+    let (mut p, mut t) = quad();
+    p.extend([[5.0, 0.0, 0.0], [6.0, 0.0, 0.0], [5.0, 1.0, 0.0], [9.0, 9.0, 9.0]]);
+    t.push([4, 5, 6]);
+    let m = FurMesh::new(MeshInput::new(&p, &t)).unwrap();
+    assert_eq!(
+        m.topology().vertex_components(),
+        vec![0, 0, 0, 0, 1, 1, 1, NO_COMPONENT]
+    );
+}
+
+/// V − E + F, boundary and non-manifold edges, components and degenerate faces of a shape.
+fn topology_of(shape: (Vec<[f32; 3]>, Vec<[u32; 3]>)) -> (i64, usize, usize, usize, usize) {
+    let (p, t) = shape;
+    let m = FurMesh::new(MeshInput::new(&p, &t)).unwrap();
+    let s = m.stats();
+    let used = s.vertices - m.topology().loose_vertices();
+    (
+        used as i64 - s.edges as i64 + s.faces as i64,
+        s.boundary_edges,
+        s.non_manifold_edges,
+        s.components,
+        s.degenerate_faces,
+    )
+}
+
+#[test]
+fn test_shapes_have_the_topology_they_promise() {
+    // Closed genus-0 surfaces: χ = 2, no boundary.
+    assert_eq!(topology_of(shapes::uv_sphere(16, 8)), (2, 0, 0, 1, 0));
+    assert_eq!(topology_of(shapes::cube(4)), (2, 0, 0, 1, 0));
+    // Closed genus 1.
+    assert_eq!(topology_of(shapes::bumpy_torus(24, 12)), (0, 0, 0, 1, 0));
+    // Three holes in a sphere: χ = 2 − 3, with boundary edges.
+    let (chi, boundary, _, components, _) = topology_of(shapes::sphere_with_holes(48, 24));
+    assert_eq!((chi, components), (-1, 1));
+    assert!(boundary > 0);
+    // A sphere and a torus.
+    assert_eq!(topology_of(shapes::two_components()), (2, 0, 0, 2, 0));
+    // The fin's foot: n edges with three faces each.
+    let (_, _, non_manifold, components, _) = topology_of(shapes::fin(8));
+    assert_eq!((non_manifold, components), (8, 1));
+    // Zero-area triangles added to a sphere.
+    let (_, _, _, _, degenerate) = topology_of(shapes::with_zero_area_faces(16, 8));
+    assert!(degenerate >= 14, "{degenerate}");
+    // One polygon index per triangle; fans are single triangles, the rest quads.
+    let polygons = shapes::uv_sphere_polygons(16, 8);
+    assert_eq!(polygons.len(), shapes::uv_sphere(16, 8).1.len());
+    assert_eq!(
+        *polygons.iter().max().unwrap_or(&0) as usize + 1,
+        16 + 16 * 6 + 16
+    );
+}

@@ -99,6 +99,51 @@ impl Topology {
     pub fn loose_vertices(&self) -> usize {
         self.loose_vertices
     }
+
+    /// Component label per vertex: components are numbered `0..components()` in the order of
+    /// their lowest vertex; a loose vertex gets [`NO_COMPONENT`].
+    pub fn vertex_components(&self) -> Vec<u32> {
+        let n = self.vertex_count();
+        let mut parent: Vec<u32> = (0..n as u32).collect();
+        union_edges(&mut parent, &self.edges);
+        let mut label = vec![NO_COMPONENT; n];
+        let mut next = 0;
+        for v in 0..n {
+            if self.vertex_face_offsets[v] == self.vertex_face_offsets[v + 1] {
+                continue;
+            }
+            let r = root(&mut parent, v as u32) as usize;
+            if label[r] == NO_COMPONENT {
+                label[r] = next;
+                next += 1;
+            }
+            label[v] = label[r];
+        }
+        label
+    }
+}
+
+/// Component label of a vertex that no triangle uses.
+pub const NO_COMPONENT: u32 = u32::MAX;
+
+fn root(parent: &mut [u32], mut v: u32) -> u32 {
+    while parent[v as usize] != v {
+        let grand = parent[parent[v as usize] as usize];
+        parent[v as usize] = grand;
+        v = grand;
+    }
+    v
+}
+
+/// Joins the two ends of every edge; the root of a set is its smallest vertex.
+fn union_edges(parent: &mut [u32], edges: &[Edge]) {
+    for e in edges {
+        let [a, b] = e.vertices();
+        let (ra, rb) = (root(parent, a), root(parent, b));
+        if ra != rb {
+            parent[ra.max(rb) as usize] = ra.min(rb);
+        }
+    }
 }
 
 /// Counting sort of triangle sides by their smaller vertex, then by the larger one.
@@ -189,21 +234,7 @@ fn build_vertex_faces(vertex_count: usize, triangles: &[[u32; 3]]) -> (Vec<u32>,
 /// Union-find over the edges; returns (components among used vertices, unused vertices).
 fn count_components(vertex_count: usize, edges: &[Edge], vertex_face_offsets: &[u32]) -> (usize, usize) {
     let mut parent: Vec<u32> = (0..vertex_count as u32).collect();
-    fn root(parent: &mut [u32], mut v: u32) -> u32 {
-        while parent[v as usize] != v {
-            let grand = parent[parent[v as usize] as usize];
-            parent[v as usize] = grand;
-            v = grand;
-        }
-        v
-    }
-    for e in edges {
-        let [a, b] = e.vertices();
-        let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
-        if ra != rb {
-            parent[ra.max(rb) as usize] = ra.min(rb);
-        }
-    }
+    union_edges(&mut parent, edges);
     let mut components = 0;
     let mut loose = 0;
     for v in 0..vertex_count {

@@ -34,6 +34,15 @@ pub(super) fn validate(input: &MeshInput<'_>) -> Result<(), MeshError> {
             });
         }
     }
+    if let Some(polygons) = input.polygons
+        && polygons.len() != input.triangles.len()
+    {
+        return Err(MeshError::TriangleAttributeLength {
+            array: "polygons",
+            expected: input.triangles.len(),
+            got: polygons.len(),
+        });
+    }
     finite_rows("positions", input.positions)?;
     indices_in_range(input.triangles, n)?;
     if let Some(normals) = input.normals {

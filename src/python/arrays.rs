@@ -132,6 +132,40 @@ pub(super) fn index_array<'py>(obj: &Bound<'py, PyAny>, name: &'static str) -> P
     }
 }
 
+/// Reads a one-dimensional array of non-negative integers (polygon indices) as `uint32`.
+pub(super) fn uint_array<'py>(
+    obj: &Bound<'py, PyAny>,
+    name: &'static str,
+) -> PyResult<PyReadonlyArrayDyn<'py, u32>> {
+    let array = as_checked_array(obj, name, None)?;
+    if !matches!(array.dtype().kind(), b'i' | b'u') {
+        return Err(mesh_error(MeshError::DType {
+            array: name,
+            expected: "an integer type (uint32 preferred)",
+            got: dtype_name(&array),
+        }));
+    }
+    if array.dtype().is_equiv_to(&numpy::dtype::<u32>(array.py())) {
+        return contiguous::<u32>(&array, name, "uint32");
+    }
+    // Widen first so that negative or too large values are reported, not wrapped.
+    let wide = contiguous::<i64>(&array, name, "int64")?;
+    let values = wide
+        .as_slice()
+        .map_err(|e| PeltError::Internal(format!("array not contiguous after conversion: {e}")))?;
+    if let Some(row) = values
+        .iter()
+        .position(|&v| !(0..=i64::from(u32::MAX)).contains(&v))
+    {
+        return Err(PeltError::parameter(
+            name,
+            format!("row {row} is {}, outside [0, 4294967295]", values[row]),
+        )
+        .into());
+    }
+    contiguous::<u32>(&array, name, "uint32")
+}
+
 /// The rows of a contiguous array whose last axis has `C` entries.
 pub(super) fn rows<'a, T: Element, const C: usize>(
     array: &'a PyReadonlyArrayDyn<'_, T>,

@@ -12,11 +12,11 @@ use crate::threads::pool;
 /// A validated triangle mesh with per-vertex hair attributes.
 #[pyclass(name = "FurMesh", module = "pelt", frozen)]
 pub(super) struct PyFurMesh {
-    inner: FurMesh,
+    pub(super) inner: FurMesh,
 }
 
 /// `rows` as a new numpy array of shape `[len, C]`.
-fn to_numpy<'py, T: numpy::Element + Copy, const C: usize>(
+pub(super) fn to_numpy<'py, T: numpy::Element + Copy, const C: usize>(
     py: Python<'py>,
     rows: &[[T; C]],
 ) -> PyResult<Bound<'py, PyAny>> {
@@ -28,7 +28,8 @@ fn to_numpy<'py, T: numpy::Element + Copy, const C: usize>(
 #[pymethods]
 impl PyFurMesh {
     #[new]
-    #[pyo3(signature = (positions, triangles, *, normals=None, color=None, comb=None, length=None))]
+    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (positions, triangles, *, normals=None, color=None, comb=None, length=None, polygons=None))]
     fn new(
         py: Python<'_>,
         positions: &Bound<'_, PyAny>,
@@ -37,6 +38,7 @@ impl PyFurMesh {
         color: Option<&Bound<'_, PyAny>>,
         comb: Option<&Bound<'_, PyAny>>,
         length: Option<&Bound<'_, PyAny>>,
+        polygons: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let positions = arrays::float_array(positions, "positions", Some(3))?;
         let triangles = arrays::index_array(triangles, "triangles")?;
@@ -52,12 +54,14 @@ impl PyFurMesh {
         let length = length
             .map(|a| arrays::float_array(a, "length", None))
             .transpose()?;
+        let polygons = polygons.map(|a| arrays::uint_array(a, "polygons")).transpose()?;
 
         let positions = arrays::rows::<f32, 3>(&positions)?;
         let normals = normals.as_ref().map(arrays::rows::<f32, 3>).transpose()?;
         let color = color.as_ref().map(arrays::rows::<f32, 4>).transpose()?;
         let comb = comb.as_ref().map(arrays::rows::<f32, 3>).transpose()?;
         let length = length.as_ref().map(arrays::rows::<f32, 1>).transpose()?;
+        let polygons = polygons.as_ref().map(arrays::rows::<u32, 1>).transpose()?;
         let (native, wide) = match &triangles {
             IndexArray::Native(a) => (Some(arrays::rows::<u32, 3>(a)?), None),
             IndexArray::Wide(a) => (None, Some(arrays::rows::<i64, 3>(a)?)),
@@ -79,6 +83,7 @@ impl PyFurMesh {
                 color,
                 comb,
                 length: length.map(<[[f32; 1]]>::as_flattened),
+                polygons: polygons.map(<[[u32; 1]]>::as_flattened),
             };
             FurMesh::new(input)
         })?;

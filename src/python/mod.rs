@@ -7,6 +7,7 @@
 mod arrays;
 mod errors;
 mod export;
+mod lapped;
 mod mesh;
 mod progress;
 mod prt;
@@ -61,6 +62,8 @@ fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(export::pack_atlas_py, m)?)?;
     m.add_function(wrap_pyfunction!(export::save_png_py, m)?)?;
     m.add_function(wrap_pyfunction!(export::save_exr_py, m)?)?;
+    m.add_class::<lapped::PyPatches>()?;
+    m.add_function(wrap_pyfunction!(lapped::build_patches, m)?)?;
     m.add_function(wrap_pyfunction!(thread_count, m)?)?;
     m.add_function(wrap_pyfunction!(prt::bake_transfer, m)?)?;
     m.add_function(wrap_pyfunction!(prt::sh_project_equirect, m)?)?;

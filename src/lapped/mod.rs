@@ -1,0 +1,261 @@
+//! Lapped patches: the mesh cut into patches along mesh edges, each with a local texture
+//! parameterization whose u axis follows the comb field and whose scale is one tile per
+//! `tile_size` world units.
+//!
+//! This is the geometry preprocessing of Lengyel, Praun, Finkelstein and Hoppe, "Real-Time Fur
+//! over Arbitrary Surfaces" (I3D 2001), §2.1: the lapped textures of Praun, Finkelstein and
+//! Hoppe (SIGGRAPH 2000) grown over random uncovered places and parameterized by a fast
+//! least-squares fit to the tangent field, in the non-overlapping variant where every face lies
+//! in exactly one patch and the texture is a toroidal tile (so UVs may leave `[0, 1]`, and each
+//! patch gets a random offset in the tile). The jobs are split by file:
+//!
+//! - `faces`: per-face frames along the field, growth units (whole polygons), adjacency;
+//! - `growth`: seeds, growth by whole units, the distortion limits that stop a patch;
+//! - `parameterization`: the per-patch least-squares (Poisson) fit and its fast local step;
+//! - `merge`: small patches left between big ones join a neighbour where it extends over them;
+//! - `quality`: per-face alignment and stretch, seams, coverage;
+//! - `picture`: a CPU picture of a layout (patch colors, hair direction) for demos.
+//!
+//! Alignment is judged with the field's confidence (its strength before normalization): near a
+//! singularity the direction turns faster than any patch can follow, so there misalignment
+//! counts less and the fit keeps scale instead (see `faces`). The reported figures do not
+//! discount anything.
+//!
+//! Faces whose three vertices all have hair length 0 are bald: they get no patch (id
+//! [`NO_PATCH`], UVs 0) and cost nothing.
+
+mod faces;
+mod growth;
+mod merge;
+mod parameterization;
+mod picture;
+mod quality;
+
+pub use picture::{MAX_SIDE, PictureParams, picture};
+pub use quality::{PatchQuality, STRETCH_WITHIN};
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{PeltError, Result};
+use crate::field::{self, FieldParams, Singularity};
+use crate::mesh::FurMesh;
+use crate::progress::{Progress, ProgressCallback};
+use crate::rng::Rng;
+use crate::threads::pool;
+
+/// Patch id of a bald face.
+pub const NO_PATCH: u32 = u32::MAX;
+/// Random stream of the per-patch tile offsets.
+const STREAM_OFFSET: u64 = 3;
+
+/// Parameters of [`build_patches`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct PatchParams {
+    /// World units covered by one tile of the hair texture; finite, > 0.
+    pub tile_size: f64,
+    /// Seed of the seed order, the boundary jitter and the tile offsets; any value.
+    pub seed: u64,
+    /// A patch stops growing before its area-weighted mean alignment error (angle between the
+    /// field and the texture's u axis on the surface) exceeds this, degrees; `[0.1, 45]`.
+    pub max_alignment_deg: f64,
+    /// No face of a patch is misaligned by more than this, degrees, `[max_alignment_deg, 180]`;
+    /// the error is scaled by the field's confidence first (see the module docs), so faces
+    /// around a singularity are held to it only loosely.
+    pub max_face_alignment_deg: f64,
+    /// Faces whose Jacobian has a singular value outside `[1/s, s]` count as stretched; `s` in
+    /// `[1.01, 4]`.
+    pub stretch_tolerance: f64,
+    /// A patch stops growing before more than this share of its area is stretched; `[0, 1]`.
+    pub max_stretched_fraction: f64,
+    /// No face of a grown patch has a singular value outside `[1/m, m]`; `m` in
+    /// `[stretch_tolerance, 16]`.
+    pub max_stretch: f64,
+    /// Most faces in one patch, `[1, 2^24]`: a bound on the cost of each patch's solves.
+    pub max_patch_faces: usize,
+    /// The direction field the patches follow.
+    pub field: FieldParams,
+}
+
+impl Default for PatchParams {
+    /// A 1-unit tile; limits that keep the whole mesh within the acceptance figures (mean
+    /// alignment ≤ 3°, ≥ 95% of the area within `[0.8, 1.25]`) with a margin.
+    fn default() -> Self {
+        PatchParams {
+            tile_size: 1.0,
+            seed: 1,
+            max_alignment_deg: 2.5,
+            max_face_alignment_deg: 30.0,
+            stretch_tolerance: 1.25,
+            max_stretched_fraction: 0.03,
+            max_stretch: 2.0,
+            max_patch_faces: 4096,
+            field: FieldParams::default(),
+        }
+    }
+}
+
+fn check_range(name: &str, value: f64, lo: f64, hi: f64) -> Result<()> {
+    if (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(PeltError::parameter(
+            name,
+            format!("must be in [{lo}, {hi}], got {value}"),
+        ))
+    }
+}
+
+impl PatchParams {
+    /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming the first field out of range.
+    pub fn validate(&self) -> Result<()> {
+        if !(self.tile_size.is_finite() && self.tile_size > 0.0) {
+            return Err(PeltError::parameter(
+                "tile_size",
+                format!(
+                    "must be a finite number > 0 (world units), got {}",
+                    self.tile_size
+                ),
+            ));
+        }
+        check_range("max_alignment_deg", self.max_alignment_deg, 0.1, 45.0)?;
+        check_range(
+            "max_face_alignment_deg",
+            self.max_face_alignment_deg,
+            self.max_alignment_deg,
+            180.0,
+        )?;
+        check_range("stretch_tolerance", self.stretch_tolerance, 1.01, 4.0)?;
+        check_range("max_stretched_fraction", self.max_stretched_fraction, 0.0, 1.0)?;
+        check_range("max_stretch", self.max_stretch, self.stretch_tolerance, 16.0)?;
+        if !(1..=1 << 24).contains(&self.max_patch_faces) {
+            return Err(PeltError::parameter(
+                "max_patch_faces",
+                format!("must be in [1, 16777216], got {}", self.max_patch_faces),
+            ));
+        }
+        self.field.validate()
+    }
+}
+
+/// A patch layout and the field it follows.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Patches {
+    /// Per triangle, the UV of each corner in tile units (the tile repeats; 0 for bald faces).
+    pub uv: Vec<[[f32; 2]; 3]>,
+    /// Per triangle, its patch, or [`NO_PATCH`] for a bald face.
+    pub patch: Vec<u32>,
+    /// Per vertex, the unit hair direction (object space, tangent).
+    pub direction: Vec<[f32; 3]>,
+    /// Per vertex, the hair's angle from the normal, radians.
+    pub slant: Vec<f32>,
+    /// Singular faces of the direction field.
+    pub singularities: Vec<Singularity>,
+    /// Figures of the layout.
+    pub quality: PatchQuality,
+}
+
+/// Builds the direction field of `mesh` and covers its furred faces with patches.
+///
+/// Runs in Pelt's thread pool; the result depends on `params.seed` but not on the thread count.
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] when `params` is out of range.
+pub fn build_patches(mesh: &FurMesh, params: &PatchParams) -> Result<Patches> {
+    build_patches_with_progress(mesh, params, None)
+}
+
+/// [`build_patches`] reporting the covered share of the furred faces to `callback`, which may
+/// cancel by returning `false`.
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] when `params` is out of range; [`PeltError::Cancelled`] when
+/// the callback cancelled.
+pub fn build_patches_with_progress(
+    mesh: &FurMesh,
+    params: &PatchParams,
+    callback: Option<ProgressCallback<'_>>,
+) -> Result<Patches> {
+    params.validate()?;
+    pool().install(|| build(mesh, params, callback))
+}
+
+/// [`build_patches_with_progress`] without validation or pool.
+pub(crate) fn build(
+    mesh: &FurMesh,
+    params: &PatchParams,
+    callback: Option<ProgressCallback<'_>>,
+) -> Result<Patches> {
+    let field = field::build(mesh, &params.field);
+    let bald = bald_faces(mesh);
+    let units = faces::Units::build(mesh, &bald);
+    let frames = faces::frames(mesh, &field.direction, &field.strength, &units);
+    let furred = bald.iter().filter(|&&b| !b).count();
+    let progress = Progress::new(furred, callback);
+    let limits = growth::Limits {
+        mean_alignment: params.max_alignment_deg.to_radians(),
+        face_alignment: params.max_face_alignment_deg.to_radians(),
+        stretch: params.stretch_tolerance,
+        stretched_share: params.max_stretched_fraction,
+        max_stretch: params.max_stretch,
+        max_faces: params.max_patch_faces,
+    };
+    let mut grown = growth::grow(mesh, &frames, &units, limits, params.seed, &progress)?;
+    let count = grown.origin.len();
+    merge::merge_small(mesh, &frames, &limits, &mut grown.patch, &mut grown.uv, count);
+    grown.compact();
+    let offsets: Vec<[f64; 2]> = (0..grown.origin.len() as u64)
+        .map(|p| {
+            let mut rng = Rng::stream(params.seed, STREAM_OFFSET, p);
+            [rng.next_f64(), rng.next_f64()]
+        })
+        .collect();
+    let uv: Vec<[[f32; 2]; 3]> = (0..mesh.face_count())
+        .into_par_iter()
+        .map(|f| {
+            let p = grown.patch[f];
+            if p == NO_PATCH {
+                return [[0.0; 2]; 3];
+            }
+            let (origin, offset) = (grown.origin[p as usize], offsets[p as usize]);
+            grown.uv[f].map(|c| [0, 1].map(|k| ((c[k] - origin[k]) / params.tile_size + offset[k]) as f32))
+        })
+        .collect();
+    let quality = quality::measure(
+        mesh,
+        &frames,
+        &bald,
+        &uv,
+        &grown.patch,
+        params.tile_size,
+        grown.origin.len(),
+        field.singularities.len(),
+    );
+    Ok(Patches {
+        uv,
+        patch: grown.patch,
+        direction: field.direction,
+        slant: field.slant,
+        singularities: field.singularities,
+        quality,
+    })
+}
+
+/// Faces whose three vertices all have hair length 0.
+fn bald_faces(mesh: &FurMesh) -> Vec<bool> {
+    match mesh.length() {
+        None => vec![false; mesh.face_count()],
+        Some(length) => mesh
+            .triangles()
+            .par_iter()
+            .map(|t| t.iter().all(|&v| length[v as usize] == 0.0))
+            .collect(),
+    }
+}
+
+#[cfg(test)]
+mod tests;
