@@ -166,7 +166,8 @@ def main() -> None:
     )
     q = patches.quality
     print(
-        f"  covered it with {q['patch_count']} lapped patches (tile 0.1) in {timings['patches_s'] * 1000:.0f} ms: "
+        f"  covered it with {q['patch_count']} lapped patches (tile 0.1) "
+        f"in {timings['patches_s'] * 1000:.0f} ms: "
         f"alignment {q['mean_alignment_deg']:.2f}°, stretch ok on {q['stretch_within_fraction']:.1%}, "
         f"{q['flipped_faces']} flipped, seams {q['seam_length_fraction']:.1%}"
     )

@@ -39,7 +39,7 @@ def test_quad_mesh_gets_one_uv_per_loop_and_a_patch_per_face(addon):
     loops = np.empty(3 * len(mesh.loop_triangles), np.int64)
     mesh.loop_triangles.foreach_get("loops", loops)
     assert np.allclose(uv[loops], np.asarray(patches.uv).reshape(-1, 2))
-    # A tile is 0.5 units: the flat 2×2 grid spans about four tiles of UV along the hair.
+    # A tile is 0.5 units: the flat 2 by 2 grid spans about four tiles of UV along the hair.
     extent = uv.max(axis=0) - uv.min(axis=0)
     assert 3.0 < extent.max() < 5.0
 
