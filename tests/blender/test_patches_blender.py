@@ -65,3 +65,21 @@ def test_patches_of_another_mesh_change_nothing(addon):
         addon.bridge.write_patches(obj.data, patches)
     assert obj.data.uv_layers.get("PeltUV") is None
     assert obj.data.attributes.get("pelt_patch") is None
+
+
+def test_subdivided_suzanne_over_100k_triangles(addon):
+    obj = add_suzanne()
+    modifier = obj.modifiers.new("Subdivision", "SUBSURF")
+    modifier.levels = 4
+    bpy.ops.object.modifier_apply(modifier=modifier.name)
+    arrays = addon.bridge.read_mesh(obj.data)
+    assert len(arrays.triangles) >= 100_000
+    patches = pelt.build_patches(arrays.fur_mesh(), tile_size=0.05, seed=1)
+    quality = patches.quality
+    print(
+        f"subdivided Suzanne: {len(arrays.triangles)} triangles, {quality['patch_count']} patches, "
+        f"seams {quality['seam_length_fraction']:.3f}, alignment {quality['mean_alignment_deg']:.2f} deg"
+    )
+    assert quality["coverage"] == pytest.approx(1.0)
+    assert quality["flipped_faces"] == 0
+    assert np.isfinite(np.asarray(patches.uv)).all()
