@@ -51,6 +51,9 @@ def test_suzanne_is_fully_covered_without_flips(addon):
     quality = patches.quality
     assert quality["coverage"] == pytest.approx(1.0)
     assert quality["flipped_faces"] == 0
+    # The quality bar on Suzanne: hair within 3° of the field, little stretch.
+    assert quality["mean_alignment_deg"] <= 3.0
+    assert quality["stretch_within_fraction"] >= 0.95
     addon.bridge.write_patches(obj.data, patches)
     assert np.isfinite(loop_uvs(obj.data)).all()
     assert (face_patches(obj.data) >= 0).all()
