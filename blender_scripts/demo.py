@@ -182,8 +182,8 @@ def main() -> None:
         f"(error {chosen['error']:.2%}) in {timings['bake_transfer_s']:.2f} s"
     )
     print(
-        f"  wrote {blend}, {', '.join(f'{s}.png' for s in images)}, transfer_*.exr/png, relit.png "
-        f"and {args.out / 'stats.json'}"
+        f"  wrote {blend}, patches.png, {', '.join(f'{s}.png' for s in images)}, "
+        f"transfer_*.exr/png, relit.png and {args.out / 'stats.json'}"
     )
 
 
