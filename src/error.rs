@@ -59,6 +59,19 @@ impl PeltError {
     }
 }
 
+/// `Ok` when `value` lies in `[lo, hi]`; otherwise [`PeltError::InvalidParameter`] naming `name`
+/// and the range (NaN is outside every range). The range check shared by the parameter structs.
+pub(crate) fn check_range(name: &str, value: f64, lo: f64, hi: f64) -> Result<()> {
+    if (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(PeltError::parameter(
+            name,
+            format!("must be in [{lo}, {hi}], got {value}"),
+        ))
+    }
+}
+
 /// What is wrong with a mesh. Each variant names the array and the row involved.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum MeshError {

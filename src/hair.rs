@@ -19,7 +19,7 @@ use std::f64::consts::TAU;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::error::{PeltError, Result};
+use crate::error::{PeltError, Result, check_range};
 use crate::rng::Rng;
 use crate::threads::pool;
 
@@ -120,17 +120,6 @@ impl Default for HairParams {
             tip_color: [0.45, 0.32, 0.2],
             color_jitter: 0.15,
         }
-    }
-}
-
-fn check_range(name: &str, value: f64, lo: f64, hi: f64) -> Result<()> {
-    if (lo..=hi).contains(&value) {
-        Ok(())
-    } else {
-        Err(PeltError::parameter(
-            name,
-            format!("must be in [{lo}, {hi}], got {value}"),
-        ))
     }
 }
 

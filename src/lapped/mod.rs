@@ -37,7 +37,7 @@ pub use quality::{PatchQuality, STRETCH_WITHIN};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::error::{PeltError, Result};
+use crate::error::{PeltError, Result, check_range};
 use crate::field::{self, FieldParams, Singularity};
 use crate::mesh::FurMesh;
 use crate::progress::{Progress, ProgressCallback};
@@ -93,17 +93,6 @@ impl Default for PatchParams {
             max_patch_faces: 4096,
             field: FieldParams::default(),
         }
-    }
-}
-
-fn check_range(name: &str, value: f64, lo: f64, hi: f64) -> Result<()> {
-    if (lo..=hi).contains(&value) {
-        Ok(())
-    } else {
-        Err(PeltError::parameter(
-            name,
-            format!("must be in [{lo}, {hi}], got {value}"),
-        ))
     }
 }
 

@@ -47,7 +47,7 @@ use super::accumulate::{PhaseField, Projector};
 use super::sh::{self, PAPER_ORDER};
 use super::sphere::{DEFAULT_DIRECTIONS, mirrored_fibonacci_directions};
 use super::{march, sweep};
-use crate::error::{PeltError, Result};
+use crate::error::{PeltError, Result, check_range};
 use crate::progress::{Progress, ProgressCallback};
 use crate::threads::pool;
 
@@ -175,17 +175,6 @@ impl Default for TransferParams {
             sweep_step: DEFAULT_SWEEP_STEP,
             sweep_max_samples: DEFAULT_SWEEP_MAX_SAMPLES,
         }
-    }
-}
-
-fn check_range(name: &str, value: f64, lo: f64, hi: f64) -> Result<()> {
-    if (lo..=hi).contains(&value) {
-        Ok(())
-    } else {
-        Err(PeltError::parameter(
-            name,
-            format!("must be in [{lo}, {hi}], got {value}"),
-        ))
     }
 }
 

@@ -9,7 +9,7 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::error::{PeltError, Result};
+use crate::error::{PeltError, Result, check_range};
 use crate::hair::{HairParams, Strand, grow_strands};
 use crate::progress::{Progress, ProgressCallback};
 use crate::threads::pool;
@@ -74,40 +74,22 @@ impl Default for VolumeParams {
     }
 }
 
-fn out_of_range(name: &str, range: &str, got: impl std::fmt::Display) -> PeltError {
-    PeltError::parameter(name, format!("must be in {range}, got {got}"))
-}
-
 impl VolumeParams {
     /// Checks every field against its documented range.
     ///
     /// # Errors
     /// [`PeltError::InvalidParameter`] naming the first field out of range.
     pub fn validate(&self) -> Result<()> {
-        if !(1..=MAX_LAYERS).contains(&self.layers) {
-            return Err(out_of_range("layers", &format!("[1, {MAX_LAYERS}]"), self.layers));
-        }
-        if !(1..=MAX_RESOLUTION).contains(&self.resolution) {
-            return Err(out_of_range(
-                "resolution",
-                &format!("[1, {MAX_RESOLUTION}]"),
-                self.resolution,
-            ));
-        }
-        if !(0.0..=MAX_VERTICAL_FILTER).contains(&self.vertical_filter) {
-            let range = format!("[0, {MAX_VERTICAL_FILTER}]");
-            return Err(out_of_range("vertical_filter", &range, self.vertical_filter));
-        }
-        for (name, side) in [
-            ("fin_size[0]", self.fin_size[0]),
-            ("fin_size[1]", self.fin_size[1]),
-        ] {
-            if !(1..=MAX_FIN_SIZE).contains(&side) {
-                return Err(out_of_range(name, &format!("[1, {MAX_FIN_SIZE}]"), side));
-            }
-        }
+        check_range("layers", self.layers as f64, 1.0, MAX_LAYERS as f64)?;
+        check_range("resolution", self.resolution as f64, 1.0, MAX_RESOLUTION as f64)?;
+        check_range("vertical_filter", self.vertical_filter, 0.0, MAX_VERTICAL_FILTER)?;
+        check_range("fin_size[0]", self.fin_size[0] as f64, 1.0, MAX_FIN_SIZE as f64)?;
+        check_range("fin_size[1]", self.fin_size[1] as f64, 1.0, MAX_FIN_SIZE as f64)?;
         if !(self.fin_slab > 0.0 && self.fin_slab <= 1.0) {
-            return Err(out_of_range("fin_slab", "(0, 1]", self.fin_slab));
+            return Err(PeltError::parameter(
+                "fin_slab",
+                format!("must be in (0, 1], got {}", self.fin_slab),
+            ));
         }
         Ok(())
     }
