@@ -21,6 +21,7 @@ pub mod progress;
 pub mod prt;
 mod rng;
 pub mod threads;
+mod vec3;
 pub mod volume;
 
 #[cfg(feature = "python")]

@@ -7,24 +7,13 @@
 //! in face coordinates (Praun et al. 2000, §4.2: the patch is parameterized so that the
 //! texture's axes follow the tangent field).
 
+use crate::vec3::{cross, dot};
 use rayon::prelude::*;
 
 use crate::mesh::{FurMesh, NO_EDGE, orthonormal_basis};
 
 /// Marks a face that belongs to no unit (bald).
 pub(super) const NO_UNIT: u32 = u32::MAX;
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
 
 fn unit_or(v: [f64; 3], fallback: Option<[f64; 3]>) -> Option<[f64; 3]> {
     let l = dot(v, v).sqrt();

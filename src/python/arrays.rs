@@ -115,16 +115,23 @@ pub(super) fn float_array<'py>(
     contiguous::<f32>(&array, name, "float32")
 }
 
+/// Rejects arrays whose dtype is not an integer type, naming the array.
+fn require_integer(array: &Bound<'_, PyUntypedArray>, name: &'static str) -> PyResult<()> {
+    if matches!(array.dtype().kind(), b'i' | b'u') {
+        Ok(())
+    } else {
+        Err(mesh_error(MeshError::DType {
+            array: name,
+            expected: "an integer type (uint32 preferred)",
+            got: dtype_name(array),
+        }))
+    }
+}
+
 /// Reads a triangle array of shape `[M, 3]` of any integer type.
 pub(super) fn index_array<'py>(obj: &Bound<'py, PyAny>, name: &'static str) -> PyResult<IndexArray<'py>> {
     let array = as_checked_array(obj, name, Some(3))?;
-    if !matches!(array.dtype().kind(), b'i' | b'u') {
-        return Err(mesh_error(MeshError::DType {
-            array: name,
-            expected: "an integer type (uint32 preferred)",
-            got: dtype_name(&array),
-        }));
-    }
+    require_integer(&array, name)?;
     if array.dtype().is_equiv_to(&numpy::dtype::<u32>(array.py())) {
         Ok(IndexArray::Native(contiguous::<u32>(&array, name, "uint32")?))
     } else {
@@ -138,21 +145,13 @@ pub(super) fn uint_array<'py>(
     name: &'static str,
 ) -> PyResult<PyReadonlyArrayDyn<'py, u32>> {
     let array = as_checked_array(obj, name, None)?;
-    if !matches!(array.dtype().kind(), b'i' | b'u') {
-        return Err(mesh_error(MeshError::DType {
-            array: name,
-            expected: "an integer type (uint32 preferred)",
-            got: dtype_name(&array),
-        }));
-    }
+    require_integer(&array, name)?;
     if array.dtype().is_equiv_to(&numpy::dtype::<u32>(array.py())) {
         return contiguous::<u32>(&array, name, "uint32");
     }
     // Widen first so that negative or too large values are reported, not wrapped.
     let wide = contiguous::<i64>(&array, name, "int64")?;
-    let values = wide
-        .as_slice()
-        .map_err(|e| PeltError::Internal(format!("array not contiguous after conversion: {e}")))?;
+    let values = flat(&wide)?;
     if let Some(row) = values
         .iter()
         .position(|&v| !(0..=i64::from(u32::MAX)).contains(&v))
@@ -166,14 +165,18 @@ pub(super) fn uint_array<'py>(
     contiguous::<u32>(&array, name, "uint32")
 }
 
+/// The values of an array this module made contiguous (a failure here is a bug in Pelt).
+pub(super) fn flat<'a, T: Element>(array: &'a PyReadonlyArrayDyn<'_, T>) -> PyResult<&'a [T]> {
+    array
+        .as_slice()
+        .map_err(|e| PeltError::Internal(format!("array not contiguous after conversion: {e}")).into())
+}
+
 /// The rows of a contiguous array whose last axis has `C` entries.
 pub(super) fn rows<'a, T: Element, const C: usize>(
     array: &'a PyReadonlyArrayDyn<'_, T>,
 ) -> PyResult<&'a [[T; C]]> {
-    let flat = array
-        .as_slice()
-        .map_err(|e| PeltError::Internal(format!("array not contiguous after conversion: {e}")))?;
-    Ok(flat.as_chunks::<C>().0)
+    Ok(flat(array)?.as_chunks::<C>().0)
 }
 
 /// Checks widened indices against `vertex_count` and narrows them to `u32`.

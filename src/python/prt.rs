@@ -4,7 +4,7 @@ use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use super::arrays::float_ndarray;
+use super::arrays::{flat, float_ndarray, rows};
 use super::detached;
 use super::progress::PyProgress;
 use crate::error::PeltError;
@@ -99,17 +99,8 @@ pub(super) fn bake_transfer<'py>(
         tolerance,
         ..BandParams::default()
     };
-    let density = density
-        .as_slice()
-        .map_err(|e| PeltError::Internal(format!("array not contiguous after conversion: {e}")))?;
-    let tangents = tangents
-        .as_ref()
-        .map(|(t, _)| {
-            t.as_slice()
-                .map(|s| s.as_chunks::<3>().0)
-                .map_err(|e| PeltError::Internal(format!("array not contiguous after conversion: {e}")))
-        })
-        .transpose()?;
+    let density = flat(&density)?;
+    let tangents = tangents.as_ref().map(|(t, _)| rows::<f32, 3>(t)).transpose()?;
     let reporter = PyProgress::new(progress.map(|p| p.into_bound(py)));
     let report = |fraction: f64| reporter.report(fraction);
     let callback: Option<ProgressCallback<'_>> = reporter.is_some().then_some(&report);
@@ -169,9 +160,7 @@ pub(super) fn sh_project_equirect<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let (image, shape) = float_ndarray(image, "image", "[H, W, 3]", |s| s.len() == 3 && s[2] == 3)?;
     let (height, width) = (shape[0], shape[1]);
-    let rgb = image
-        .as_slice()
-        .map_err(|e| PeltError::Internal(format!("array not contiguous after conversion: {e}")))?;
+    let rgb = flat(&image)?;
     let coeffs = detached(py, || sh::project_equirect(order, width, height, rgb))?;
     let flat: Vec<f32> = coeffs.iter().flat_map(|c| c.map(|v| v as f32)).collect();
     Ok(PyArray1::from_vec(py, flat)

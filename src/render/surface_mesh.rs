@@ -4,6 +4,7 @@
 //! (Lengyel et al. 2001, §2.1 and §2.4: the shells are textured through each patch's own
 //! parameterization, and lighting needs the hair tangent on the surface).
 
+use crate::vec3::{cross, dot};
 use bytemuck::{Pod, Zeroable};
 
 use crate::FurMesh;
@@ -63,18 +64,6 @@ pub(super) fn validate_uvs(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Resu
 
 fn sub(a: [f32; 3], b: [f32; 3]) -> [f64; 3] {
     std::array::from_fn(|i| f64::from(a[i]) - f64::from(b[i]))
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 /// `v` without its component along the unit vector `n`.
