@@ -96,17 +96,16 @@ pub fn texel_index(k: usize, v: usize, voxels: usize) -> usize {
     ((k / CHANNELS) * voxels + v) * CHANNELS + k % CHANNELS
 }
 
-/// Packs `transfer` into float16 RGBA textures. Values beyond the half range (impossible for a
-/// baked transfer) are clamped to ±65504 so no texel is infinite.
-///
-/// # Errors
-/// [`InvalidParameter`](crate::PeltError::InvalidParameter) when `transfer` is inconsistent (see [`Transfer::check`]).
-pub fn pack_f16(transfer: &Transfer) -> Result<PackedF16> {
-    transfer.check()?;
+/// The texels `[texture][voxel][RGBA]` of `transfer`: coefficient `k` of voxel `v` encoded by
+/// `encode(k, value)` in texture `k / 4`, channel `k % 4`; channels past the last coefficient
+/// stay `T::default()` (zero).
+fn pack_texels<T: Copy + Default + Send>(
+    transfer: &Transfer,
+    encode: impl Fn(usize, f32) -> T + Sync,
+) -> Vec<T> {
     let n = transfer.coeff_count();
-    let textures = texture_count(n);
     let voxels = transfer.layers * transfer.resolution * transfer.resolution;
-    let mut texels = vec![f16::ZERO; textures * voxels * CHANNELS];
+    let mut texels = vec![T::default(); texture_count(n) * voxels * CHANNELS];
     pool().install(|| {
         texels
             .par_chunks_mut(voxels * CHANNELS)
@@ -116,12 +115,25 @@ pub fn pack_f16(transfer: &Transfer) -> Result<PackedF16> {
                     for (c, out) in rgba.iter_mut().enumerate() {
                         let k = t * CHANNELS + c;
                         if k < n {
-                            *out = f16::from_f32(transfer.coefficients[v * n + k].clamp(-65504.0, 65504.0));
+                            *out = encode(k, transfer.coefficients[v * n + k]);
                         }
                     }
                 }
             });
     });
+    texels
+}
+
+/// Packs `transfer` into float16 RGBA textures. Values beyond the half range (impossible for a
+/// baked transfer) are clamped to ±65504 so no texel is infinite.
+///
+/// # Errors
+/// [`InvalidParameter`](crate::PeltError::InvalidParameter) when `transfer` is inconsistent (see [`Transfer::check`]).
+pub fn pack_f16(transfer: &Transfer) -> Result<PackedF16> {
+    transfer.check()?;
+    let n = transfer.coeff_count();
+    let textures = texture_count(n);
+    let texels = pack_texels(transfer, |_, value| f16::from_f32(value.clamp(-65504.0, 65504.0)));
     Ok(PackedF16 {
         textures,
         layers: transfer.layers,
@@ -140,7 +152,6 @@ pub fn pack_u8(transfer: &Transfer) -> Result<PackedU8> {
     transfer.check()?;
     let n = transfer.coeff_count();
     let textures = texture_count(n);
-    let voxels = transfer.layers * transfer.resolution * transfer.resolution;
     let (bias, scale): (Vec<f32>, Vec<f32>) = (0..n)
         .map(|k| {
             let (lo, hi) = transfer
@@ -154,22 +165,12 @@ pub fn pack_u8(transfer: &Transfer) -> Result<PackedU8> {
             if lo.is_finite() { (lo, hi - lo) } else { (0.0, 0.0) }
         })
         .unzip();
-    let mut texels = vec![0u8; textures * voxels * CHANNELS];
-    pool().install(|| {
-        texels
-            .par_chunks_mut(voxels * CHANNELS)
-            .enumerate()
-            .for_each(|(t, tex)| {
-                for (v, rgba) in tex.chunks_exact_mut(CHANNELS).enumerate() {
-                    for (c, out) in rgba.iter_mut().enumerate() {
-                        let k = t * CHANNELS + c;
-                        if k < n && scale[k] > 0.0 {
-                            let x = (transfer.coefficients[v * n + k] - bias[k]) / scale[k] * 255.0;
-                            *out = x.round().clamp(0.0, 255.0) as u8;
-                        }
-                    }
-                }
-            });
+    let texels = pack_texels(transfer, |k, value| {
+        if scale[k] > 0.0 {
+            ((value - bias[k]) / scale[k] * 255.0).round().clamp(0.0, 255.0) as u8
+        } else {
+            0
+        }
     });
     Ok(PackedU8 {
         textures,
