@@ -9,6 +9,7 @@
 //! counted: later stages must cope with them, never crash on them.
 
 mod frames;
+pub mod obj;
 pub mod shapes;
 mod stats;
 mod topology;

@@ -258,3 +258,41 @@ fn centroid(positions: &[[f32; 3]], t: &[u32; 3]) -> [f32; 3] {
     let [a, b, c] = t.map(|v| positions[v as usize]);
     [0, 1, 2].map(|k| (a[k] + b[k] + c[k]) / 3.0)
 }
+
+/// Blender's Suzanne (507 vertices, 500 polygons fanned into 968 triangles), read from
+/// `tests/data/suzanne.obj` at compile time: the demo's mesh, for benchmarks and tests.
+pub fn suzanne() -> super::obj::MeshData {
+    // The file ships with the crate and is checked by a test, so parsing cannot fail at run time.
+    super::obj::parse_obj(include_str!("../../tests/data/suzanne.obj")).unwrap_or_default()
+}
+
+/// Splits every triangle into four at its edge midpoints, `levels` times (×4ⁿ triangles; shared
+/// edges get one midpoint, so the result stays watertight where the input was). Each new triangle
+/// is its own polygon. Colors are dropped.
+pub fn subdivide(mesh: &super::obj::MeshData, levels: u32) -> super::obj::MeshData {
+    let mut positions = mesh.positions.clone();
+    let mut triangles = mesh.triangles.clone();
+    for _ in 0..levels {
+        let mut midpoints = std::collections::HashMap::with_capacity(triangles.len() * 2);
+        let mut next = Vec::with_capacity(triangles.len() * 4);
+        for &[a, b, c] in &triangles {
+            let mut mid = |p: u32, q: u32| {
+                *midpoints.entry((p.min(q), p.max(q))).or_insert_with(|| {
+                    let (p, q) = (positions[p as usize], positions[q as usize]);
+                    positions.push(std::array::from_fn(|k| 0.5 * (p[k] + q[k])));
+                    positions.len() as u32 - 1
+                })
+            };
+            let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
+            next.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+        }
+        triangles = next;
+    }
+    let polygons = (0..triangles.len() as u32).collect();
+    super::obj::MeshData {
+        positions,
+        triangles,
+        polygons,
+        color: None,
+    }
+}
