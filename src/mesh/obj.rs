@@ -95,8 +95,8 @@ pub fn parse_obj(text: &str) -> Result<MeshData> {
                 if corners.len() < 3 {
                     return Err(bad("a face needs at least 3 corners"));
                 }
-                let polygon = u32::try_from(mesh.polygons.last().map_or(0, |p| p + 1))
-                    .map_err(|_| bad("too many faces"))?;
+                let polygon = mesh.polygons.last().map_or(Some(0), |p| p.checked_add(1));
+                let polygon = polygon.ok_or_else(|| bad("too many faces"))?;
                 for k in 1..corners.len() - 1 {
                     mesh.triangles.push([corners[0], corners[k], corners[k + 1]]);
                     mesh.polygons.push(polygon);
