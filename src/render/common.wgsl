@@ -18,6 +18,9 @@ struct Frame {
     fin: vec4<f32>,
     // x: shells drawn, y: layers of the shell texture.
     counts: vec4<u32>,
+    // PRT: x coefficients n², y transfer textures, z array layers per transfer texture,
+    // w layers of the volume (the fins' table of layer means).
+    prt: vec4<u32>,
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;

@@ -30,6 +30,11 @@ pub(super) struct FinVertex {
     /// Fin texture coordinate: `u` along the edge (tile units, wraps), `v` 0 at the top of the
     /// fur (the fin texture's row 0) and 1 at the skin.
     pub uv: [f32; 2],
+    /// The surface (GPU) vertices of the edge's two ends, whose rotated PRT lighting the fin
+    /// interpolates (the same at all four corners).
+    pub ends: [u32; 2],
+    /// 0 at the first end, 1 at the second: the weight of `ends[1]`.
+    pub along: f32,
 }
 
 /// All fins of a mesh.
@@ -43,8 +48,9 @@ pub(super) struct FinMesh {
 }
 
 /// Builds the fins of every edge that has a length and a well-defined fin plane; `uv_scale` is
-/// tile units per object unit.
-pub(super) fn build(mesh: &FurMesh, uv_scale: f64) -> FinMesh {
+/// tile units per object unit, `surface_vertex[v]` a surface (GPU) vertex made from mesh vertex
+/// `v` (every edge end has one: edges come from triangles).
+pub(super) fn build(mesh: &FurMesh, uv_scale: f64, surface_vertex: &[u32]) -> FinMesh {
     let (positions, normals) = (mesh.positions(), mesh.normals());
     let comb = mesh.comb();
     let mut fins = FinMesh {
@@ -74,6 +80,7 @@ pub(super) fn build(mesh: &FurMesh, uv_scale: f64) -> FinMesh {
         let u0 = Rng::stream(FIN_SEED, 0, index as u64).next_f64();
         let u1 = u0 + len * uv_scale;
         let base = fins.vertices.len() as u32;
+        let ends = [a, b].map(|v| surface_vertex[v as usize]);
         for (vertex, u, v) in [(a, u0, 1.0), (b, u1, 1.0), (a, u0, 0.0), (b, u1, 0.0)] {
             fins.vertices.push(FinVertex {
                 position: positions[vertex as usize],
@@ -82,6 +89,8 @@ pub(super) fn build(mesh: &FurMesh, uv_scale: f64) -> FinMesh {
                 fin_normal,
                 center,
                 uv: [u as f32, v],
+                ends,
+                along: if vertex == a { 0.0 } else { 1.0 },
             });
             fins.source.push(vertex);
         }

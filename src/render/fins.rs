@@ -2,25 +2,39 @@
 //! the silhouette in the vertex shader, blended premultiplied, depth tested but not written (the
 //! shells drawn next must still land on the skin behind a fin).
 
-use super::pipelines::{FurPipelines, PassState};
+use super::pipelines::{Model, PassPipelines, PassState, VertexInput};
 use super::scene::FurScene;
 
+const KAJIYA_KAY: &str = concat!(
+    include_str!("common.wgsl"),
+    include_str!("lighting.wgsl"),
+    include_str!("fins.wgsl"),
+    include_str!("fin_kk.wgsl")
+);
+const PRT: &str = concat!(
+    include_str!("common.wgsl"),
+    include_str!("prt.wgsl"),
+    include_str!("fins.wgsl"),
+    include_str!("fin_prt.wgsl")
+);
+
 /// Both sides drawn (a fin is seen from either side), depth not written, premultiplied "over".
-pub(super) const STATE: PassState<'static> = PassState {
-    label: "fins",
-    source: concat!(
-        include_str!("common.wgsl"),
-        include_str!("lighting.wgsl"),
-        include_str!("fins.wgsl")
-    ),
-    fins: true,
-    cull_mode: None,
-    depth_write: false,
-    blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
-};
+pub(super) fn state(model: Model) -> PassState<'static> {
+    PassState {
+        label: "fins",
+        source: match model {
+            Model::KajiyaKay => KAJIYA_KAY,
+            Model::Prt => PRT,
+        },
+        input: VertexInput::Fins,
+        cull_mode: None,
+        depth_write: false,
+        blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+    }
+}
 
 /// Draws every fin; the vertex shader drops those faded out.
-pub(super) fn draw(pass: &mut wgpu::RenderPass<'_>, pipelines: &FurPipelines, scene: &FurScene) {
+pub(super) fn draw(pass: &mut wgpu::RenderPass<'_>, pipelines: &PassPipelines, scene: &FurScene) {
     if scene.fins.index_count == 0 {
         return;
     }

@@ -1,6 +1,7 @@
 // Pass (b), the fins (Lengyel et al. 2001, §2.3): one quad per mesh edge standing along the
 // growth direction, faded by max(0, 2|p| - 1) with p = fin normal · view direction, so that only
-// fins near the silhouette (also just over the horizon) show. Depth tested, not written.
+// fins near the silhouette (also just over the horizon) show. Depth tested, not written. The
+// lighting model's file (`fin_kk.wgsl` or `fin_prt.wgsl`) defines `shade_fin`.
 
 struct FinIn {
     @location(0) position: vec3<f32>,
@@ -11,6 +12,8 @@ struct FinIn {
     @location(5) uv: vec2<f32>,
     @location(6) color: vec4<f32>,
     @location(7) length: f32,
+    @location(8) ends: vec2<u32>,
+    @location(9) along: f32,
 };
 
 struct FinOut {
@@ -21,6 +24,9 @@ struct FinOut {
     @location(3) uv: vec2<f32>,
     @location(4) color: vec4<f32>,
     @location(5) fade: f32,
+    // The surface vertices at the edge's ends and the weight of the second (PRT lighting).
+    @location(6) @interpolate(flat) ends: vec2<u32>,
+    @location(7) along: f32,
 };
 
 @vertex
@@ -39,16 +45,14 @@ fn vs_main(v: FinIn) -> FinOut {
     out.uv = v.uv;
     out.color = v.color;
     out.fade = fade;
+    out.ends = v.ends;
+    out.along = v.along;
     return out;
 }
 
 @fragment
 fn fs_main(f: FinOut) -> @location(0) vec4<f32> {
     let texel = textureSample(fin_texture, fin_sampler, f.uv);
-    let n = unit_or(f.normal, vec3<f32>(0.0, 0.0, 1.0));
-    // The fin texture has no tangent map: its hair runs along the growth direction.
-    let t = unit_or(f.growth, n);
     let opacity = f.fade * f.color.a;
-    return shade(texel.rgb * f.color.rgb * opacity, texel.a * opacity, t, n, view_vector(f.position),
-                 1.0 - f.uv.y);
+    return shade_fin(f, texel.rgb * f.color.rgb * opacity, texel.a * opacity);
 }

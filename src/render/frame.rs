@@ -1,28 +1,32 @@
 //! One frame: the three fur passes in Lengyel et al. 2001's order (§2.3) — skin, fins, shells —
-//! in a single render pass into an offscreen sRGB target, then read back.
+//! in a single render pass into an offscreen target (8-bit sRGB or linear half floats), then read
+//! back. Under PRT a compute pass first rotates the lighting into every vertex's tile frame.
 
-use super::camera::Camera;
+use super::camera::{Camera, CameraFrame};
 use super::frame_uniforms::{FrameUniforms, SceneFrame};
-use super::image::RgbaImage;
-use super::lighting::Lighting;
-use super::pipelines::{COLOR_FORMAT, DEPTH_FORMAT};
-use super::readback::read_rgba8;
+use super::image::{LinearImage, RgbaImage};
+use super::lighting::{Lighting, LightingFrame};
+use super::pipelines::{DEPTH_FORMAT, Model, Target};
+use super::prt_light::world_coefficients;
+use super::prt_rotate::RotationUniforms;
+use super::readback::read_texels;
 use super::scene::FurScene;
 use super::settings::RenderSettings;
 use super::{Renderer, fins, scoped, shells, skin};
 use crate::error::{PeltError, Result};
 
-/// Color and depth targets of one size, kept between frames.
+/// Color and depth targets of one size and format, kept between frames.
 pub(super) struct Targets {
     size: (u32, u32),
+    target: Target,
     color: wgpu::Texture,
     color_view: wgpu::TextureView,
     depth_view: wgpu::TextureView,
 }
 
 impl Targets {
-    fn new(device: &wgpu::Device, (width, height): (u32, u32)) -> Self {
-        let target = |label, format, usage| {
+    fn new(device: &wgpu::Device, (width, height): (u32, u32), target: Target) -> Self {
+        let texture = |label, format, usage| {
             device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
                 size: wgpu::Extent3d {
@@ -38,14 +42,15 @@ impl Targets {
                 view_formats: &[],
             })
         };
-        let color = target(
+        let color = texture(
             "fur color",
-            COLOR_FORMAT,
+            target.format(),
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
         );
-        let depth = target("fur depth", DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT);
+        let depth = texture("fur depth", DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT);
         Targets {
             size: (width, height),
+            target,
             color_view: color.create_view(&wgpu::TextureViewDescriptor::default()),
             depth_view: depth.create_view(&wgpu::TextureViewDescriptor::default()),
             color,
@@ -53,17 +58,27 @@ impl Targets {
     }
 }
 
+/// Everything a frame needs, checked.
+struct Checked {
+    camera: CameraFrame,
+    light: LightingFrame,
+    model: Model,
+    shells: u32,
+}
+
 impl Renderer {
     /// Renders `scene` offscreen: the opaque skin (writing depth), the fins near the silhouette
-    /// (if `settings.fins`), then the shells inner to outer in one instanced draw.
+    /// (if `settings.fins`), then the shells inner to outer in one instanced draw. Returns 8-bit
+    /// sRGB with straight alpha.
     ///
     /// Renders are serialized per renderer; the result depends only on the inputs (and the
     /// adapter).
     ///
     /// # Errors
-    /// [`PeltError::InvalidParameter`] naming the bad camera, lighting or settings field, or
-    /// `scene` when it was uploaded by another renderer; [`PeltError::Render`] when the device
-    /// fails. The renderer stays usable after an error.
+    /// [`PeltError::InvalidParameter`] naming the bad camera, lighting or settings field,
+    /// `lighting.model` for PRT on a scene without transfer textures, or `scene` when it was
+    /// uploaded by another renderer; [`PeltError::Render`] when the device fails. The renderer
+    /// stays usable after an error.
     pub fn render(
         &self,
         scene: &FurScene,
@@ -71,21 +86,97 @@ impl Renderer {
         lighting: &Lighting,
         settings: &RenderSettings,
     ) -> Result<RgbaImage> {
+        let bytes = self.render_to(scene, camera, lighting, settings, Target::Srgb8)?;
+        Ok(RgbaImage::from_premultiplied(camera.width, camera.height, bytes))
+    }
+
+    /// [`Renderer::render`] into a half-float target, returned as linear `f32` RGBA with straight
+    /// alpha (no 8-bit rounding; HDR values above 1 are kept).
+    ///
+    /// # Errors
+    /// As [`Renderer::render`].
+    pub fn render_linear(
+        &self,
+        scene: &FurScene,
+        camera: &Camera,
+        lighting: &Lighting,
+        settings: &RenderSettings,
+    ) -> Result<LinearImage> {
+        let bytes = self.render_to(scene, camera, lighting, settings, Target::Linear16)?;
+        Ok(LinearImage::from_premultiplied_f16(
+            camera.width,
+            camera.height,
+            &bytes,
+        ))
+    }
+
+    fn check(
+        &self,
+        scene: &FurScene,
+        camera: &Camera,
+        lighting: &Lighting,
+        settings: &RenderSettings,
+    ) -> Result<Checked> {
         if scene.renderer_id() != self.id {
             return Err(PeltError::parameter("scene", "was uploaded by another Renderer"));
         }
-        let camera_frame = camera.frame(self.device.limits().max_texture_dimension_2d)?;
+        let camera = camera.frame(self.device.limits().max_texture_dimension_2d)?;
         let light = lighting.frame()?;
-        let shell_count = settings.shells_to_draw(scene.layers)?;
-        let pipelines = self.fur_pipelines()?;
+        let shells = settings.shells_to_draw(scene.layers)?;
+        let model = if light.prt.is_some() {
+            if scene.transfer.is_none() {
+                return Err(PeltError::parameter(
+                    "lighting.model",
+                    "PRT needs transfer textures in the scene (FurScene::set_transfer)",
+                ));
+            }
+            Model::Prt
+        } else {
+            Model::KajiyaKay
+        };
+        Ok(Checked {
+            camera,
+            light,
+            model,
+            shells,
+        })
+    }
+
+    /// Renders into `target` and returns its texels, premultiplied.
+    fn render_to(
+        &self,
+        scene: &FurScene,
+        camera: &Camera,
+        lighting: &Lighting,
+        settings: &RenderSettings,
+        target: Target,
+    ) -> Result<Vec<u8>> {
+        let checked = self.check(scene, camera, lighting, settings)?;
+        let pipelines = self
+            .fur_pipelines()?
+            .passes(&self.device, checked.model, target)?;
+        let transfer = scene.transfer.as_ref().filter(|_| checked.model == Model::Prt);
+        let rotation = match transfer {
+            Some(t) => Some(RotationUniforms::new(
+                scene.surface_vertex_count() as u32,
+                t.order,
+                &world_coefficients(&checked.light, t.order)?,
+            )),
+            None => None,
+        };
+        let rotate = match transfer {
+            Some(_) => Some(&self.fur_pipelines()?.prt(&self.device)?.rotate),
+            None => None,
+        };
         let uniforms = FrameUniforms::new(
-            &camera_frame,
-            &light,
+            &checked.camera,
+            &checked.light,
             settings,
             &SceneFrame {
-                shells: shell_count,
+                shells: checked.shells,
                 layers: scene.layers,
                 layer_spacing: scene.layer_spacing,
+                prt: transfer.map_or([0; 3], |t| [(t.order * t.order) as u32, t.textures, t.stride]),
             },
         );
         // A panic elsewhere cannot leave the cached targets half-made, so a poisoned lock is fine.
@@ -96,18 +187,29 @@ impl Renderer {
         let size = (camera.width, camera.height);
         let targets = scoped(&self.device, "creating the render targets", || {
             match cached.take() {
-                Some(t) if t.size == size => t,
-                _ => Targets::new(&self.device, size),
+                Some(t) if t.size == size && t.target == target => t,
+                _ => Targets::new(&self.device, size, target),
             }
         })?;
         let targets = cached.insert(targets);
         let [r, g, b, a] = settings.background.map(f64::from);
+        let max_groups = self.device.limits().max_compute_workgroups_per_dimension;
         scoped(&self.device, "rendering a frame", || {
             self.queue
                 .write_buffer(&scene.uniforms, 0, bytemuck::bytes_of(&uniforms));
             let mut encoder = self
                 .device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("fur") });
+            if let (Some(t), Some(rotation), Some(rotate)) = (transfer, &rotation, rotate) {
+                self.queue
+                    .write_buffer(&t.uniforms, 0, bytemuck::bytes_of(rotation));
+                rotate.dispatch(
+                    &mut encoder,
+                    &t.rotate_group,
+                    scene.surface_vertex_count() as u32,
+                    max_groups,
+                )?;
+            }
             {
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("fur"),
@@ -139,15 +241,22 @@ impl Renderer {
                     multiview_mask: None,
                 });
                 pass.set_bind_group(0, &scene.bind_group, &[]);
-                skin::draw(&mut pass, pipelines, scene);
+                if let Some(t) = transfer {
+                    pass.set_bind_group(1, &t.render_group, &[]);
+                }
+                skin::draw(&mut pass, pipelines, scene, checked.model);
                 if settings.fins {
                     fins::draw(&mut pass, pipelines, scene);
                 }
-                shells::draw(&mut pass, pipelines, scene, shell_count);
+                shells::draw(&mut pass, pipelines, scene, checked.model, checked.shells);
             }
             self.queue.submit([encoder.finish()]);
-        })?;
-        let pixels = read_rgba8(&self.device, &self.queue, &targets.color)?;
-        Ok(RgbaImage::from_premultiplied(camera.width, camera.height, pixels))
+            Ok::<_, PeltError>(())
+        })??;
+        let texel_bytes = match target {
+            Target::Srgb8 => 4,
+            Target::Linear16 => 8,
+        };
+        read_texels(&self.device, &self.queue, &targets.color, texel_bytes)
     }
 }

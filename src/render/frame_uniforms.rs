@@ -21,6 +21,7 @@ pub(super) struct FrameUniforms {
     fur: [f32; 4],
     fin: [f32; 4],
     counts: [u32; 4],
+    prt: [u32; 4],
 }
 
 /// The scene's side of the frame.
@@ -31,6 +32,8 @@ pub(super) struct SceneFrame {
     pub layers: u32,
     /// Height between layers, share of the fur depth.
     pub layer_spacing: f32,
+    /// PRT: coefficients, transfer textures, array layers per texture (zero without PRT).
+    pub prt: [u32; 3],
 }
 
 impl FrameUniforms {
@@ -56,6 +59,7 @@ impl FrameUniforms {
             ],
             fin: [settings.fin_opacity, 0.0, 0.0, 0.0],
             counts: [scene.shells, scene.layers, 0, 0],
+            prt: [scene.prt[0], scene.prt[1], scene.prt[2], scene.layers],
         }
     }
 }

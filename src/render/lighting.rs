@@ -1,11 +1,15 @@
-//! Hair lighting inputs: Kajiya–Kay with Banks-style self-shadowing, after Lengyel et al. 2001,
-//! §2.4. The shaders evaluate the model analytically per fragment (`lighting.wgsl`) rather than
-//! through the paper's 32 × 32 lookup table: the same function, without its quantization.
+//! Hair lighting inputs, two models:
 //!
-//! Precomputed radiance transfer (the PRT shell-fur paper, §2.4) will be a second
-//! [`LightModel`] variant; the shaders call one `shade` function, which is where it will branch.
+//! - Kajiya–Kay with Banks-style self-shadowing, after Lengyel et al. 2001, §2.4. The shaders
+//!   evaluate the model analytically per fragment (`lighting.wgsl`) rather than through the
+//!   paper's 32 × 32 lookup table: the same function, without its quantization.
+//! - Precomputed radiance transfer (the PRT shell-fur paper, §2.4): the world lighting as SH
+//!   coefficients (an environment plus the directional light projected as a small cap), rotated
+//!   into each vertex's tile frame and dotted per fragment with the scene's transfer textures
+//!   (`prt_light.rs`, `prt_rotate.rs`, `prt.wgsl`).
 
 use crate::error::{PeltError, Result};
+use crate::prt::sh;
 
 /// Largest Kajiya–Kay exponent accepted.
 pub const MAX_POWER: f32 = 1e4;
@@ -41,11 +45,49 @@ impl Default for KajiyaKay {
     }
 }
 
-/// The lighting model. Today only Kajiya–Kay; PRT joins here.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Largest angular radius of the PRT directional light, radians (a hemisphere).
+pub const MAX_LIGHT_RADIUS: f32 = std::f32::consts::FRAC_PI_2;
+
+/// Precomputed radiance transfer lighting (PRT shell-fur paper, §2.4); needs a scene with
+/// transfer textures ([`super::FurScene::set_transfer`]).
+///
+/// The hair's color is `albedo / π · ∫ L(ω) T(ω) phase(ω) dω`, evaluated as the dot product of
+/// the lighting's SH coefficients (rotated into the tile frame) with the baked transfer. With the
+/// `1/π`, a directional light of color `C` that reaches the hair unshadowed gives `albedo · C`
+/// (as a Lambertian surface facing it would), and a uniform environment of radiance `E` gives at
+/// most `2 · albedo · E` (the open hemisphere, isotropic phase). The result is clamped at 0: a
+/// band-limited light rings slightly negative beyond the terminator.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Prt {
+    /// Radiance arriving from each direction as real SH coefficients (Pelt's basis, `prt::sh`),
+    /// object space, linear RGB: `n²` rows for an order `n` in `[1, 8]`, or none. Each value
+    /// finite with magnitude at most [`MAX_RADIANCE`]. Truncated or padded with zeros to the
+    /// order of the scene's transfer.
+    pub environment: Vec<[f32; 3]>,
+    /// The directional light ([`Lighting::direction`], [`Lighting::color`]) enters as a uniform
+    /// cap of this angular radius, radians `[0, MAX_LIGHT_RADIUS]`: 0 is a point light, whose
+    /// truncated expansion rings most; a few degrees soften that.
+    pub light_radius: f32,
+}
+
+impl Default for Prt {
+    fn default() -> Self {
+        // A dim sky: radiance 0.1 from every direction (only the Y_0^0 coefficient, √(4π) · 0.1).
+        let sky = 0.1 * (4.0 * std::f32::consts::PI).sqrt();
+        Prt {
+            environment: vec![[sky; 3]],
+            light_radius: 0.2,
+        }
+    }
+}
+
+/// The lighting model.
+#[derive(Debug, Clone, PartialEq)]
 pub enum LightModel {
     /// Lengyel §2.4's modified Banks / Kajiya–Kay model with the per-texel tangent map.
     KajiyaKay(KajiyaKay),
+    /// Precomputed radiance transfer with the scene's transfer textures.
+    Prt(Prt),
 }
 
 impl Default for LightModel {
@@ -55,14 +97,15 @@ impl Default for LightModel {
 }
 
 /// One directional light and the model that shades the hair.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Lighting {
     /// Direction toward the light, object space; any non-zero length.
     pub direction: [f32; 3],
     /// Light color × intensity, linear RGB, each `[0, MAX_RADIANCE]`.
     pub color: [f32; 3],
     /// Banks-style self-shadowing (Lengyel §2.4): hair at the skin is darkened by this share,
-    /// fading linearly to none at the tips; `[0, 1]`.
+    /// fading linearly to none at the tips; `[0, 1]`. Kajiya–Kay only: the transfer of PRT holds
+    /// the fur's own shadowing.
     pub self_shadow: f32,
     /// The model.
     pub model: LightModel,
@@ -93,7 +136,7 @@ fn in_range(name: &str, value: f32, lo: f32, hi: f32, open_lo: bool) -> Result<(
 }
 
 /// What the shaders get from the lighting (see `Frame` in `common.wgsl`).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub(super) struct LightingFrame {
     pub direction: [f32; 3],
     pub color: [f32; 3],
@@ -101,6 +144,8 @@ pub(super) struct LightingFrame {
     /// `Kd, Ks, Pd, Ps`.
     pub kajiya_kay: [f32; 4],
     pub self_shadow: f32,
+    /// The PRT inputs, checked; `None` for Kajiya–Kay.
+    pub prt: Option<Prt>,
 }
 
 impl Lighting {
@@ -118,26 +163,68 @@ impl Lighting {
             in_range(&format!("lighting.color[{i}]"), c, 0.0, MAX_RADIANCE, false)?;
         }
         in_range("lighting.self_shadow", self.self_shadow, 0.0, 1.0, false)?;
-        let LightModel::KajiyaKay(kk) = self.model;
-        for (i, &c) in kk.ambient.iter().enumerate() {
-            in_range(&format!("kajiya_kay.ambient[{i}]"), c, 0.0, MAX_RADIANCE, false)?;
+        let direction = d.map(|c| (c / len) as f32);
+        match &self.model {
+            LightModel::KajiyaKay(kk) => {
+                check_kajiya_kay(kk)?;
+                Ok(LightingFrame {
+                    direction,
+                    color: self.color,
+                    ambient: kk.ambient,
+                    kajiya_kay: [kk.diffuse, kk.specular, kk.diffuse_power, kk.specular_power],
+                    self_shadow: self.self_shadow,
+                    prt: None,
+                })
+            }
+            LightModel::Prt(prt) => {
+                check_prt(prt)?;
+                Ok(LightingFrame {
+                    direction,
+                    color: self.color,
+                    ambient: [0.0; 3],
+                    kajiya_kay: [0.0; 4],
+                    self_shadow: 0.0,
+                    prt: Some(prt.clone()),
+                })
+            }
         }
-        in_range("kajiya_kay.diffuse", kk.diffuse, 0.0, MAX_RADIANCE, false)?;
-        in_range("kajiya_kay.specular", kk.specular, 0.0, MAX_RADIANCE, false)?;
-        in_range("kajiya_kay.diffuse_power", kk.diffuse_power, 0.0, MAX_POWER, true)?;
-        in_range(
-            "kajiya_kay.specular_power",
-            kk.specular_power,
-            0.0,
-            MAX_POWER,
-            true,
-        )?;
-        Ok(LightingFrame {
-            direction: d.map(|c| (c / len) as f32),
-            color: self.color,
-            ambient: kk.ambient,
-            kajiya_kay: [kk.diffuse, kk.specular, kk.diffuse_power, kk.specular_power],
-            self_shadow: self.self_shadow,
-        })
     }
+}
+
+fn check_kajiya_kay(kk: &KajiyaKay) -> Result<()> {
+    for (i, &c) in kk.ambient.iter().enumerate() {
+        in_range(&format!("kajiya_kay.ambient[{i}]"), c, 0.0, MAX_RADIANCE, false)?;
+    }
+    in_range("kajiya_kay.diffuse", kk.diffuse, 0.0, MAX_RADIANCE, false)?;
+    in_range("kajiya_kay.specular", kk.specular, 0.0, MAX_RADIANCE, false)?;
+    in_range("kajiya_kay.diffuse_power", kk.diffuse_power, 0.0, MAX_POWER, true)?;
+    in_range(
+        "kajiya_kay.specular_power",
+        kk.specular_power,
+        0.0,
+        MAX_POWER,
+        true,
+    )
+}
+
+fn check_prt(prt: &Prt) -> Result<()> {
+    let n = prt.environment.len();
+    if n > 0 && sh::order_of_len(n).is_err() {
+        return Err(PeltError::parameter(
+            "prt.environment",
+            format!(
+                "must hold n² rows for an order n in [1, {}] (1, 4, 9, …, 64) or none, got {n}",
+                sh::MAX_ORDER
+            ),
+        ));
+    }
+    for (i, row) in prt.environment.iter().enumerate() {
+        if let Some(c) = row.iter().find(|c| !(c.is_finite() && c.abs() <= MAX_RADIANCE)) {
+            return Err(PeltError::parameter(
+                format!("prt.environment[{i}]"),
+                format!("values must be finite with magnitude at most {MAX_RADIANCE}, got {c}"),
+            ));
+        }
+    }
+    in_range("prt.light_radius", prt.light_radius, 0.0, MAX_LIGHT_RADIUS, false)
 }

@@ -5,15 +5,19 @@
 //! Passes live one per file with their WGSL beside them.
 //!
 //! The fur renderer follows Lengyel et al. 2001, §2.3–§2.4 and §3: a [`FurScene`] (mesh split at
-//! patch seams, fin quads, the hair volume's textures) is uploaded once; [`Renderer::render`]
-//! draws the opaque skin, the fins near the silhouette and the shells (one instanced draw) with
-//! Kajiya–Kay lighting, offscreen, and returns an [`RgbaImage`]. The smoke pass proves the device
-//! works end to end.
+//! patch seams, fin quads, the hair volume's textures, optionally PRT transfer textures) is
+//! uploaded once; [`Renderer::render`] draws the opaque skin, the fins near the silhouette and the
+//! shells (one instanced draw) offscreen and returns an [`RgbaImage`] ([`Renderer::render_linear`]
+//! a [`LinearImage`]). Lighting is Kajiya–Kay or precomputed radiance transfer (prt-shell-fur
+//! §2.4). The smoke pass proves the device works end to end.
 //!
 //! Files: `camera.rs`, `lighting.rs`, `settings.rs` (the per-frame inputs, validated);
-//! `surface_mesh.rs`, `fin_mesh.rs` (CPU geometry); `textures.rs` (volume upload, premultiplied);
-//! `scene.rs`; `pipelines.rs` (shared layouts) and one file per pass, `skin.rs`, `fins.rs`,
-//! `shells.rs`, with `common.wgsl`, `lighting.wgsl` and `surface.wgsl` shared by their shaders;
+//! `surface_mesh.rs`, `fin_mesh.rs` (CPU geometry); `textures.rs` (volume upload, premultiplied),
+//! `transfer.rs` (PRT textures); `scene.rs`; `pipelines.rs` (shared layouts, pipelines per
+//! lighting model and target) and one file per pass, `skin.rs`, `fins.rs`, `shells.rs`, with
+//! `common.wgsl`, `surface.wgsl` and the model's WGSL (`lighting.wgsl`, `surface_kk.wgsl`,
+//! `fin_kk.wgsl` for Kajiya–Kay; `prt.wgsl`, `surface_prt.wgsl`, `fin_prt.wgsl` for PRT) shared
+//! by their shaders; `prt_light.rs` (world SH) and `prt_rotate.rs` (the rotation compute pass);
 //! `frame.rs` (one frame) and `readback.rs`.
 
 mod camera;
@@ -24,6 +28,8 @@ mod frame_uniforms;
 mod image;
 mod lighting;
 mod pipelines;
+mod prt_light;
+mod prt_rotate;
 mod readback;
 mod scene;
 mod settings;
@@ -32,13 +38,16 @@ mod skin;
 mod smoke;
 mod surface_mesh;
 mod textures;
+mod transfer;
 
+#[cfg(test)]
+mod prt_tests;
 #[cfg(test)]
 mod tests;
 
 pub use camera::{Camera, MAX_IMAGE_SIDE};
-pub use image::RgbaImage;
-pub use lighting::{KajiyaKay, LightModel, Lighting, MAX_POWER, MAX_RADIANCE};
+pub use image::{LinearImage, RgbaImage};
+pub use lighting::{KajiyaKay, LightModel, Lighting, MAX_LIGHT_RADIUS, MAX_POWER, MAX_RADIANCE, Prt};
 pub use scene::{FurScene, UploadStats};
 pub use settings::{MAX_FUR_DEPTH, RenderSettings};
 pub use smoke::SMOKE_COLOR;
@@ -101,6 +110,18 @@ fn scoped<T>(device: &wgpu::Device, what: &str, work: impl FnOnce() -> T) -> Res
     }
 }
 
+/// The downlevel defaults, raised to the adapter's own limits where Pelt's data can grow: image
+/// and texture sides, texture array layers (PRT keeps every transfer texture in one array),
+/// storage buffer sizes (the rotated PRT lighting).
+fn required_limits(adapter: &wgpu::Limits) -> wgpu::Limits {
+    wgpu::Limits {
+        max_texture_array_layers: adapter.max_texture_array_layers,
+        max_storage_buffer_binding_size: adapter.max_storage_buffer_binding_size,
+        max_buffer_size: adapter.max_buffer_size,
+        ..wgpu::Limits::downlevel_defaults().using_resolution(adapter.clone())
+    }
+}
+
 impl Renderer {
     /// Opens a device headless.
     ///
@@ -143,7 +164,7 @@ impl Renderer {
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("pelt"),
                 required_features: wgpu::Features::empty(),
-                required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
+                required_limits: required_limits(&adapter.limits()),
                 experimental_features: wgpu::ExperimentalFeatures::disabled(),
                 memory_hints: wgpu::MemoryHints::Performance,
                 trace: wgpu::Trace::Off,

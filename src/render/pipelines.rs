@@ -1,54 +1,93 @@
-//! What the three fur passes share: target formats, the bind group layout (frame uniforms, shell,
-//! tangent and fin textures, samplers), vertex layouts and the pipeline recipe. Each pass file
-//! (`skin.rs`, `fins.rs`, `shells.rs`) states only what is its own: shader, culling, depth
-//! writes and blending (Lengyel et al. 2001, §2.3).
+//! What the three fur passes share: target formats, bind group layouts (group 0: frame uniforms,
+//! shell, tangent and fin textures, samplers; group 1 for PRT: transfer textures, rotated
+//! lighting, layer means and the surface buffers for vertex pulling), vertex layouts and the
+//! pipeline recipe. Each pass file (`skin.rs`, `fins.rs`, `shells.rs`) states only what is its
+//! own: shader per lighting model, culling, depth writes and blending (Lengyel et al. 2001, §2.3).
+//!
+//! Pipelines exist per lighting model and target format and are built on first use.
 
 use std::num::NonZeroU64;
+use std::sync::OnceLock;
 
 use super::frame_uniforms::FrameUniforms;
+use super::prt_rotate::RotatePipeline;
 use super::{fins, shells, skin};
 use crate::error::{PeltError, Result};
 
-/// Color target: 8-bit sRGB, so blending happens in linear light.
-pub(super) const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 /// Depth target.
 pub(super) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
-/// Bytes of one vertex of buffer 0 (both [`super::surface_mesh::SurfaceVertex`] and
-/// [`super::fin_mesh::FinVertex`] are five `vec3`s and a `vec2`).
-const GEOMETRY_STRIDE: u64 = 68;
+/// Bytes of one vertex of buffer 0 of the skin and shells ([`super::surface_mesh::SurfaceVertex`]:
+/// five `vec3`s and a `vec2`).
+const SURFACE_STRIDE: u64 = 68;
+/// Bytes of one fin vertex ([`super::fin_mesh::FinVertex`]: five `vec3`s, a `vec2`, two `u32`
+/// and an `f32`).
+const FIN_STRIDE: u64 = 80;
 
-/// Attributes of buffer 0 of the skin and shell passes (`SurfaceIn` in `surface.wgsl`).
-const SURFACE_ATTRIBUTES: [wgpu::VertexAttribute; 6] = wgpu::vertex_attr_array![
+/// Attributes of buffer 0 of the skin and shell passes (`SurfaceIn` in `surface_kk.wgsl`).
+static SURFACE_ATTRIBUTES: [wgpu::VertexAttribute; 6] = wgpu::vertex_attr_array![
     0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32x3, 4 => Float32x2, 5 => Float32x3
 ];
 /// Attributes of buffer 0 of the fin pass (`FinIn` in `fins.wgsl`).
-const FIN_ATTRIBUTES: [wgpu::VertexAttribute; 6] = wgpu::vertex_attr_array![
-    0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32x3, 4 => Float32x3, 5 => Float32x2
+static FIN_ATTRIBUTES: [wgpu::VertexAttribute; 8] = wgpu::vertex_attr_array![
+    0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32x3, 4 => Float32x3, 5 => Float32x2,
+    8 => Uint32x2, 9 => Float32
 ];
-const COLOR_ATTRIBUTE: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![6 => Float32x4];
-const LENGTH_ATTRIBUTE: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![7 => Float32];
+static COLOR_ATTRIBUTE: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![6 => Float32x4];
+static LENGTH_ATTRIBUTE: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![7 => Float32];
+
+/// The lighting model a pipeline shades with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Model {
+    KajiyaKay,
+    Prt,
+}
+
+/// The color target a pipeline writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Target {
+    /// 8-bit sRGB: blending happens in linear light, the bytes come back sRGB-encoded.
+    Srgb8,
+    /// Half floats, linear (for [`super::Renderer::render_linear`]).
+    Linear16,
+}
+
+impl Target {
+    pub fn format(self) -> wgpu::TextureFormat {
+        match self {
+            Target::Srgb8 => wgpu::TextureFormat::Rgba8UnormSrgb,
+            Target::Linear16 => wgpu::TextureFormat::Rgba16Float,
+        }
+    }
+}
+
+/// Where a pass's vertices come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum VertexInput {
+    /// Surface vertex buffers, indexed draw.
+    Surface,
+    /// Fin vertex buffers, indexed draw.
+    Fins,
+    /// No buffers: the shader pulls triangle corners from storage (PRT skin and shells).
+    Pulled,
+}
 
 /// Buffer layouts: 0 geometry, 1 color (`vec4`), 2 length (`f32`).
-pub(super) fn vertex_layouts(fins: bool) -> [Option<wgpu::VertexBufferLayout<'static>>; 3] {
-    let per_vertex = |array_stride, attributes| {
-        Some(wgpu::VertexBufferLayout {
-            array_stride,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes,
-        })
+fn vertex_layouts(input: VertexInput) -> Vec<Option<wgpu::VertexBufferLayout<'static>>> {
+    let per_vertex = |array_stride, attributes| wgpu::VertexBufferLayout {
+        array_stride,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes,
     };
-    [
-        per_vertex(
-            GEOMETRY_STRIDE,
-            if fins {
-                &FIN_ATTRIBUTES
-            } else {
-                &SURFACE_ATTRIBUTES
-            },
-        ),
-        per_vertex(16, &COLOR_ATTRIBUTE),
-        per_vertex(4, &LENGTH_ATTRIBUTE),
+    let geometry = match input {
+        VertexInput::Pulled => return Vec::new(),
+        VertexInput::Surface => per_vertex(SURFACE_STRIDE, &SURFACE_ATTRIBUTES),
+        VertexInput::Fins => per_vertex(FIN_STRIDE, &FIN_ATTRIBUTES),
+    };
+    vec![
+        Some(geometry),
+        Some(per_vertex(16, &COLOR_ATTRIBUTE)),
+        Some(per_vertex(4, &LENGTH_ATTRIBUTE)),
     ]
 }
 
@@ -56,22 +95,42 @@ pub(super) fn vertex_layouts(fins: bool) -> [Option<wgpu::VertexBufferLayout<'st
 pub(super) struct PassState<'a> {
     pub label: &'a str,
     pub source: &'a str,
-    pub fins: bool,
+    pub input: VertexInput,
     pub cull_mode: Option<wgpu::Face>,
     pub depth_write: bool,
     pub blend: Option<wgpu::BlendState>,
 }
 
-/// The pipelines of the fur passes and what they bind; built once per [`super::Renderer`].
-pub(super) struct FurPipelines {
-    pub bind_group_layout: wgpu::BindGroupLayout,
+/// The pipelines of the three passes for one model and target.
+pub(super) struct PassPipelines {
     pub skin: wgpu::RenderPipeline,
     pub fins: wgpu::RenderPipeline,
     pub shells: wgpu::RenderPipeline,
+}
+
+/// What PRT adds: its bind group layout (group 1), the pipeline layout with it, and the
+/// rotation compute pass.
+pub(super) struct PrtShared {
+    pub group_layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    pub rotate: RotatePipeline,
+}
+
+/// Layouts, samplers and the pipelines built so far; one per [`super::Renderer`].
+pub(super) struct FurPipelines {
+    pub bind_group_layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
     /// Repeating trilinear sampler: the shell tile wraps across each patch.
     pub tile_sampler: wgpu::Sampler,
     /// Repeats along the fin (u), clamps across (v: skin to top of the fur).
     pub fin_sampler: wgpu::Sampler,
+    prt: OnceLock<PrtShared>,
+    /// Indexed by [`variant`].
+    passes: [OnceLock<PassPipelines>; 4],
+}
+
+fn variant(model: Model, target: Target) -> usize {
+    2 * usize::from(model == Model::Prt) + usize::from(target == Target::Linear16)
 }
 
 fn texture_entry(binding: u32, view_dimension: wgpu::TextureViewDimension) -> wgpu::BindGroupLayoutEntry {
@@ -96,6 +155,19 @@ fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
+fn storage_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
 fn sampler(device: &wgpu::Device, label: &str, v: wgpu::AddressMode) -> wgpu::Sampler {
     device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some(label),
@@ -109,53 +181,122 @@ fn sampler(device: &wgpu::Device, label: &str, v: wgpu::AddressMode) -> wgpu::Sa
     })
 }
 
+/// Runs `build` in a validation scope: a rejected shader or pipeline becomes a
+/// [`PeltError::Render`] naming `what`.
+fn validated<T>(device: &wgpu::Device, what: &str, build: impl FnOnce() -> Result<T>) -> Result<T> {
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let built = build();
+    match (pollster::block_on(scope.pop()), built) {
+        (None, built) => built,
+        (Some(e), _) => Err(PeltError::Render(format!("building {what} failed: {e}"))),
+    }
+}
+
 impl FurPipelines {
-    /// Compiles the shaders and builds the pipelines.
+    /// Creates the layouts and samplers.
+    ///
+    /// # Errors
+    /// [`PeltError::Render`] when the device rejects them.
+    pub fn new(device: &wgpu::Device) -> Result<Self> {
+        validated(device, "the fur layouts", || {
+            let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("fur"),
+                entries: &[
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 0,
+                        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                        ty: wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Uniform,
+                            has_dynamic_offset: false,
+                            min_binding_size: NonZeroU64::new(size_of::<FrameUniforms>() as u64),
+                        },
+                        count: None,
+                    },
+                    texture_entry(1, wgpu::TextureViewDimension::D2Array),
+                    texture_entry(2, wgpu::TextureViewDimension::D2Array),
+                    texture_entry(3, wgpu::TextureViewDimension::D2),
+                    sampler_entry(4),
+                    sampler_entry(5),
+                ],
+            });
+            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("fur"),
+                bind_group_layouts: &[Some(&bind_group_layout)],
+                immediate_size: 0,
+            });
+            Ok(FurPipelines {
+                bind_group_layout,
+                pipeline_layout,
+                tile_sampler: sampler(device, "tile", wgpu::AddressMode::Repeat),
+                fin_sampler: sampler(device, "fin", wgpu::AddressMode::ClampToEdge),
+                prt: OnceLock::new(),
+                passes: Default::default(),
+            })
+        })
+    }
+
+    /// The PRT layouts and rotation pass, built on first use (a race builds them twice and keeps
+    /// one).
+    ///
+    /// # Errors
+    /// [`PeltError::Render`] when the device lacks what PRT needs (storage buffers in vertex
+    /// shaders, compute).
+    pub fn prt(&self, device: &wgpu::Device) -> Result<&PrtShared> {
+        if let Some(p) = self.prt.get() {
+            return Ok(p);
+        }
+        let built = validated(device, "the PRT layouts", || {
+            let vertex = wgpu::ShaderStages::VERTEX;
+            let fragment = wgpu::ShaderStages::FRAGMENT;
+            let group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("prt"),
+                entries: &[
+                    texture_entry(0, wgpu::TextureViewDimension::D2Array),
+                    storage_entry(1, fragment),
+                    storage_entry(2, fragment),
+                    storage_entry(3, vertex),
+                    storage_entry(4, vertex),
+                    storage_entry(5, vertex),
+                    storage_entry(6, vertex),
+                ],
+            });
+            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("prt"),
+                bind_group_layouts: &[Some(&self.bind_group_layout), Some(&group_layout)],
+                immediate_size: 0,
+            });
+            Ok(PrtShared {
+                group_layout,
+                pipeline_layout,
+                rotate: RotatePipeline::new(device)?,
+            })
+        })?;
+        Ok(self.prt.get_or_init(|| built))
+    }
+
+    /// The pipelines of `model` into `target`, built on first use.
     ///
     /// # Errors
     /// [`PeltError::Render`] when the device rejects a shader or pipeline (a bug, or a device
     /// missing a downlevel capability).
-    pub fn new(device: &wgpu::Device) -> Result<Self> {
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("fur"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: NonZeroU64::new(size_of::<FrameUniforms>() as u64),
-                    },
-                    count: None,
-                },
-                texture_entry(1, wgpu::TextureViewDimension::D2Array),
-                texture_entry(2, wgpu::TextureViewDimension::D2Array),
-                texture_entry(3, wgpu::TextureViewDimension::D2),
-                sampler_entry(4),
-                sampler_entry(5),
-            ],
-        });
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("fur"),
-            bind_group_layouts: &[Some(&bind_group_layout)],
-            immediate_size: 0,
-        });
-        let pipelines = FurPipelines {
-            skin: pipeline(device, &layout, &skin::STATE),
-            fins: pipeline(device, &layout, &fins::STATE),
-            shells: pipeline(device, &layout, &shells::STATE),
-            bind_group_layout,
-            tile_sampler: sampler(device, "tile", wgpu::AddressMode::Repeat),
-            fin_sampler: sampler(device, "fin", wgpu::AddressMode::ClampToEdge),
-        };
-        match pollster::block_on(scope.pop()) {
-            None => Ok(pipelines),
-            Some(e) => Err(PeltError::Render(format!(
-                "building the fur pipelines failed: {e}"
-            ))),
+    pub fn passes(&self, device: &wgpu::Device, model: Model, target: Target) -> Result<&PassPipelines> {
+        let slot = &self.passes[variant(model, target)];
+        if let Some(p) = slot.get() {
+            return Ok(p);
         }
+        let layout = match model {
+            Model::KajiyaKay => &self.pipeline_layout,
+            Model::Prt => &self.prt(device)?.pipeline_layout,
+        };
+        let format = target.format();
+        let built = validated(device, "the fur pipelines", || {
+            Ok(PassPipelines {
+                skin: pipeline(device, layout, &skin::state(model), format),
+                fins: pipeline(device, layout, &fins::state(model), format),
+                shells: pipeline(device, layout, &shells::state(model), format),
+            })
+        })?;
+        Ok(slot.get_or_init(|| built))
     }
 }
 
@@ -164,6 +305,7 @@ fn pipeline(
     device: &wgpu::Device,
     layout: &wgpu::PipelineLayout,
     state: &PassState<'_>,
+    format: wgpu::TextureFormat,
 ) -> wgpu::RenderPipeline {
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(state.label),
@@ -176,7 +318,7 @@ fn pipeline(
             module: &module,
             entry_point: Some("vs_main"),
             compilation_options: Default::default(),
-            buffers: &vertex_layouts(state.fins),
+            buffers: &vertex_layouts(state.input),
         },
         primitive: wgpu::PrimitiveState {
             cull_mode: state.cull_mode,
@@ -195,7 +337,7 @@ fn pipeline(
             entry_point: Some("fs_main"),
             compilation_options: Default::default(),
             targets: &[Some(wgpu::ColorTargetState {
-                format: COLOR_FORMAT,
+                format,
                 blend: state.blend,
                 write_mask: wgpu::ColorWrites::ALL,
             })],

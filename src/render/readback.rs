@@ -8,8 +8,18 @@ pub(super) fn read_rgba8(
     queue: &wgpu::Queue,
     texture: &wgpu::Texture,
 ) -> Result<Vec<u8>> {
+    read_texels(device, queue, texture, 4)
+}
+
+/// Reads a 2D texture of `texel_bytes` bytes per texel into tightly packed rows.
+pub(super) fn read_texels(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    texel_bytes: u32,
+) -> Result<Vec<u8>> {
     let (width, height) = (texture.width(), texture.height());
-    let row_bytes = width * 4;
+    let row_bytes = width * texel_bytes;
     let padded = row_bytes.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let buffer = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
@@ -33,6 +43,17 @@ pub(super) fn read_rgba8(
         texture.size(),
     );
     queue.submit([encoder.finish()]);
+    mapped(device, &buffer, |bytes| {
+        let mut pixels = Vec::with_capacity((row_bytes * height) as usize);
+        for row in bytes.chunks_exact(padded as usize) {
+            pixels.extend_from_slice(&row[..row_bytes as usize]);
+        }
+        pixels
+    })
+}
+
+/// Waits for the GPU, maps `buffer` (`MAP_READ`, copies submitted) and hands its bytes to `read`.
+fn mapped<T>(device: &wgpu::Device, buffer: &wgpu::Buffer, read: impl FnOnce(&[u8]) -> T) -> Result<T> {
     let (sender, receiver) = std::sync::mpsc::channel();
     buffer.map_async(wgpu::MapMode::Read, .., move |r| {
         // the receiver outlives the poll below; a send error cannot happen
@@ -45,14 +66,32 @@ pub(super) fn read_rgba8(
         .recv()
         .map_err(|e| PeltError::Render(format!("readback never completed: {e}")))?
         .map_err(|e| PeltError::Render(format!("mapping the readback buffer failed: {e}")))?;
-    let mapped = buffer
+    let view = buffer
         .get_mapped_range(..)
         .map_err(|e| PeltError::Render(format!("reading the readback buffer failed: {e}")))?;
-    let mut pixels = Vec::with_capacity((row_bytes * height) as usize);
-    for row in mapped.chunks_exact(padded as usize) {
-        pixels.extend_from_slice(&row[..row_bytes as usize]);
-    }
-    drop(mapped);
+    let value = read(&view);
+    drop(view);
     buffer.unmap();
-    Ok(pixels)
+    Ok(value)
+}
+
+/// Reads a whole buffer (which needs `COPY_SRC`) back to the CPU.
+#[cfg(test)]
+pub(super) fn read_buffer(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    source: &wgpu::Buffer,
+) -> Result<Vec<u8>> {
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: source.size(),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("readback"),
+    });
+    encoder.copy_buffer_to_buffer(source, 0, &buffer, 0, source.size());
+    queue.submit([encoder.finish()]);
+    mapped(device, &buffer, <[u8]>::to_vec)
 }

@@ -5,11 +5,15 @@
 use wgpu::util::DeviceExt;
 
 use super::frame_uniforms::FrameUniforms;
+use super::pipelines::Model;
+use super::prt_rotate::RotationUniforms;
 use super::surface_mesh::expand;
-use super::{Renderer, fin_mesh, scoped, surface_mesh, textures};
+use super::{Renderer, fin_mesh, scoped, surface_mesh, textures, transfer};
 use crate::FurMesh;
 use crate::error::{PeltError, Result};
 use crate::mesh::MAX_LENGTH;
+use crate::prt::pack::{CHANNELS, PackedF16};
+use crate::threads::pool;
 use crate::volume::HairVolume;
 
 /// Hair color where the mesh has none: white, so the texture's own color shows.
@@ -22,18 +26,22 @@ const DEFAULT_LENGTH: f32 = 1.0;
 pub struct UploadStats {
     /// Shell, tangent and fin textures with their mip levels.
     pub texture_bytes: u64,
+    /// PRT transfer textures with their mip levels and the fins' layer means, summed over every
+    /// [`FurScene::set_transfer`].
+    pub transfer_bytes: u64,
     /// Positions, frames, UVs, comb vectors and indices of the skin, shells and fins.
     pub geometry_bytes: u64,
     /// Colors and lengths, summed over the initial upload and every update.
     pub attribute_bytes: u64,
 }
 
-/// The vertex and index buffers of one kind of geometry (surface or fins).
+/// The vertex and index buffers of one kind of geometry (surface or fins). They are storage
+/// buffers too, which PRT's vertex pulling and rotation pass read.
 pub(super) struct GpuMesh {
-    geometry: wgpu::Buffer,
-    color: wgpu::Buffer,
-    length: wgpu::Buffer,
-    index: wgpu::Buffer,
+    pub geometry: wgpu::Buffer,
+    pub color: wgpu::Buffer,
+    pub length: wgpu::Buffer,
+    pub index: wgpu::Buffer,
     pub index_count: u32,
 }
 
@@ -53,13 +61,14 @@ impl GpuMesh {
                 usage,
             })
         };
-        let vertex = wgpu::BufferUsages::VERTEX;
+        let vertex = wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE;
         let dynamic = vertex | wgpu::BufferUsages::COPY_DST;
+        let index = wgpu::BufferUsages::INDEX | wgpu::BufferUsages::STORAGE;
         GpuMesh {
             geometry: buffer("geometry", geometry, vertex),
             color: buffer("color", bytemuck::cast_slice(colors), dynamic),
             length: buffer("length", bytemuck::cast_slice(lengths), dynamic),
-            index: buffer("index", bytemuck::cast_slice(indices), wgpu::BufferUsages::INDEX),
+            index: buffer("index", bytemuck::cast_slice(indices), index),
             index_count: indices.len() as u32,
         }
     }
@@ -70,6 +79,18 @@ impl GpuMesh {
         pass.set_vertex_buffer(1, self.color.slice(..));
         pass.set_vertex_buffer(2, self.length.slice(..));
         pass.set_index_buffer(self.index.slice(..), wgpu::IndexFormat::Uint32);
+    }
+
+    /// Draws every triangle `instances` times: indexed from the vertex buffers, or for PRT one
+    /// vertex per corner that the shader pulls from the storage buffers (bind group 1).
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, model: Model, instances: std::ops::Range<u32>) {
+        match model {
+            Model::KajiyaKay => {
+                self.bind(pass);
+                pass.draw_indexed(0..self.index_count, 0, instances);
+            }
+            Model::Prt => pass.draw(0..self.index_count, instances),
+        }
     }
 }
 
@@ -86,7 +107,23 @@ pub struct FurScene {
     mesh_vertices: usize,
     pub(super) layers: u32,
     pub(super) layer_spacing: f32,
+    resolution: usize,
+    pub(super) transfer: Option<SceneTransfer>,
     uploads: UploadStats,
+}
+
+/// A scene's PRT state: the transfer textures and what the rotation pass and the PRT passes
+/// bind.
+pub(super) struct SceneTransfer {
+    pub order: usize,
+    pub textures: u32,
+    /// Array layers per transfer texture.
+    pub stride: u32,
+    /// Rotation uniforms, rewritten every frame.
+    pub uniforms: wgpu::Buffer,
+    pub rotate_group: wgpu::BindGroup,
+    /// Bind group 1 of the PRT passes.
+    pub render_group: wgpu::BindGroup,
 }
 
 fn check_colors(colors: &[[f32; 4]], vertices: usize) -> Result<()> {
@@ -142,7 +179,8 @@ impl FurScene {
         let device = &renderer.device;
         textures::validate(volume, &device.limits())?;
         let surface = surface_mesh::build(mesh, corner_uvs)?;
-        let fins = fin_mesh::build(mesh, surface.uv_scale);
+        let first = surface_mesh::first_copies(&surface.source, mesh.vertex_count());
+        let fins = fin_mesh::build(mesh, surface.uv_scale, &first);
         let pipelines = renderer.fur_pipelines()?;
         let colors = mesh
             .color()
@@ -216,6 +254,7 @@ impl FurScene {
                 + size_of_val(fins.vertices.as_slice())
                 + 4 * (surface.indices.len() + fins.indices.len())) as u64,
             attribute_bytes: attribute_rows * (16 + 4),
+            transfer_bytes: 0,
         };
         Ok(FurScene {
             renderer_id: renderer.id,
@@ -229,8 +268,125 @@ impl FurScene {
             mesh_vertices: mesh.vertex_count(),
             layers: volume.layers as u32,
             layer_spacing: volume.layer_spacing as f32,
+            resolution: volume.resolution,
+            transfer: None,
             uploads,
         })
+    }
+
+    /// Uploads PRT transfer textures ([`crate::prt::pack::pack_f16`] of a transfer baked from
+    /// this scene's hair volume), replacing any earlier ones; [`super::LightModel::Prt`] needs
+    /// them.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming `renderer` (not the one that uploaded the scene),
+    /// `transfer.layers` or `transfer.resolution` (a texture set from another bake),
+    /// `transfer.textures`, `transfer.texels` (length, or the first non-finite value) or
+    /// `transfer` (beyond the device's limits); [`PeltError::Render`] when the device fails or
+    /// lacks what PRT needs. The scene is unchanged then.
+    pub fn set_transfer(&mut self, renderer: &Renderer, transfer: &PackedF16) -> Result<()> {
+        if renderer.id != self.renderer_id {
+            return Err(PeltError::parameter(
+                "renderer",
+                "is not the Renderer that uploaded this scene",
+            ));
+        }
+        let device = &renderer.device;
+        let limits = device.limits();
+        let stride = self.layers as usize;
+        let order = transfer::check(
+            transfer,
+            self.layers as usize,
+            self.resolution,
+            stride,
+            limits.max_texture_array_layers,
+        )?;
+        let n = order * order;
+        let rotated_bytes = (self.surface_source.len() * n * 16) as u64;
+        if rotated_bytes > limits.max_storage_buffer_binding_size {
+            return Err(PeltError::parameter(
+                "transfer",
+                format!(
+                    "order {order} on {} surface vertices needs a {rotated_bytes}-byte lighting buffer, the device allows {}",
+                    self.surface_source.len(),
+                    limits.max_storage_buffer_binding_size
+                ),
+            ));
+        }
+        let means = pool().install(|| transfer::layer_means(transfer, order));
+        let voxels = transfer.layers * transfer.resolution * transfer.resolution * CHANNELS;
+        let per_texture: Vec<Vec<half::f16>> =
+            transfer.texels.chunks_exact(voxels).map(<[_]>::to_vec).collect();
+        let pipelines = renderer.fur_pipelines()?;
+        let prt = pipelines.prt(device)?;
+        let (scene_transfer, bytes) = scoped(device, "uploading the transfer", || {
+            let textures = transfer::upload(device, &renderer.queue, &per_texture, self.resolution, stride)?;
+            let storage = |label: &str, contents: &[u8]| {
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents,
+                    usage: wgpu::BufferUsages::STORAGE,
+                })
+            };
+            let means_buffer = storage("prt layer means", bytemuck::cast_slice(&means));
+            let rotated = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("prt rotated lighting"),
+                size: rotated_bytes.max(16),
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            });
+            let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("prt rotation uniforms"),
+                size: size_of::<RotationUniforms>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let rotate_group = prt
+                .rotate
+                .bind_group(device, &uniforms, &self.surface.geometry, &rotated);
+            fn buffer(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+                wgpu::BindGroupEntry {
+                    binding,
+                    resource: buffer.as_entire_binding(),
+                }
+            }
+            let render_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("prt"),
+                layout: &prt.group_layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::TextureView(&textures.view),
+                    },
+                    buffer(1, &rotated),
+                    buffer(2, &means_buffer),
+                    buffer(3, &self.surface.index),
+                    buffer(4, &self.surface.geometry),
+                    buffer(5, &self.surface.color),
+                    buffer(6, &self.surface.length),
+                ],
+            });
+            let scene_transfer = SceneTransfer {
+                order,
+                textures: transfer.textures as u32,
+                stride: stride as u32,
+                uniforms,
+                rotate_group,
+                render_group,
+            };
+            Ok::<_, PeltError>((
+                scene_transfer,
+                textures.bytes + size_of_val(means.as_slice()) as u64,
+            ))
+        })??;
+        self.transfer = Some(scene_transfer);
+        self.uploads.transfer_bytes += bytes;
+        Ok(())
+    }
+
+    /// The SH order of the scene's transfer, if it has one.
+    pub fn transfer_order(&self) -> Option<usize> {
+        self.transfer.as_ref().map(|t| t.order)
     }
 
     /// Rewrites the per-vertex colors and/or lengths (one row per mesh vertex, like

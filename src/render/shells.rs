@@ -3,30 +3,53 @@
 //! `length × (normal + comb shear)` is computed in the vertex shader (§2.4). Depth is tested and
 //! written behind an alpha test, so empty texels write no depth.
 
-use super::pipelines::{FurPipelines, PassState};
+use super::pipelines::{Model, PassPipelines, PassState, VertexInput};
 use super::scene::FurScene;
 
+const KAJIYA_KAY: &str = concat!(
+    include_str!("common.wgsl"),
+    include_str!("lighting.wgsl"),
+    include_str!("surface.wgsl"),
+    include_str!("surface_kk.wgsl"),
+    include_str!("shells.wgsl")
+);
+const PRT: &str = concat!(
+    include_str!("common.wgsl"),
+    include_str!("prt.wgsl"),
+    include_str!("surface.wgsl"),
+    include_str!("surface_prt.wgsl"),
+    include_str!("shells.wgsl")
+);
+
 /// Back faces culled, depth written, premultiplied "over".
-pub(super) const STATE: PassState<'static> = PassState {
-    label: "shells",
-    source: concat!(
-        include_str!("common.wgsl"),
-        include_str!("lighting.wgsl"),
-        include_str!("surface.wgsl"),
-        include_str!("shells.wgsl")
-    ),
-    fins: false,
-    cull_mode: Some(wgpu::Face::Back),
-    depth_write: true,
-    blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
-};
+pub(super) fn state(model: Model) -> PassState<'static> {
+    PassState {
+        label: "shells",
+        source: match model {
+            Model::KajiyaKay => KAJIYA_KAY,
+            Model::Prt => PRT,
+        },
+        input: match model {
+            Model::KajiyaKay => VertexInput::Surface,
+            Model::Prt => VertexInput::Pulled,
+        },
+        cull_mode: Some(wgpu::Face::Back),
+        depth_write: true,
+        blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+    }
+}
 
 /// Draws `count` shells.
-pub(super) fn draw(pass: &mut wgpu::RenderPass<'_>, pipelines: &FurPipelines, scene: &FurScene, count: u32) {
+pub(super) fn draw(
+    pass: &mut wgpu::RenderPass<'_>,
+    pipelines: &PassPipelines,
+    scene: &FurScene,
+    model: Model,
+    count: u32,
+) {
     if count == 0 {
         return;
     }
     pass.set_pipeline(&pipelines.shells);
-    scene.surface.bind(pass);
-    pass.draw_indexed(0..scene.surface.index_count, 0, 0..count);
+    scene.surface.draw(pass, model, 0..count);
 }

@@ -1,27 +1,49 @@
 //! Pass (a), the skin (Lengyel et al. 2001, §2.3): the opaque mesh textured with layer 0 of the
 //! shell texture times the vertex color, filling the depth buffer that fins and shells test.
 
-use super::pipelines::{FurPipelines, PassState};
+use super::pipelines::{Model, PassPipelines, PassState, VertexInput};
 use super::scene::FurScene;
 
-/// Back faces culled, depth written, no blending.
-pub(super) const STATE: PassState<'static> = PassState {
-    label: "skin",
-    source: concat!(
-        include_str!("common.wgsl"),
-        include_str!("lighting.wgsl"),
-        include_str!("surface.wgsl"),
-        include_str!("skin.wgsl")
-    ),
-    fins: false,
-    cull_mode: Some(wgpu::Face::Back),
-    depth_write: true,
-    blend: None,
-};
+const KAJIYA_KAY: &str = concat!(
+    include_str!("common.wgsl"),
+    include_str!("lighting.wgsl"),
+    include_str!("surface.wgsl"),
+    include_str!("surface_kk.wgsl"),
+    include_str!("skin.wgsl")
+);
+const PRT: &str = concat!(
+    include_str!("common.wgsl"),
+    include_str!("prt.wgsl"),
+    include_str!("surface.wgsl"),
+    include_str!("surface_prt.wgsl"),
+    include_str!("skin.wgsl")
+);
 
-/// Draws the skin.
-pub(super) fn draw(pass: &mut wgpu::RenderPass<'_>, pipelines: &FurPipelines, scene: &FurScene) {
+/// Back faces culled, depth written, no blending.
+pub(super) fn state(model: Model) -> PassState<'static> {
+    PassState {
+        label: "skin",
+        source: match model {
+            Model::KajiyaKay => KAJIYA_KAY,
+            Model::Prt => PRT,
+        },
+        input: match model {
+            Model::KajiyaKay => VertexInput::Surface,
+            Model::Prt => VertexInput::Pulled,
+        },
+        cull_mode: Some(wgpu::Face::Back),
+        depth_write: true,
+        blend: None,
+    }
+}
+
+/// Draws the skin (bind group 1 is set for PRT).
+pub(super) fn draw(
+    pass: &mut wgpu::RenderPass<'_>,
+    pipelines: &PassPipelines,
+    scene: &FurScene,
+    model: Model,
+) {
     pass.set_pipeline(&pipelines.skin);
-    scene.surface.bind(pass);
-    pass.draw_indexed(0..scene.surface.index_count, 0, 0..1);
+    scene.surface.draw(pass, model, 0..1);
 }

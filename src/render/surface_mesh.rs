@@ -189,3 +189,13 @@ pub(super) fn build(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result<Surf
 pub(super) fn expand<T: Copy>(values: &[T], source: &[u32]) -> Vec<T> {
     source.iter().map(|&v| values[v as usize]).collect()
 }
+
+/// For each of `vertex_count` mesh vertices, its first surface vertex (the copies of a vertex
+/// split at a seam are adjacent, sorted by UV), or `u32::MAX` for a vertex on no triangle.
+pub(super) fn first_copies(source: &[u32], vertex_count: usize) -> Vec<u32> {
+    let mut first = vec![u32::MAX; vertex_count];
+    for (i, &v) in source.iter().enumerate().rev() {
+        first[v as usize] = i as u32;
+    }
+    first
+}

@@ -309,7 +309,8 @@ fn bad_uvs_are_named() {
 #[test]
 fn one_fin_per_edge_standing_on_it() {
     let mesh = square();
-    let fins = fin_mesh::build(&mesh, 0.5);
+    // Surface vertex of mesh vertex v: 10 + v, to see that the fins name them.
+    let fins = fin_mesh::build(&mesh, 0.5, &[10, 11, 12, 13]);
     assert_eq!(fins.vertices.len(), 4 * 5);
     assert_eq!(fins.indices.len(), 6 * 5);
     for quad in fins.vertices.chunks_exact(4) {
@@ -333,6 +334,12 @@ fn one_fin_per_edge_standing_on_it() {
             [1.0, 1.0, 0.0, 0.0]
         );
         assert_eq!((quad[2].position, quad[3].position), (a, b));
+        // Each corner names both ends' surface vertices and weighs its own end fully.
+        let ends = quad[0].ends;
+        assert_eq!(ends.map(|e| mesh.positions()[e as usize - 10]), [a, b]);
+        for (corner, along) in quad.iter().zip([0.0, 1.0, 0.0, 1.0]) {
+            assert_eq!((corner.ends, corner.along), (ends, along));
+        }
     }
 }
 
@@ -384,4 +391,54 @@ fn premultiplying_does_not_depend_on_the_thread_count() {
         pool.install(|| premultiply(&straight))
     };
     assert!(run(1) == run(2));
+}
+
+#[test]
+fn transfer_layer_means_are_the_tile_means_for_any_thread_count() {
+    use super::transfer::{layer_means, order_of};
+    use crate::prt::pack::{PackedF16, texel_index};
+    use half::f16;
+    let (order, layers, resolution) = (3, 3, 5);
+    let n = order * order;
+    let textures = order_of(3).unwrap();
+    assert_eq!(textures, order);
+    let voxels = layers * resolution * resolution;
+    let value = |k: usize, v: usize| ((k * 7 + v * 13) % 17) as f32 / 8.0 - 1.0;
+    let mut texels = vec![f16::ZERO; 3 * voxels * 4];
+    for v in 0..voxels {
+        for k in 0..n {
+            texels[texel_index(k, v, voxels)] = f16::from_f32(value(k, v));
+        }
+    }
+    let packed = PackedF16 {
+        textures: 3,
+        layers,
+        resolution,
+        texels,
+    };
+    let run = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| layer_means(&packed, order))
+    };
+    let means = run(1);
+    assert!(means == run(2));
+    for layer in 0..layers {
+        for k in 0..n {
+            let texels = resolution * resolution;
+            let want = (0..texels)
+                .map(|i| f64::from(value(k, layer * texels + i)))
+                .sum::<f64>()
+                / texels as f64;
+            // The values are multiples of 1/8, exact in f16.
+            assert!((f64::from(means[layer * n + k]) - want).abs() < 1e-6);
+        }
+    }
+    // One texture reads as order 2; two textures fit no order.
+    assert_eq!(
+        (order_of(1), order_of(2), order_of(7), order_of(16)),
+        (Some(2), None, Some(5), Some(8))
+    );
 }

@@ -1,0 +1,134 @@
+// Rotates the world lighting (real SH, RGB) into every surface vertex's tile frame for PRT
+// (prt-shell-fur §2.4: the transfer was baked in the tile frame, x along the tile's u, y along
+// v, z up). The frame is made orthonormal: z the vertex normal, x the tangential part of dP/du,
+// y = z × x, mirrored when dP/dv points the other way (a mirrored patch).
+//
+// The rotation r (rows x, y, z: world to tile) is split into Euler angles, r = Rz(α) Ry(β) Rz(γ),
+// and Ry(β) = Rx(-90°) Rz(β) Rx(90°): rotations about z only mix the (m, -m) pairs of a band,
+// and the one fixed matrix D(Rx(90°)) (computed once on the CPU by the Ivanic-Ruedenberg
+// recurrence, its transpose giving Rx(-90°)) does the rest. That costs two dense products per
+// band instead of building each vertex's band matrices.
+
+struct Rotation {
+    // x: surface vertices, y: order n, z: coefficients n².
+    counts: vec4<u32>,
+    // The world lighting, 1/π folded in; rgb per coefficient.
+    light: array<vec4<f32>, 64>,
+};
+
+@group(0) @binding(0) var<uniform> params: Rotation;
+// SurfaceVertex rows of 17 floats: position, normal, dP/du, dP/dv, uv, comb.
+@group(0) @binding(1) var<storage, read> geometry: array<f32>;
+// D(Rx(90°)), bands 0.. one after the other, each (2l+1)² row-major.
+@group(0) @binding(2) var<storage, read> x90: array<f32>;
+@group(0) @binding(3) var<storage, read_write> rotated: array<vec4<f32>>;
+
+const WORKGROUP: u32 = 64u;
+const GEOMETRY_FLOATS: u32 = 17u;
+// Below this sin β the Euler angles α and γ are ill-defined and only α + γ matters.
+const GIMBAL: f32 = 1e-4;
+
+alias Coefficients = array<vec4<f32>, 64>;
+
+fn vec3_at(base: u32) -> vec3<f32> {
+    return vec3<f32>(geometry[base], geometry[base + 1u], geometry[base + 2u]);
+}
+
+// Coefficients of f(Rz(angle)ᵀ ω): each pair (m, -m) turns by m · angle.
+fn rotate_z(c: ptr<function, Coefficients>, angle: f32, order: u32) {
+    for (var l = 1u; l < order; l++) {
+        let center = l * l + l;
+        for (var m = 1u; m <= l; m++) {
+            let a = f32(m) * angle;
+            let cs = cos(a);
+            let sn = sin(a);
+            let p = (*c)[center + m];
+            let q = (*c)[center - m];
+            (*c)[center + m] = p * cs - q * sn;
+            (*c)[center - m] = p * sn + q * cs;
+        }
+    }
+}
+
+// dst = D(Rx(90°)) src, or D(Rx(-90°)) src with `inverse` (the transpose).
+fn rotate_x90(src: ptr<function, Coefficients>, dst: ptr<function, Coefficients>, order: u32,
+              inverse: bool) {
+    var offset = 0u;
+    for (var l = 0u; l < order; l++) {
+        let size = 2u * l + 1u;
+        let start = l * l;
+        for (var i = 0u; i < size; i++) {
+            var acc = vec4<f32>(0.0);
+            for (var j = 0u; j < size; j++) {
+                let e = select(x90[offset + i * size + j], x90[offset + j * size + i], inverse);
+                acc += e * (*src)[start + j];
+            }
+            (*dst)[start + i] = acc;
+        }
+        offset += size * size;
+    }
+}
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>,
+        @builtin(num_workgroups) groups: vec3<u32>) {
+    let v = id.x + id.y * groups.x * WORKGROUP;
+    if (v >= params.counts.x) {
+        return;
+    }
+    let order = params.counts.y;
+    let n = params.counts.z;
+    let b = v * GEOMETRY_FLOATS;
+    let normal = vec3_at(b + 3u);
+    let dpdu = vec3_at(b + 6u);
+    let dpdv = vec3_at(b + 9u);
+    var z = vec3<f32>(0.0, 0.0, 1.0);
+    if (dot(normal, normal) > 1e-24) {
+        z = normalize(normal);
+    }
+    var x = dpdu - z * dot(z, dpdu);
+    if (dot(x, x) <= 1e-8 * dot(dpdu, dpdu)) {
+        // No usable dP/du (zero, or along the normal to within 1e-4): any tangent will do (the
+        // pelt is nearly isotropic about the normal).
+        x = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(z.x) > 0.9);
+        x = x - z * dot(z, x);
+    }
+    x = normalize(x);
+    let y = cross(z, x);
+    let mirrored = dot(y, dpdv) < 0.0;
+
+    // r = rows (x, y, z) = Rz(α) Ry(β) Rz(γ): third column (cα sβ, sα sβ, cβ), third row
+    // (-sβ cγ, sβ sγ, cβ).
+    let sb = length(vec2<f32>(x.z, y.z));
+    let beta = atan2(sb, z.z);
+    var alpha = 0.0;
+    var gamma = 0.0;
+    if (sb > GIMBAL) {
+        alpha = atan2(y.z, x.z);
+        gamma = atan2(z.y, -z.x);
+    } else {
+        // r ≈ Rz(α) (β = 0) or Rz(α) diag(-1, 1, -1) (β = π), with γ = 0.
+        alpha = atan2(select(y.x, -y.x, z.z < 0.0), y.y);
+    }
+
+    var c: Coefficients;
+    var d: Coefficients;
+    for (var k = 0u; k < n; k++) {
+        c[k] = params.light[k];
+    }
+    rotate_z(&c, gamma, order);
+    rotate_x90(&c, &d, order, false);
+    rotate_z(&d, beta, order);
+    rotate_x90(&d, &c, order, true);
+    rotate_z(&c, alpha, order);
+    // A mirrored frame flips y: the functions odd in y (m < 0) change sign.
+    for (var l = 1u; l < order; l++) {
+        for (var m = 1u; m <= l; m++) {
+            let k = l * l + l - m;
+            c[k] = select(c[k], -c[k], mirrored);
+        }
+    }
+    for (var k = 0u; k < n; k++) {
+        rotated[v * n + k] = c[k];
+    }
+}

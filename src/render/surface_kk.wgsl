@@ -1,0 +1,44 @@
+// The skin and shells under Kajiya-Kay lighting (Lengyel et al. 2001, §2.4): vertices come from
+// the vertex buffers, the tangent map gives the hair direction per texel.
+
+struct SurfaceIn {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) dpdu: vec3<f32>,
+    @location(3) dpdv: vec3<f32>,
+    @location(4) uv: vec2<f32>,
+    @location(5) comb: vec3<f32>,
+    @location(6) color: vec4<f32>,
+    @location(7) length: f32,
+};
+
+struct SurfaceOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) dpdu: vec3<f32>,
+    @location(3) dpdv: vec3<f32>,
+    @location(4) up: vec3<f32>,
+    @location(5) uv: vec2<f32>,
+    @location(6) color: vec4<f32>,
+    @location(7) length: f32,
+    @location(8) @interpolate(flat) layer: u32,
+};
+
+// The vertex lifted to `layer`, with its painted length (`painted`) or the length multiplier 1.
+fn surface_vertex(v: SurfaceIn, layer: u32, painted: bool) -> SurfaceOut {
+    let d = SurfaceData(v.position, v.normal, v.dpdu, v.dpdv, v.uv, v.comb, v.color, v.length);
+    let lifted = lift(d, layer, select(1.0, v.length, painted));
+    return SurfaceOut(lifted.clip, lifted.position, v.normal, v.dpdu, v.dpdv, lifted.up, v.uv,
+                      v.color, v.length, layer);
+}
+
+// `texel` × vertex color, lit; premultiplied, opacity × texel alpha. `grad` is unused here (the
+// tangent map has one level).
+fn shade_surface(s: SurfaceOut, texel: vec4<f32>, opacity: f32, grad: vec4<f32>) -> vec4<f32> {
+    let n = unit_or(s.normal, vec3<f32>(0.0, 0.0, 1.0));
+    let t = hair_tangent(s.uv, s.layer, s.dpdu, s.dpdv, s.up, n);
+    let albedo = texel.rgb * s.color.rgb * opacity;
+    let height = f32(s.layer) * frame.fur.y;
+    return shade(albedo, texel.a * opacity, t, n, view_vector(s.position), height);
+}

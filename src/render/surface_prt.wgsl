@@ -1,0 +1,58 @@
+// The skin and shells under PRT lighting (prt-shell-fur §2.4). The rotated lighting lives per
+// surface vertex in a storage buffer and has too many coefficients to interpolate as vertex
+// outputs, so the draw is not indexed: each vertex invocation is one triangle corner, reads the
+// triangle's three surface vertices from the index buffer (vertex pulling), and hands them on
+// (flat) with a barycentric one-hot; the fragment interpolates the three vertices' lighting.
+
+@group(1) @binding(3) var<storage, read> surface_indices: array<u32>;
+// SurfaceVertex rows of 17 floats: position, normal, dP/du, dP/dv, uv, comb.
+@group(1) @binding(4) var<storage, read> surface_geometry: array<f32>;
+@group(1) @binding(5) var<storage, read> surface_colors: array<vec4<f32>>;
+@group(1) @binding(6) var<storage, read> surface_lengths: array<f32>;
+
+const SURFACE_FLOATS: u32 = 17u;
+
+struct SurfaceIn {
+    @builtin(vertex_index) corner: u32,
+};
+
+struct SurfaceOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) uv: vec2<f32>,
+    @location(1) color: vec4<f32>,
+    @location(2) length: f32,
+    @location(3) @interpolate(flat) layer: u32,
+    @location(4) @interpolate(flat) ids: vec3<u32>,
+    @location(5) bary: vec3<f32>,
+};
+
+fn vec3_at(base: u32) -> vec3<f32> {
+    return vec3<f32>(surface_geometry[base], surface_geometry[base + 1u],
+                     surface_geometry[base + 2u]);
+}
+
+fn load_surface(v: u32) -> SurfaceData {
+    let b = v * SURFACE_FLOATS;
+    let uv = vec2<f32>(surface_geometry[b + 12u], surface_geometry[b + 13u]);
+    return SurfaceData(vec3_at(b), vec3_at(b + 3u), vec3_at(b + 6u), vec3_at(b + 9u), uv,
+                       vec3_at(b + 14u), surface_colors[v], surface_lengths[v]);
+}
+
+// The corner lifted to `layer`, with its painted length (`painted`) or the length multiplier 1.
+fn surface_vertex(v: SurfaceIn, layer: u32, painted: bool) -> SurfaceOut {
+    let first = v.corner - v.corner % 3u;
+    let ids = vec3<u32>(surface_indices[first], surface_indices[first + 1u],
+                        surface_indices[first + 2u]);
+    let d = load_surface(surface_indices[v.corner]);
+    let lifted = lift(d, layer, select(1.0, d.length, painted));
+    var bary = vec3<f32>(0.0);
+    bary[v.corner % 3u] = 1.0;
+    return SurfaceOut(lifted.clip, d.uv, d.color, d.length, layer, ids, bary);
+}
+
+// `texel` × vertex color, lit by the transfer of its texel; premultiplied, opacity × texel alpha.
+fn shade_surface(s: SurfaceOut, texel: vec4<f32>, opacity: f32, grad: vec4<f32>) -> vec4<f32> {
+    let albedo = texel.rgb * s.color.rgb * opacity;
+    let light = transfer_radiance(s.ids, s.bary, s.uv, s.layer, grad);
+    return vec4<f32>(albedo * light, texel.a * opacity);
+}

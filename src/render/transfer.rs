@@ -1,0 +1,192 @@
+//! The PRT transfer textures on the GPU (prt-shell-fur §2.3–§2.4): the packed float16
+//! coefficients (coefficient k in texture k / 4, channel k % 4) as one `Rgba16Float` texture
+//! array with a mip chain, texture `t` taking layers `t · stride ..` (stride = the shell
+//! layers of every LOD level), plus the per-layer tile means that light the fins.
+//!
+//! A transfer belongs to one bake: its layers and resolution must be the volume's, which is what
+//! [`check`] holds it to.
+
+use half::f16;
+use rayon::prelude::*;
+
+use crate::error::{PeltError, Result};
+use crate::export::{MipAlpha, MipLevels, MipOptions, mip_chain_rgba16f};
+use crate::prt::pack::{CHANNELS, PackedF16, texture_count};
+use crate::prt::sh::MAX_ORDER;
+
+/// The order whose coefficients fill `textures` RGBA textures: the largest `n` with
+/// `⌈n²/4⌉ = textures` (one texture reads as order 2: an order-1 bake leaves channels 1–3 zero,
+/// which light nothing).
+pub(super) fn order_of(textures: usize) -> Option<usize> {
+    (1..=MAX_ORDER).rev().find(|&n| texture_count(n * n) == textures)
+}
+
+/// Checks `packed` against the scene's volume (`layers`, `resolution`) and the device's array
+/// limit for `stride` layers per texture; returns the order.
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] naming `transfer.textures`, `transfer.layers`,
+/// `transfer.resolution` (a texture set from another bake), `transfer.texels` (its length) or
+/// the first non-finite `transfer.texels[i]`, or `transfer` when the array needs more layers than
+/// the device has.
+pub(super) fn check(
+    packed: &PackedF16,
+    layers: usize,
+    resolution: usize,
+    stride: usize,
+    max_array_layers: u32,
+) -> Result<usize> {
+    let order = order_of(packed.textures).ok_or_else(|| {
+        PeltError::parameter(
+            "transfer.textures",
+            format!(
+                "must be ⌈n²/4⌉ for an SH order n in [1, {MAX_ORDER}] (1, 3, 4, 7, 9, 13 or 16), got {}",
+                packed.textures
+            ),
+        )
+    })?;
+    for (name, got, want) in [
+        ("transfer.layers", packed.layers, layers),
+        ("transfer.resolution", packed.resolution, resolution),
+    ] {
+        if got != want {
+            return Err(PeltError::parameter(
+                name,
+                format!(
+                    "is {got} but the scene's hair volume has {want}: the textures come from another bake"
+                ),
+            ));
+        }
+    }
+    let expected = packed.textures * layers * resolution * resolution * CHANNELS;
+    if packed.texels.len() != expected {
+        return Err(PeltError::parameter(
+            "transfer.texels",
+            format!(
+                "must hold textures · layers · resolution² · 4 = {expected} values, got {}",
+                packed.texels.len()
+            ),
+        ));
+    }
+    if let Some(i) = packed.texels.iter().position(|t| !t.is_finite()) {
+        return Err(PeltError::parameter(
+            format!("transfer.texels[{i}]"),
+            format!("must be finite, got {}", packed.texels[i]),
+        ));
+    }
+    let needed = packed.textures * stride;
+    if needed > max_array_layers as usize {
+        return Err(PeltError::parameter(
+            "transfer",
+            format!(
+                "needs {needed} texture array layers ({} textures × {stride} layers), the device allows {max_array_layers}",
+                packed.textures
+            ),
+        ));
+    }
+    Ok(order)
+}
+
+/// The tile mean of every coefficient per layer, `[layer][n²]` (the fins' transfer), in the
+/// current rayon pool. Each mean is summed in f64 in texel order, so the result does not depend
+/// on the thread count.
+pub(super) fn layer_means(packed: &PackedF16, order: usize) -> Vec<f32> {
+    let n = order * order;
+    let texels = packed.resolution * packed.resolution;
+    let voxels = packed.layers * texels;
+    (0..packed.layers)
+        .into_par_iter()
+        .flat_map_iter(|layer| {
+            (0..n).map(move |k| {
+                let (t, c) = (k / CHANNELS, k % CHANNELS);
+                let start = (t * voxels + layer * texels) * CHANNELS + c;
+                let sum: f64 = packed.texels[start..start + texels * CHANNELS]
+                    .iter()
+                    .step_by(CHANNELS)
+                    .map(|v| f64::from(v.to_f32()))
+                    .sum();
+                (sum / texels as f64) as f32
+            })
+        })
+        .collect()
+}
+
+/// The uploaded array.
+pub(super) struct TransferTextures {
+    pub view: wgpu::TextureView,
+    /// Bytes written to the GPU.
+    pub bytes: u64,
+}
+
+/// Uploads `per_texture[t]` (`stride` layers of `resolution²` RGBA f16 texels each, every LOD
+/// level's layers in a row) with a full mip chain per layer; call inside an error scope.
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] from the mipmapper (not for checked input).
+pub(super) fn upload(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    per_texture: &[Vec<f16>],
+    resolution: usize,
+    stride: usize,
+) -> Result<TransferTextures> {
+    let options = MipOptions {
+        levels: MipLevels::Full,
+        alpha: MipAlpha::Independent,
+    };
+    let chains = per_texture
+        .iter()
+        .map(|base| mip_chain_rgba16f(resolution, resolution, stride, base, &options))
+        .collect::<Result<Vec<_>>>()?;
+    let levels = chains.first().map_or(1, Vec::len);
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("prt transfer"),
+        size: wgpu::Extent3d {
+            width: resolution as u32,
+            height: resolution as u32,
+            depth_or_array_layers: (per_texture.len() * stride) as u32,
+        },
+        mip_level_count: levels as u32,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba16Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    let mut bytes = 0u64;
+    for (t, chain) in chains.iter().enumerate() {
+        for (level, data) in chain.iter().enumerate() {
+            let side = (resolution >> level).max(1) as u32;
+            queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &texture,
+                    mip_level: level as u32,
+                    origin: wgpu::Origin3d {
+                        x: 0,
+                        y: 0,
+                        z: (t * stride) as u32,
+                    },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                bytemuck::cast_slice(data),
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(8 * side),
+                    rows_per_image: Some(side),
+                },
+                wgpu::Extent3d {
+                    width: side,
+                    height: side,
+                    depth_or_array_layers: stride as u32,
+                },
+            );
+            bytes += size_of_val(data.as_slice()) as u64;
+        }
+    }
+    let view = texture.create_view(&wgpu::TextureViewDescriptor {
+        label: Some("prt transfer"),
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    });
+    Ok(TransferTextures { view, bytes })
+}
