@@ -4,6 +4,8 @@
 //! fails (never skips) when no CPU adapter exists.
 #![cfg(feature = "render")]
 
+mod common;
+
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -13,6 +15,8 @@ use pelt::mesh::shapes::{torus, torus_uvs};
 use pelt::render::{AdapterChoice, Camera, FurScene, Lighting, RenderSettings, Renderer, RgbaImage};
 use pelt::volume::{HairVolume, VolumeParams, bake_volume};
 use pelt::{FurMesh, MeshInput, PeltError};
+
+use common::{column_major, look_at};
 
 const AROUND: usize = 32;
 const ACROSS: usize = 16;
@@ -67,34 +71,6 @@ fn fixture() -> &'static Fixture {
 fn scene() -> FurScene {
     let f = fixture();
     FurScene::new(&f.renderer, &f.mesh, &f.uvs, &f.volume).unwrap()
-}
-
-fn column_major(rows: [[f64; 4]; 4]) -> [f32; 16] {
-    std::array::from_fn(|i| rows[i % 4][i / 4] as f32)
-}
-
-fn look_at(eye: [f64; 3], up: [f64; 3]) -> [f32; 16] {
-    let norm = |v: [f64; 3]| {
-        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        v.map(|c| c / l)
-    };
-    let cross = |a: [f64; 3], b: [f64; 3]| {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let f = norm(eye.map(|c| -c));
-    let s = norm(cross(f, up));
-    let u = cross(s, f);
-    column_major([
-        [s[0], s[1], s[2], -dot(s, eye)],
-        [u[0], u[1], u[2], -dot(u, eye)],
-        [-f[0], -f[1], -f[2], dot(f, eye)],
-        [0.0, 0.0, 0.0, 1.0],
-    ])
 }
 
 /// Perspective camera (60° field of view) looking at the torus from above and to the side.
@@ -453,4 +429,98 @@ fn comb_shears_the_fur_along_the_comb() {
         right > 1.0 + 0.5 * overhang && right < 1.0 + overhang + 2.0 * pixel,
         "combed right edge {right}"
     );
+}
+
+/// LOD settings whose schedule asks for `shells` shells on `camera` (through `shells_per_pixel`,
+/// or `max_shells` for none).
+fn lod_for(scene: &FurScene, camera: &Camera, shells: f64) -> RenderSettings {
+    let lod = RenderSettings {
+        lod: true,
+        min_shells: 0,
+        ..settings()
+    };
+    if shells == 0.0 {
+        return RenderSettings { max_shells: 0, ..lod };
+    }
+    let fur = fixture().renderer.frame_info(scene, camera, &lod).unwrap();
+    let pixels = f64::from(fur.fur_pixels.unwrap());
+    RenderSettings {
+        shells_per_pixel: (shells / pixels) as f32,
+        ..lod
+    }
+}
+
+#[test]
+fn lod_at_full_detail_is_the_plain_render() {
+    let scene = scene();
+    let camera = oblique(SIZE);
+    let full = lod_for(&scene, &camera, 50.0);
+    let info = fixture().renderer.frame_info(&scene, &camera, &full).unwrap();
+    assert_eq!((info.shells, info.level, info.blend), (7, 0, 0.0));
+    assert!(render(&scene, &camera, &full) == render(&scene, &camera, &settings()));
+}
+
+#[test]
+fn lod_cross_fades_into_each_coarser_level_without_a_pop() {
+    let scene = scene();
+    let camera = oblique(SIZE);
+    // 8 layers: levels of 7, 3, 1 and 0 shells. Just above a level's count the finer level is
+    // drawn almost fully faded into the coarser one; just below, the coarser one almost alone.
+    for (count, level) in [(3.0f64, 1), (1.0, 2), (0.0, 3)] {
+        let before = lod_for(&scene, &camera, count + 1e-3);
+        let at = lod_for(&scene, &camera, (count - 1e-3).max(0.0));
+        let renderer = &fixture().renderer;
+        let (i, j) = (
+            renderer.frame_info(&scene, &camera, &before).unwrap(),
+            renderer.frame_info(&scene, &camera, &at).unwrap(),
+        );
+        assert_eq!((i.level, j.level), (level - 1, level));
+        assert!(i.blend > 0.99 && j.blend < 0.01, "blends {} {}", i.blend, j.blend);
+        let worst = |a: &RgbaImage, b: &RgbaImage| {
+            a.pixels
+                .iter()
+                .zip(&b.pixels)
+                .map(|(x, y)| x.abs_diff(*y))
+                .max()
+                .unwrap()
+        };
+        let (a, b) = (render(&scene, &camera, &before), render(&scene, &camera, &at));
+        // A 1e-3 share of the other level is left: a unit or two of 8-bit rounding.
+        assert!(
+            worst(&a, &b) <= 3,
+            "level {level}: images differ by up to {}",
+            worst(&a, &b)
+        );
+        // Switching levels without the cross-fade would pop.
+        let finer = lod_for(&scene, &camera, [7.0, 3.0, 1.0][level as usize - 1]);
+        let pop = worst(&render(&scene, &camera, &finer), &b);
+        assert!(
+            pop >= 10,
+            "level {level}: the levels themselves differ by only {pop}"
+        );
+        // Fewer shells cover no more than the full stack.
+        assert!(covered(&b) <= covered(&render(&scene, &camera, &settings())));
+    }
+}
+
+#[test]
+fn lod_draws_fewer_shells_far_away() {
+    let scene = scene();
+    let lod = RenderSettings {
+        lod: true,
+        min_shells: 1,
+        ..settings()
+    };
+    let at = |distance: f64| Camera {
+        view: look_at([0.0, -distance * 0.76, distance * 0.65], [0.0, 0.0, 1.0]),
+        ..oblique(SIZE)
+    };
+    let renderer = &fixture().renderer;
+    let near = renderer.frame_info(&scene, &at(3.4), &lod).unwrap();
+    let far = renderer.frame_info(&scene, &at(34.0), &lod).unwrap();
+    // Ten times as far: a tenth of the pixels per unit.
+    let ratio = near.fur_pixels.unwrap() / far.fur_pixels.unwrap();
+    assert!((ratio - 10.0).abs() < 0.05, "ratio {ratio}");
+    assert!(far.shells < near.shells || far.level > near.level);
+    assert!(far.target_shells >= 1.0);
 }

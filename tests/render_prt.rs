@@ -414,3 +414,66 @@ fn transfer_from_another_bake_or_missing_is_named_and_the_scene_survives() {
         .unwrap();
     assert!(image.pixels.chunks_exact(4).any(|p| p[3] == 255));
 }
+
+#[test]
+fn lod_cross_fade_under_prt_has_no_pop() {
+    let f = fixture();
+    let (mesh, uvs) = grid(8, |p| p);
+    let scene = scene(&mesh, &uvs);
+    let camera = Camera {
+        view: column_major(look_at_rows([0.0, -2.0, 1.5], [0.0; 3], [0.0, 0.0, 1.0])),
+        projection: column_major(perspective_rows(50.0, 0.5, 10.0)),
+        width: 64,
+        height: 64,
+    };
+    let lod = RenderSettings {
+        lod: true,
+        min_shells: 0,
+        fur_depth: FUR_DEPTH,
+        ..RenderSettings::default()
+    };
+    let pixels = f64::from(
+        f.renderer
+            .frame_info(&scene, &camera, &lod)
+            .unwrap()
+            .fur_pixels
+            .unwrap(),
+    );
+    let wanting = |shells: f64| RenderSettings {
+        shells_per_pixel: (shells / pixels) as f32,
+        ..lod
+    };
+    // 8 layers: 7, 3, 1, 0 shells. Around 3 shells the full stack fades into level 1.
+    let (before, after) = (wanting(3.0 + 1e-3), wanting(3.0 - 1e-3));
+    let info = |s: &RenderSettings| f.renderer.frame_info(&scene, &camera, s).unwrap();
+    assert_eq!((info(&before).level, info(&after).level), (0, 1));
+    let a = f
+        .renderer
+        .render_linear(&scene, &camera, &lighting(), &before)
+        .unwrap();
+    let b = f
+        .renderer
+        .render_linear(&scene, &camera, &lighting(), &after)
+        .unwrap();
+    let worst = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0f32, f32::max);
+    assert!(worst < 5e-3, "images differ by up to {worst}");
+    let full = f
+        .renderer
+        .render_linear(&scene, &camera, &lighting(), &wanting(7.0))
+        .unwrap();
+    let pop = full
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0f32, f32::max);
+    assert!(
+        pop > 10.0 * worst,
+        "the levels differ by {pop}, the cross-fade step by {worst}"
+    );
+}

@@ -14,10 +14,13 @@ struct Frame {
     // x: fur depth (object units at length 1), y: layer spacing (share of the fur depth),
     // z: Banks self-shadow strength, w: alpha-test threshold of the shells.
     fur: vec4<f32>,
-    // x: fin opacity.
+    // x: fin opacity, y: LOD cross-fade toward the coarser level (0 without LOD).
     fin: vec4<f32>,
-    // x: shells drawn, y: layers of the shell texture.
+    // x: shells drawn, y: layers of the volume (level 0), z: 1 when LOD picks the layers.
     counts: vec4<u32>,
+    // LOD: x first array layer of the level drawn, y of the next coarser level, z level-0
+    // layers per layer of the level drawn (2^k).
+    lod: vec4<u32>,
     // PRT: x coefficients n², y transfer textures, z array layers per transfer texture,
     // w layers of the volume (the fins' table of layer means).
     prt: vec4<u32>,
@@ -29,6 +32,39 @@ struct Frame {
 @group(0) @binding(3) var fin_texture: texture_2d<f32>;
 @group(0) @binding(4) var tile_sampler: sampler;
 @group(0) @binding(5) var fin_sampler: sampler;
+
+// A layer index meaning "none" (an odd shell has nothing in the next coarser level).
+const NO_LAYER: u32 = 0xffffffffu;
+
+// The layers a skin or shell vertex shows: `height` in level-0 layers (where it stands, which
+// tangent map layer lights it), `fine` the shell array layer drawn, `coarse` the array layer
+// cross-faded in from the next coarser level (or NO_LAYER).
+struct Layers {
+    height: u32,
+    fine: u32,
+    coarse: u32,
+};
+
+// The skin: layer 0 of the level drawn, fading into layer 0 of the next one.
+fn skin_layers() -> Layers {
+    return Layers(0u, frame.lod.x, select(NO_LAYER, frame.lod.y, frame.counts.z == 1u));
+}
+
+// Shell `instance + 1`. With LOD, layer j of the level drawn stands at level-0 height j · 2^k
+// and fades into layer j / 2 of the next level (nothing for odd j). Without, shell i (1-based) of
+// s shows layer round(i (L - 1) / s), so fewer shells keep the full fur depth; integer rounding
+// keeps the choice exact.
+fn shell_layers(instance: u32) -> Layers {
+    let j = instance + 1u;
+    if (frame.counts.z == 1u) {
+        let coarse = select(NO_LAYER, frame.lod.y + j / 2u, j % 2u == 0u);
+        return Layers(j * frame.lod.z, frame.lod.x + j, coarse);
+    }
+    let drawn = max(frame.counts.x, 1u);
+    let top = frame.counts.y - 1u;
+    let layer = (j * top * 2u + drawn) / (2u * drawn);
+    return Layers(layer, layer, NO_LAYER);
+}
 
 // A clip position outside the view volume: a primitive whose corners all go here is dropped.
 const CULLED: vec4<f32> = vec4<f32>(2.0, 2.0, 2.0, 1.0);

@@ -6,6 +6,7 @@ use super::camera::{Camera, CameraFrame};
 use super::frame_uniforms::{FrameUniforms, SceneFrame};
 use super::image::{LinearImage, RgbaImage};
 use super::lighting::{Lighting, LightingFrame};
+use super::lod::{self, FrameInfo};
 use super::pipelines::{DEPTH_FORMAT, Model, Target};
 use super::prt_light::world_coefficients;
 use super::prt_rotate::RotationUniforms;
@@ -63,7 +64,7 @@ struct Checked {
     camera: CameraFrame,
     light: LightingFrame,
     model: Model,
-    shells: u32,
+    info: FrameInfo,
 }
 
 impl Renderer {
@@ -110,6 +111,26 @@ impl Renderer {
         ))
     }
 
+    /// What [`Renderer::render`] would draw with these inputs: the shell count, and with LOD
+    /// the level, blend and the projected sizes it followed.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming the bad camera or settings field, or `scene` when
+    /// it was uploaded by another renderer.
+    pub fn frame_info(
+        &self,
+        scene: &FurScene,
+        camera: &Camera,
+        settings: &RenderSettings,
+    ) -> Result<FrameInfo> {
+        if scene.renderer_id() != self.id {
+            return Err(PeltError::parameter("scene", "was uploaded by another Renderer"));
+        }
+        camera.frame(self.device.limits().max_texture_dimension_2d)?;
+        let fixed = settings.shells_to_draw(scene.layers)?;
+        Ok(lod::choose(&scene.levels, settings, camera, &scene.extent, fixed))
+    }
+
     fn check(
         &self,
         scene: &FurScene,
@@ -117,12 +138,9 @@ impl Renderer {
         lighting: &Lighting,
         settings: &RenderSettings,
     ) -> Result<Checked> {
-        if scene.renderer_id() != self.id {
-            return Err(PeltError::parameter("scene", "was uploaded by another Renderer"));
-        }
+        let info = self.frame_info(scene, camera, settings)?;
         let camera = camera.frame(self.device.limits().max_texture_dimension_2d)?;
         let light = lighting.frame()?;
-        let shells = settings.shells_to_draw(scene.layers)?;
         let model = if light.prt.is_some() {
             if scene.transfer.is_none() {
                 return Err(PeltError::parameter(
@@ -138,7 +156,7 @@ impl Renderer {
             camera,
             light,
             model,
-            shells,
+            info,
         })
     }
 
@@ -173,7 +191,8 @@ impl Renderer {
             &checked.light,
             settings,
             &SceneFrame {
-                shells: checked.shells,
+                info: &checked.info,
+                levels: &scene.levels,
                 layers: scene.layers,
                 layer_spacing: scene.layer_spacing,
                 prt: transfer.map_or([0; 3], |t| [(t.order * t.order) as u32, t.textures, t.stride]),
@@ -248,7 +267,7 @@ impl Renderer {
                 if settings.fins {
                     fins::draw(&mut pass, pipelines, scene);
                 }
-                shells::draw(&mut pass, pipelines, scene, checked.model, checked.shells);
+                shells::draw(&mut pass, pipelines, scene, checked.model, checked.info.shells);
             }
             self.queue.submit([encoder.finish()]);
             Ok::<_, PeltError>(())

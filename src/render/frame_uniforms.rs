@@ -5,6 +5,7 @@ use bytemuck::{Pod, Zeroable};
 
 use super::camera::CameraFrame;
 use super::lighting::LightingFrame;
+use super::lod::{FrameInfo, Levels};
 use super::settings::RenderSettings;
 
 /// Mirrors `Frame` in `common.wgsl`: a matrix and `vec4`s only, so the Rust and WGSL layouts
@@ -21,13 +22,16 @@ pub(super) struct FrameUniforms {
     fur: [f32; 4],
     fin: [f32; 4],
     counts: [u32; 4],
+    lod: [u32; 4],
     prt: [u32; 4],
 }
 
 /// The scene's side of the frame.
-pub(super) struct SceneFrame {
-    /// Shells to draw this frame.
-    pub shells: u32,
+pub(super) struct SceneFrame<'a> {
+    /// What the frame draws.
+    pub info: &'a FrameInfo,
+    /// The shell array's levels.
+    pub levels: &'a Levels,
     /// Layers of the shell texture.
     pub layers: u32,
     /// Height between layers, share of the fur depth.
@@ -41,8 +45,11 @@ impl FrameUniforms {
         camera: &CameraFrame,
         light: &LightingFrame,
         settings: &RenderSettings,
-        scene: &SceneFrame,
+        scene: &SceneFrame<'_>,
     ) -> Self {
+        let (info, levels) = (scene.info, scene.levels);
+        let k = info.level as usize;
+        let coarse = levels.bases.get(k + 1).copied().unwrap_or(levels.bases[k]);
         let v3 = |v: [f32; 3]| [v[0], v[1], v[2], 0.0];
         FrameUniforms {
             view_proj: camera.view_proj,
@@ -57,8 +64,9 @@ impl FrameUniforms {
                 light.self_shadow,
                 settings.alpha_test,
             ],
-            fin: [settings.fin_opacity, 0.0, 0.0, 0.0],
-            counts: [scene.shells, scene.layers, 0, 0],
+            fin: [settings.fin_opacity, info.blend, 0.0, 0.0],
+            counts: [info.shells, scene.layers, u32::from(settings.lod), 0],
+            lod: [levels.bases[k], coarse, 1 << info.level, 0],
             prt: [scene.prt[0], scene.prt[1], scene.prt[2], scene.layers],
         }
     }

@@ -27,6 +27,7 @@ mod frame;
 mod frame_uniforms;
 mod image;
 mod lighting;
+mod lod;
 mod pipelines;
 mod prt_light;
 mod prt_rotate;
@@ -48,8 +49,9 @@ mod tests;
 pub use camera::{Camera, MAX_IMAGE_SIDE};
 pub use image::{LinearImage, RgbaImage};
 pub use lighting::{KajiyaKay, LightModel, Lighting, MAX_LIGHT_RADIUS, MAX_POWER, MAX_RADIANCE, Prt};
+pub use lod::FrameInfo;
 pub use scene::{FurScene, UploadStats};
-pub use settings::{MAX_FUR_DEPTH, RenderSettings};
+pub use settings::{MAX_FUR_DEPTH, MAX_SHELLS_PER_PIXEL, RenderSettings};
 pub use smoke::SMOKE_COLOR;
 
 use std::sync::atomic::{AtomicU64, Ordering};

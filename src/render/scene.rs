@@ -5,6 +5,7 @@
 use wgpu::util::DeviceExt;
 
 use super::frame_uniforms::FrameUniforms;
+use super::lod::{Extent, Levels};
 use super::pipelines::Model;
 use super::prt_rotate::RotationUniforms;
 use super::surface_mesh::expand;
@@ -12,7 +13,7 @@ use super::{Renderer, fin_mesh, scoped, surface_mesh, textures, transfer};
 use crate::FurMesh;
 use crate::error::{PeltError, Result};
 use crate::mesh::MAX_LENGTH;
-use crate::prt::pack::{CHANNELS, PackedF16};
+use crate::prt::pack::PackedF16;
 use crate::threads::pool;
 use crate::volume::HairVolume;
 
@@ -108,6 +109,12 @@ pub struct FurScene {
     pub(super) layers: u32,
     pub(super) layer_spacing: f32,
     resolution: usize,
+    /// The shell array's LOD levels.
+    pub(super) levels: Levels,
+    /// Level 0's opacity `[L][R²]`, which weighs the transfer of the LOD composites.
+    alpha: Vec<u8>,
+    /// Bounding sphere and longest painted length, for the LOD schedule.
+    pub(super) extent: Extent,
     pub(super) transfer: Option<SceneTransfer>,
     uploads: UploadStats,
 }
@@ -161,6 +168,37 @@ fn check_lengths(lengths: &[f32], vertices: usize) -> Result<()> {
     Ok(())
 }
 
+/// The longest length multiplier (0 for none).
+fn longest(lengths: &[f32]) -> f64 {
+    lengths.iter().fold(0.0, |m, &l| m.max(f64::from(l)))
+}
+
+/// The bounding sphere (centre of the bounding box, farthest vertex) and longest length.
+fn extent(positions: &[[f32; 3]], lengths: &[f32]) -> Extent {
+    let (lo, hi) = positions
+        .iter()
+        .fold(([f64::MAX; 3], [f64::MIN; 3]), |(lo, hi), p| {
+            (
+                std::array::from_fn(|i| lo[i].min(f64::from(p[i]))),
+                std::array::from_fn(|i| hi[i].max(f64::from(p[i]))),
+            )
+        });
+    let center: [f64; 3] = std::array::from_fn(|i| 0.5 * (lo[i] + hi[i]));
+    let radius = positions.iter().fold(0.0f64, |r, p| {
+        r.max(
+            (0..3)
+                .map(|i| (f64::from(p[i]) - center[i]).powi(2))
+                .sum::<f64>()
+                .sqrt(),
+        )
+    });
+    Extent {
+        center,
+        radius,
+        max_length: longest(lengths),
+    }
+}
+
 impl FurScene {
     /// Uploads `mesh` (its colors, comb vectors and lengths, or white, none and 1 where absent)
     /// with per-triangle corner UVs in tile units (`corner_uvs[f][k]` for corner `k` of triangle
@@ -178,6 +216,7 @@ impl FurScene {
     ) -> Result<Self> {
         let device = &renderer.device;
         textures::validate(volume, &device.limits())?;
+        let levels = Levels::new(volume.layers as u32);
         let surface = surface_mesh::build(mesh, corner_uvs)?;
         let first = surface_mesh::first_copies(&surface.source, mesh.vertex_count());
         let fins = fin_mesh::build(mesh, surface.uv_scale, &first);
@@ -207,7 +246,7 @@ impl FurScene {
                     &expand(&colors, &fins.source),
                     &expand(&lengths, &fins.source),
                 );
-                let volume_gpu = textures::upload_volume(device, &renderer.queue, volume)?;
+                let volume_gpu = textures::upload_volume(device, &renderer.queue, volume, &levels)?;
                 let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("frame uniforms"),
                     size: size_of::<FrameUniforms>() as u64,
@@ -269,6 +308,9 @@ impl FurScene {
             layers: volume.layers as u32,
             layer_spacing: volume.layer_spacing as f32,
             resolution: volume.resolution,
+            levels,
+            alpha: volume.shells.chunks_exact(4).map(|px| px[3]).collect(),
+            extent: extent(mesh.positions(), &lengths),
             transfer: None,
             uploads,
         })
@@ -293,7 +335,7 @@ impl FurScene {
         }
         let device = &renderer.device;
         let limits = device.limits();
-        let stride = self.layers as usize;
+        let stride = self.levels.total() as usize;
         let order = transfer::check(
             transfer,
             self.layers as usize,
@@ -313,10 +355,12 @@ impl FurScene {
                 ),
             ));
         }
-        let means = pool().install(|| transfer::layer_means(transfer, order));
-        let voxels = transfer.layers * transfer.resolution * transfer.resolution * CHANNELS;
-        let per_texture: Vec<Vec<half::f16>> =
-            transfer.texels.chunks_exact(voxels).map(<[_]>::to_vec).collect();
+        let (means, per_texture) = pool().install(|| {
+            (
+                transfer::layer_means(transfer, order),
+                transfer::with_lod_levels(transfer, &self.alpha, &self.levels),
+            )
+        });
         let pipelines = renderer.fur_pipelines()?;
         let prt = pipelines.prt(device)?;
         let (scene_transfer, bytes) = scoped(device, "uploading the transfer", || {
@@ -402,6 +446,7 @@ impl FurScene {
         }
         if let Some(l) = length {
             check_lengths(l, self.mesh_vertices)?;
+            self.extent.max_length = longest(l);
         }
         let mut bytes = 0u64;
         if let Some(c) = color {

@@ -1,18 +1,36 @@
-//! Per-frame render settings: which passes run (Lengyel et al. 2001, §2.3), how many shells, how
-//! long the fur is in object units (§3: layer spacing × per-vertex length), and the background.
+//! Per-frame render settings: which passes run (Lengyel et al. 2001, §2.3), how many shells —
+//! fixed, or chosen by level of detail from the object's projected size (§2.4) — how long the fur
+//! is in object units (§3: layer spacing × per-vertex length), and the background.
 
 use crate::error::{PeltError, Result};
 
 /// Longest fur accepted, object units.
 pub const MAX_FUR_DEPTH: f32 = 1e6;
+/// Largest [`RenderSettings::shells_per_pixel`].
+pub const MAX_SHELLS_PER_PIXEL: f32 = 1e3;
 
 /// What to draw and how.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RenderSettings {
     /// Shells drawn above the skin, `[0, layers − 1]` of the scene's volume; `None` draws all.
     /// Fewer shells than layers pick evenly spaced layers (shell `i` of `s` shows layer
-    /// `round(i · (L − 1) / s)` at that layer's height), so the fur keeps its full length.
+    /// `round(i · (L − 1) / s)` at that layer's height), so the fur keeps its full length. Must
+    /// be `None` when `lod` is on.
     pub shell_count: Option<u32>,
+    /// Level of detail (Lengyel §2.4): the shell count follows the object's projected size,
+    /// between `min_shells` and `max_shells`, drawn from the hair volume's LOD levels (pairs of
+    /// shells composited) and cross-faded between the two nearest levels so that nothing pops.
+    /// [`super::Renderer::frame_info`] reports the choice.
+    pub lod: bool,
+    /// LOD: shells per pixel of projected fur depth (fur depth × the longest painted length, in
+    /// pixels at the bounding sphere's centre), `(0, MAX_SHELLS_PER_PIXEL]`. At 1, shells stand
+    /// about a pixel apart where the fur is seen edge-on, the fewest that show no gaps.
+    pub shells_per_pixel: f32,
+    /// LOD: fewest shells, however small the object (0 allows the skin alone, which then shows
+    /// the whole fur composited into it).
+    pub min_shells: u32,
+    /// LOD: most shells, `≥ min_shells` (the volume's `layers − 1` caps it).
+    pub max_shells: u32,
     /// Draw the fins (Lengyel §2.3, pass b).
     pub fins: bool,
     /// Fur depth in object units: the height of the volume's top at length multiplier 1
@@ -32,6 +50,10 @@ impl Default for RenderSettings {
     fn default() -> Self {
         RenderSettings {
             shell_count: None,
+            lod: false,
+            shells_per_pixel: 1.0,
+            min_shells: 2,
+            max_shells: 64,
             fins: true,
             fur_depth: 0.05,
             fin_opacity: 1.0,
@@ -53,7 +75,8 @@ fn check(name: &str, value: f32, hi: f32) -> Result<()> {
 }
 
 impl RenderSettings {
-    /// Checks every field; returns the number of shells to draw for a volume of `layers` layers.
+    /// Checks every field; returns the number of shells to draw for a volume of `layers` layers
+    /// when LOD is off (the count LOD starts from when it is on: all of them).
     pub(super) fn shells_to_draw(&self, layers: u32) -> Result<u32> {
         check("settings.fur_depth", self.fur_depth, MAX_FUR_DEPTH)?;
         check("settings.fin_opacity", self.fin_opacity, 1.0)?;
@@ -61,9 +84,34 @@ impl RenderSettings {
         for (i, &c) in self.background.iter().enumerate() {
             check(&format!("settings.background[{i}]"), c, 1.0)?;
         }
+        if !(self.shells_per_pixel.is_finite()
+            && self.shells_per_pixel > 0.0
+            && self.shells_per_pixel <= MAX_SHELLS_PER_PIXEL)
+        {
+            return Err(PeltError::parameter(
+                "settings.shells_per_pixel",
+                format!(
+                    "must be in (0, {MAX_SHELLS_PER_PIXEL}], got {}",
+                    self.shells_per_pixel
+                ),
+            ));
+        }
+        if self.min_shells > self.max_shells {
+            return Err(PeltError::parameter(
+                "settings.min_shells",
+                format!(
+                    "must not exceed settings.max_shells ({}), got {}",
+                    self.max_shells, self.min_shells
+                ),
+            ));
+        }
         let most = layers.saturating_sub(1);
         match self.shell_count {
             None => Ok(most),
+            Some(_) if self.lod => Err(PeltError::parameter(
+                "settings.shell_count",
+                "must be None when settings.lod is on (LOD chooses the count)",
+            )),
             Some(n) if n <= most => Ok(n),
             Some(n) => Err(PeltError::parameter(
                 "settings.shell_count",

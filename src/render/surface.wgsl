@@ -23,16 +23,36 @@ struct Lifted {
     up: vec3<f32>,
 };
 
-// Layer `layer` sits at `layer × spacing` of the fur depth × `length` along the growth direction.
-fn lift(d: SurfaceData, layer: u32, length: f32) -> Lifted {
+// Level-0 layer `height` sits at `height × spacing` of the fur depth × `length` along the growth
+// direction.
+fn lift(d: SurfaceData, height: u32, length: f32) -> Lifted {
     let up = frame.fur.x * length * growth(d.normal, d.comb);
-    let p = d.position + f32(layer) * frame.fur.y * up;
+    let p = d.position + f32(height) * frame.fur.y * up;
     return Lifted(clip_position(p), p, up);
 }
 
-// The shell texture's texel (premultiplied) at the fragment.
-fn surface_texel(s: SurfaceOut) -> vec4<f32> {
-    return textureSample(shell_texture, tile_sampler, s.uv, s.layer);
+// The shell texels (premultiplied) of the level drawn and of the next coarser one (zero when the
+// layer has none or no cross-fade runs).
+struct Texels {
+    fine: vec4<f32>,
+    coarse: vec4<f32>,
+};
+
+fn surface_texels(s: SurfaceOut) -> Texels {
+    let fine = textureSample(shell_texture, tile_sampler, s.uv, s.layer);
+    var coarse = vec4<f32>(0.0);
+    // The blend is uniform over the frame, so the branch keeps implicit derivatives valid.
+    if (frame.fin.y > 0.0) {
+        let last = textureNumLayers(shell_texture) - 1u;
+        let sampled = textureSample(shell_texture, tile_sampler, s.uv, min(s.coarse, last));
+        coarse = select(sampled, vec4<f32>(0.0), s.coarse == NO_LAYER);
+    }
+    return Texels(fine, coarse);
+}
+
+// The cross-faded texel.
+fn blended(t: Texels) -> vec4<f32> {
+    return mix(t.fine, t.coarse, frame.fin.y);
 }
 
 // Screen derivatives of the tile UV (dx, dy), taken where control flow is still uniform (before

@@ -22,23 +22,29 @@ struct SurfaceOut {
     @location(5) uv: vec2<f32>,
     @location(6) color: vec4<f32>,
     @location(7) length: f32,
+    // Array layers of the level drawn and the coarser one, level-0 height (see `Layers`).
     @location(8) @interpolate(flat) layer: u32,
+    @location(9) @interpolate(flat) coarse: u32,
+    @location(10) @interpolate(flat) height: u32,
 };
 
-// The vertex lifted to `layer`, with its painted length (`painted`) or the length multiplier 1.
-fn surface_vertex(v: SurfaceIn, layer: u32, painted: bool) -> SurfaceOut {
+// The vertex lifted to its layers' height, with its painted length (`painted`) or the length
+// multiplier 1.
+fn surface_vertex(v: SurfaceIn, layers: Layers, painted: bool) -> SurfaceOut {
     let d = SurfaceData(v.position, v.normal, v.dpdu, v.dpdv, v.uv, v.comb, v.color, v.length);
-    let lifted = lift(d, layer, select(1.0, v.length, painted));
+    let lifted = lift(d, layers.height, select(1.0, v.length, painted));
     return SurfaceOut(lifted.clip, lifted.position, v.normal, v.dpdu, v.dpdv, lifted.up, v.uv,
-                      v.color, v.length, layer);
+                      v.color, v.length, layers.fine, layers.coarse, layers.height);
 }
 
-// `texel` × vertex color, lit; premultiplied, opacity × texel alpha. `grad` is unused here (the
-// tangent map has one level).
-fn shade_surface(s: SurfaceOut, texel: vec4<f32>, opacity: f32, grad: vec4<f32>) -> vec4<f32> {
+// The cross-faded texel × vertex color, lit (the model is linear in the texel, so one shading
+// of the blend is the blend of two); premultiplied, opacity × texel alpha. `grad` is unused
+// here (the tangent map has one level).
+fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>) -> vec4<f32> {
+    let texel = blended(texels);
     let n = unit_or(s.normal, vec3<f32>(0.0, 0.0, 1.0));
-    let t = hair_tangent(s.uv, s.layer, s.dpdu, s.dpdv, s.up, n);
+    let t = hair_tangent(s.uv, s.height, s.dpdu, s.dpdv, s.up, n);
     let albedo = texel.rgb * s.color.rgb * opacity;
-    let height = f32(s.layer) * frame.fur.y;
+    let height = f32(s.height) * frame.fur.y;
     return shade(albedo, texel.a * opacity, t, n, view_vector(s.position), height);
 }

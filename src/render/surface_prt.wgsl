@@ -21,9 +21,11 @@ struct SurfaceOut {
     @location(0) uv: vec2<f32>,
     @location(1) color: vec4<f32>,
     @location(2) length: f32,
+    // Array layers of the level drawn and the coarser one (see `Layers`).
     @location(3) @interpolate(flat) layer: u32,
-    @location(4) @interpolate(flat) ids: vec3<u32>,
-    @location(5) bary: vec3<f32>,
+    @location(4) @interpolate(flat) coarse: u32,
+    @location(5) @interpolate(flat) ids: vec3<u32>,
+    @location(6) bary: vec3<f32>,
 };
 
 fn vec3_at(base: u32) -> vec3<f32> {
@@ -38,21 +40,28 @@ fn load_surface(v: u32) -> SurfaceData {
                        vec3_at(b + 14u), surface_colors[v], surface_lengths[v]);
 }
 
-// The corner lifted to `layer`, with its painted length (`painted`) or the length multiplier 1.
-fn surface_vertex(v: SurfaceIn, layer: u32, painted: bool) -> SurfaceOut {
+// The corner lifted to its layers' height, with its painted length (`painted`) or the length
+// multiplier 1.
+fn surface_vertex(v: SurfaceIn, layers: Layers, painted: bool) -> SurfaceOut {
     let first = v.corner - v.corner % 3u;
     let ids = vec3<u32>(surface_indices[first], surface_indices[first + 1u],
                         surface_indices[first + 2u]);
     let d = load_surface(surface_indices[v.corner]);
-    let lifted = lift(d, layer, select(1.0, d.length, painted));
+    let lifted = lift(d, layers.height, select(1.0, d.length, painted));
     var bary = vec3<f32>(0.0);
     bary[v.corner % 3u] = 1.0;
-    return SurfaceOut(lifted.clip, d.uv, d.color, d.length, layer, ids, bary);
+    return SurfaceOut(lifted.clip, d.uv, d.color, d.length, layers.fine, layers.coarse, ids, bary);
 }
 
-// `texel` × vertex color, lit by the transfer of its texel; premultiplied, opacity × texel alpha.
-fn shade_surface(s: SurfaceOut, texel: vec4<f32>, opacity: f32, grad: vec4<f32>) -> vec4<f32> {
-    let albedo = texel.rgb * s.color.rgb * opacity;
-    let light = transfer_radiance(s.ids, s.bary, s.uv, s.layer, grad);
-    return vec4<f32>(albedo * light, texel.a * opacity);
+// Each level's texel × vertex color, lit by the transfer of its own layer (the two levels'
+// layers are lit differently), cross-faded; premultiplied, opacity × texel alpha.
+fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>) -> vec4<f32> {
+    let tint = s.color.rgb * opacity;
+    let fine = texels.fine.rgb * transfer_radiance(s.ids, s.bary, s.uv, s.layer, grad);
+    var rgb = fine;
+    if (frame.fin.y > 0.0 && s.coarse != NO_LAYER) {
+        let coarse = texels.coarse.rgb * transfer_radiance(s.ids, s.bary, s.uv, s.coarse, grad);
+        rgb = mix(fine, coarse, frame.fin.y);
+    }
+    return vec4<f32>(rgb * tint, blended(texels).a * opacity);
 }

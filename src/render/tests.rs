@@ -442,3 +442,164 @@ fn transfer_layer_means_are_the_tile_means_for_any_thread_count() {
         (Some(2), None, Some(5), Some(8))
     );
 }
+
+#[test]
+fn lod_levels_halve_down_to_one_layer() {
+    use super::lod::Levels;
+    let levels = Levels::new(17);
+    assert_eq!(levels.counts, [17, 9, 5, 3, 2, 1]);
+    assert_eq!(levels.bases, [0, 17, 26, 31, 34, 36]);
+    assert_eq!(levels.total(), 37);
+    assert_eq!(Levels::new(1).counts, [1]);
+    assert_eq!(Levels::new(2).counts, [2, 1]);
+    assert_eq!(Levels::new(16).counts, [16, 8, 4, 2, 1]);
+}
+
+#[test]
+fn lod_follows_the_projected_fur_depth_between_the_levels() {
+    use super::lod::{Extent, Levels, choose};
+    let levels = Levels::new(17); // 16, 8, 4, 2, 1, 0 shells
+    let extent = Extent {
+        center: [0.0; 3],
+        radius: 1.0,
+        max_length: 1.0,
+    };
+    // Orthographic over [-2, 2]² on 200² pixels: 50 pixels per unit, fur 0.1 deep = 5 pixels.
+    let camera = Camera {
+        view: look_at([0.0, 0.0, 3.0], [0.0; 3], [0.0, 1.0, 0.0]),
+        projection: column_major([
+            [0.5, 0.0, 0.0, 0.0],
+            [0.0, 0.5, 0.0, 0.0],
+            [0.0, 0.0, -0.2, -0.1],
+            [0.0, 0.0, 0.0, 1.0],
+        ]),
+        width: 200,
+        height: 200,
+    };
+    let settings = RenderSettings {
+        lod: true,
+        fur_depth: 0.1,
+        min_shells: 1,
+        ..RenderSettings::default()
+    };
+    let info = choose(&levels, &settings, &camera, &extent, 16);
+    assert!((info.radius_pixels.unwrap() - 50.0).abs() < 1e-4);
+    assert!((info.fur_pixels.unwrap() - 5.0).abs() < 1e-5);
+    // 5 shells wanted: between level 1 (8) and level 2 (4), a quarter of the way from 4.
+    assert_eq!((info.shells, info.level), (8, 1));
+    assert!((info.blend - 0.75).abs() < 1e-6 && (info.target_shells - 5.0).abs() < 1e-5);
+    // Twice the shells per pixel: 10, between 16 and 8.
+    let dense = RenderSettings {
+        shells_per_pixel: 2.0,
+        ..settings
+    };
+    let info = choose(&levels, &dense, &camera, &extent, 16);
+    assert_eq!((info.shells, info.level), (16, 0));
+    assert!((info.blend - 0.75).abs() < 1e-6);
+    // Exactly a level's count draws that level without a blend; the bounds clamp.
+    let exact = RenderSettings {
+        shells_per_pixel: 0.8,
+        ..settings
+    };
+    let info = choose(&levels, &exact, &camera, &extent, 16);
+    assert_eq!((info.shells, info.level, info.blend), (4, 2, 0.0));
+    let capped = RenderSettings {
+        max_shells: 2,
+        ..settings
+    };
+    assert_eq!(choose(&levels, &capped, &camera, &extent, 16).shells, 2);
+    let thin = RenderSettings {
+        shells_per_pixel: 1e-3,
+        min_shells: 0,
+        ..settings
+    };
+    let info = choose(&levels, &thin, &camera, &extent, 16);
+    assert_eq!((info.shells, info.level), (1, 4));
+    assert!((info.blend - 0.995).abs() < 1e-6);
+    let flat = RenderSettings {
+        fur_depth: 0.0,
+        ..thin
+    };
+    let info = choose(&levels, &flat, &camera, &extent, 16);
+    assert_eq!((info.shells, info.level, info.blend), (0, 5, 0.0));
+    // LOD off: the fixed count, sizes still reported.
+    let off = RenderSettings {
+        lod: false,
+        ..settings
+    };
+    let info = choose(&levels, &off, &camera, &extent, 12);
+    assert_eq!((info.shells, info.level, info.blend), (12, 0, 0.0));
+    assert!(info.fur_pixels.is_some());
+
+    // Perspective: pixels per unit = focal length in pixels / distance; inside the sphere, none.
+    let at = |distance: f64| Camera {
+        view: look_at([0.0, 0.0, distance], [0.0; 3], [0.0, 1.0, 0.0]),
+        projection: perspective(),
+        width: 100,
+        height: 100,
+    };
+    // perspective() has t = 1: 50 pixels per unit at distance 1.
+    let info = choose(&levels, &settings, &at(4.0), &extent, 16);
+    assert!((info.radius_pixels.unwrap() - 12.5).abs() < 1e-4);
+    let inside = choose(&levels, &settings, &at(0.5), &extent, 16);
+    assert_eq!((inside.radius_pixels, inside.shells, inside.level), (None, 16, 0));
+}
+
+#[test]
+fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it() {
+    use super::lod::Levels;
+    use super::transfer::with_lod_levels;
+    use crate::prt::pack::PackedF16;
+    use half::f16;
+    let (layers, resolution) = (5usize, 2usize);
+    let texels = resolution * resolution;
+    let voxels = layers * texels;
+    // One texture (4 channels), values and opacities varied per layer and texel.
+    let value = |v: usize, c: usize| ((v * 5 + c * 3) % 11) as f32 / 4.0 - 1.0;
+    let texel_values: Vec<f16> = (0..voxels * 4)
+        .map(|i| f16::from_f32(value(i / 4, i % 4)))
+        .collect();
+    let alpha: Vec<u8> = (0..voxels).map(|v| (1 + (v * 97) % 255) as u8).collect();
+    let packed = PackedF16 {
+        textures: 1,
+        layers,
+        resolution,
+        texels: texel_values,
+    };
+    let levels = Levels::new(layers as u32);
+    let run = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| with_lod_levels(&packed, &alpha, &levels))
+    };
+    let out = run(1);
+    assert!(out == run(2));
+    assert_eq!(out.len(), 1);
+    assert_eq!(out[0].len(), levels.total() as usize * texels * 4);
+    for (k, (&count, &base)) in levels.counts.iter().zip(&levels.bases).enumerate() {
+        for j in 0..count as usize {
+            // Layers j·2^k .. (j + 1)·2^k of level 0 composited "over", outermost on top: each
+            // weighs its opacity times the transparency of everything above it.
+            let group = (j << k)..((j + 1) << k).min(layers);
+            for x in 0..texels {
+                for c in 0..4 {
+                    let (mut sum, mut weights, mut clear) = (0.0f64, 0.0f64, 1.0f64);
+                    for i in group.clone().rev() {
+                        let a = f64::from(alpha[i * texels + x]) / 255.0;
+                        sum += a * clear * f64::from(value(i * texels + x, c));
+                        weights += a * clear;
+                        clear *= 1.0 - a;
+                    }
+                    let want = sum / weights;
+                    let got = f64::from(out[0][((base as usize + j) * texels + x) * 4 + c].to_f32());
+                    assert!(
+                        (got - want).abs() < 2e-3,
+                        "level {k} layer {j} texel {x} channel {c}: {got} vs {want}"
+                    );
+                }
+            }
+        }
+    }
+}

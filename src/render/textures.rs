@@ -1,6 +1,6 @@
-//! The hair volume on the GPU: the shell layers as one texture array with its mip chain, the
-//! hair-tangent array, and the fin texture with a mip chain of its own (Lengyel et al. 2001,
-//! §2.2–§2.4).
+//! The hair volume on the GPU: the shell layers of every LOD level as one texture array with
+//! its mip chain (level `k` from array layer `bases[k]`), the hair-tangent array, and the fin
+//! texture with a mip chain of its own (Lengyel et al. 2001, §2.2–§2.4).
 //!
 //! The bake stores straight alpha with sRGB-encoded color; the renderer blends premultiplied
 //! color (filtering and "over" are only right on premultiplied values), so colors are multiplied
@@ -14,6 +14,9 @@ use crate::error::{PeltError, Result};
 use crate::export::{MipAlpha, MipLevels, MipOptions, full_mip_count, mip_chain_rgba8};
 use crate::threads::pool;
 use crate::volume::HairVolume;
+use crate::volume::lod::lod_chain;
+
+use super::lod::Levels;
 
 /// The uploaded textures.
 pub(super) struct VolumeTextures {
@@ -50,15 +53,21 @@ fn mismatch(name: &str, expected: usize, got: usize) -> PeltError {
     )
 }
 
-/// Checks that the volume's arrays agree with its sizes and fit the device.
+/// Checks that the volume's arrays agree with its sizes and fit the device (with its LOD
+/// levels, which take up to as many array layers again).
 pub(super) fn validate(volume: &HairVolume, limits: &wgpu::Limits) -> Result<()> {
     let (layers, res) = (volume.layers, volume.resolution);
     let max_side = limits.max_texture_dimension_2d as usize;
     let max_layers = limits.max_texture_array_layers as usize;
-    if !(1..=max_layers).contains(&layers) {
+    let all_levels = |layers: usize| Levels::new(layers as u32).total() as usize;
+    if layers == 0 || all_levels(layers) > max_layers {
+        let most = (1..=max_layers)
+            .rev()
+            .find(|&l| all_levels(l) <= max_layers)
+            .unwrap_or(0);
         return Err(PeltError::parameter(
             "volume.layers",
-            format!("must be in [1, {max_layers}] on this device, got {layers}"),
+            format!("must be in [1, {most}] on this device (its LOD levels included), got {layers}"),
         ));
     }
     for (name, side) in [
@@ -110,19 +119,41 @@ pub(super) fn validate(volume: &HairVolume, limits: &wgpu::Limits) -> Result<()>
             ));
         }
     }
+    // An empty chain is built on upload; a given one must be complete.
+    if !volume.lod.is_empty() {
+        let counts = Levels::new(layers as u32).counts;
+        if volume.lod.len() != counts.len() - 1 {
+            return Err(PeltError::parameter(
+                "volume.lod",
+                format!(
+                    "must hold {} levels (down to one layer) or none, got {}",
+                    counts.len() - 1,
+                    volume.lod.len()
+                ),
+            ));
+        }
+        for (k, level) in volume.lod.iter().enumerate() {
+            let expected = counts[k + 1] as usize * res * res * 4;
+            if level.len() != expected {
+                return Err(mismatch(&format!("lod[{k}]"), expected, level.len()));
+            }
+        }
+    }
     Ok(())
 }
 
-/// Creates a texture and writes its levels (`levels[k]` is level `k`, all layers).
+/// Creates a texture and writes its mip levels: `blocks` are `(first layer, levels)` with
+/// `levels[m]` mip level `m` of the block's layers (every block has every level).
 fn upload(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     label: &str,
     format: wgpu::TextureFormat,
     [width, height, layers]: [usize; 3],
-    levels: &[&[u8]],
+    blocks: &[(usize, Vec<Vec<u8>>)],
     dimension: wgpu::TextureViewDimension,
 ) -> (wgpu::TextureView, u64) {
+    let mip_levels = blocks.first().map_or(1, |(_, levels)| levels.len());
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d {
@@ -130,7 +161,7 @@ fn upload(
             height: height as u32,
             depth_or_array_layers: layers as u32,
         },
-        mip_level_count: levels.len() as u32,
+        mip_level_count: mip_levels as u32,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format,
@@ -138,28 +169,34 @@ fn upload(
         view_formats: &[],
     });
     let mut bytes = 0;
-    for (level, data) in levels.iter().enumerate() {
-        let (w, h) = ((width >> level).max(1), (height >> level).max(1));
-        queue.write_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture: &texture,
-                mip_level: level as u32,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            data,
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(4 * w as u32),
-                rows_per_image: Some(h as u32),
-            },
-            wgpu::Extent3d {
-                width: w as u32,
-                height: h as u32,
-                depth_or_array_layers: layers as u32,
-            },
-        );
-        bytes += data.len() as u64;
+    for (first, levels) in blocks {
+        for (level, data) in levels.iter().enumerate() {
+            let (w, h) = ((width >> level).max(1), (height >> level).max(1));
+            queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &texture,
+                    mip_level: level as u32,
+                    origin: wgpu::Origin3d {
+                        x: 0,
+                        y: 0,
+                        z: *first as u32,
+                    },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                data,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(4 * w as u32),
+                    rows_per_image: Some(h as u32),
+                },
+                wgpu::Extent3d {
+                    width: w as u32,
+                    height: h as u32,
+                    depth_or_array_layers: (data.len() / (4 * w * h)) as u32,
+                },
+            );
+            bytes += data.len() as u64;
+        }
     }
     let view = texture.create_view(&wgpu::TextureViewDescriptor {
         label: Some(label),
@@ -170,24 +207,49 @@ fn upload(
     (view, bytes)
 }
 
-/// Uploads a validated volume.
+/// Uploads a validated volume with its LOD `levels` (the volume's chain, or one built here when
+/// it has none).
 ///
 /// # Errors
-/// [`PeltError::InvalidParameter`] when the fin texture cannot be mipmapped (sizes were checked
-/// by [`validate`], so this does not happen for a volume that passed it).
+/// [`PeltError::InvalidParameter`] when a mip chain cannot be built (sizes were checked by
+/// [`validate`], so this does not happen for a volume that passed it).
 pub(super) fn upload_volume(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     volume: &HairVolume,
+    levels: &Levels,
 ) -> Result<VolumeTextures> {
     let (layers, res) = (volume.layers, volume.resolution);
-    let shell_levels: Vec<Vec<u8>> = pool().install(|| {
+    let built;
+    let lod: &[Vec<u8>] = if volume.lod.is_empty() {
+        built = pool().install(|| lod_chain(&volume.shells, layers, res * res));
+        &built
+    } else {
+        &volume.lod
+    };
+    // Every level gets as many mip levels as the bake gave level 0, built the same way
+    // (alpha-weighted, in linear light).
+    let mip_options = MipOptions {
+        levels: MipLevels::Count(1 + volume.mips.len()),
+        alpha: MipAlpha::Straight,
+    };
+    let mut chains: Vec<Vec<Vec<u8>>> = vec![
         std::iter::once(&volume.shells)
             .chain(&volume.mips)
-            .map(|level| premultiply(level))
+            .cloned()
+            .collect(),
+    ];
+    for (k, level) in lod.iter().enumerate() {
+        let count = levels.counts[k + 1] as usize;
+        chains.push(mip_chain_rgba8(res, res, count, level, true, &mip_options)?);
+    }
+    let blocks: Vec<(usize, Vec<Vec<u8>>)> = pool().install(|| {
+        chains
+            .iter()
+            .zip(&levels.bases)
+            .map(|(chain, &base)| (base as usize, chain.iter().map(|l| premultiply(l)).collect()))
             .collect()
     });
-    let shell_refs: Vec<&[u8]> = shell_levels.iter().map(Vec::as_slice).collect();
     let array = wgpu::TextureViewDimension::D2Array;
     let srgb = wgpu::TextureFormat::Rgba8UnormSrgb;
     let (shells, shell_bytes) = upload(
@@ -195,19 +257,20 @@ pub(super) fn upload_volume(
         queue,
         "shells",
         srgb,
-        [res, res, layers],
-        &shell_refs,
+        [res, res, levels.total() as usize],
+        &blocks,
         array,
     );
     // Tangents are data, not color: linear format, one level (lighting tolerates their aliasing
-    // far better than color would).
+    // far better than color would); level 0 only, every LOD layer takes the tangents of the
+    // height it stands at.
     let (tangents, tangent_bytes) = upload(
         device,
         queue,
         "tangents",
         wgpu::TextureFormat::Rgba8Unorm,
         [res, res, layers],
-        &[&volume.tangents],
+        &[(0, vec![volume.tangents.clone()])],
         array,
     );
     let [fin_w, fin_h] = volume.fin_size;
@@ -225,14 +288,13 @@ pub(super) fn upload_volume(
         },
     )?;
     let fin_levels: Vec<Vec<u8>> = pool().install(|| fin_levels.iter().map(|l| premultiply(l)).collect());
-    let fin_refs: Vec<&[u8]> = fin_levels.iter().map(Vec::as_slice).collect();
     let (fin, fin_bytes) = upload(
         device,
         queue,
         "fin",
         srgb,
         [fin_w, fin_h, 1],
-        &fin_refs,
+        &[(0, fin_levels)],
         wgpu::TextureViewDimension::D2,
     );
     Ok(VolumeTextures {

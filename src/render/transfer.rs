@@ -3,6 +3,11 @@
 //! array with a mip chain, texture `t` taking layers `t · stride ..` (stride = the shell
 //! layers of every LOD level), plus the per-layer tile means that light the fins.
 //!
+//! An LOD layer composites a run of shells (Lengyel et al. 2001, §2.4), each lit by its own
+//! transfer; the composite's transfer is theirs averaged with the weights "over" gives their
+//! colors (outer shell `a_o`, inner `a_i (1 − a_o)`), built pairwise like the shells themselves,
+//! so that lighting the composite's color with it approximates lighting each shell.
+//!
 //! A transfer belongs to one bake: its layers and resolution must be the volume's, which is what
 //! [`check`] holds it to.
 
@@ -13,6 +18,8 @@ use crate::error::{PeltError, Result};
 use crate::export::{MipAlpha, MipLevels, MipOptions, mip_chain_rgba16f};
 use crate::prt::pack::{CHANNELS, PackedF16, texture_count};
 use crate::prt::sh::MAX_ORDER;
+
+use super::lod::Levels;
 
 /// The order whose coefficients fill `textures` RGBA textures: the largest `n` with
 /// `⌈n²/4⌉ = textures` (one texture reads as order 2: an order-1 bake leaves channels 1–3 zero,
@@ -189,4 +196,64 @@ pub(super) fn upload(
         ..Default::default()
     });
     Ok(TransferTextures { view, bytes })
+}
+
+/// Every texture's coefficients for all LOD levels (`levels`), level 0 being `packed`: level `k`
+/// layer `j` composites layers `2j` (inner) and `2j + 1` (outer) of level `k − 1` with weights
+/// `a_i (1 − a_o)` and `a_o` from the shells' opacity (`alpha`, level 0's `[L][R²]` bytes, carried
+/// in f32 through the levels); where both are empty, the plain mean. Runs in the current rayon
+/// pool; every value is computed on its own, so the result does not depend on the thread count.
+pub(super) fn with_lod_levels(packed: &PackedF16, alpha: &[u8], levels: &Levels) -> Vec<Vec<f16>> {
+    let texels = packed.resolution * packed.resolution;
+    let voxels = packed.layers * texels;
+    // Opacity of every level's layers, level by level.
+    let mut alphas: Vec<Vec<f32>> = vec![alpha.iter().map(|&a| f32::from(a) / 255.0).collect()];
+    for k in 1..levels.counts.len() {
+        let prev = &alphas[k - 1];
+        let next: Vec<f32> = (0..levels.counts[k] as usize * texels)
+            .into_par_iter()
+            .map(|i| {
+                let (j, x) = (i / texels, i % texels);
+                let inner = prev[2 * j * texels + x];
+                match prev.get((2 * j + 1) * texels + x) {
+                    Some(&outer) => outer + inner * (1.0 - outer),
+                    None => inner,
+                }
+            })
+            .collect();
+        alphas.push(next);
+    }
+    packed
+        .texels
+        .par_chunks_exact(voxels * CHANNELS)
+        .map(|level0| {
+            let mut out: Vec<f16> = level0.to_vec();
+            let mut prev: Vec<f32> = level0.iter().map(|v| v.to_f32()).collect();
+            for k in 1..levels.counts.len() {
+                let alpha = &alphas[k - 1];
+                let next: Vec<f32> = (0..levels.counts[k] as usize * texels * CHANNELS)
+                    .into_par_iter()
+                    .map(|i| {
+                        let (j, x, c) = (i / (texels * CHANNELS), i / CHANNELS % texels, i % CHANNELS);
+                        let at = |layer: usize| (layer * texels + x) * CHANNELS + c;
+                        let inner = prev[at(2 * j)];
+                        let Some(&outer) = prev.get(at(2 * j + 1)) else {
+                            return inner;
+                        };
+                        let a_outer = alpha[(2 * j + 1) * texels + x];
+                        let w_inner = alpha[2 * j * texels + x] * (1.0 - a_outer);
+                        let sum = a_outer + w_inner;
+                        if sum > 0.0 {
+                            (a_outer * outer + w_inner * inner) / sum
+                        } else {
+                            0.5 * (outer + inner)
+                        }
+                    })
+                    .collect();
+                out.extend(next.iter().map(|&v| f16::from_f32(v)));
+                prev = next;
+            }
+            out
+        })
+        .collect()
 }

@@ -1,0 +1,148 @@
+//! Level of detail of the shells (Lengyel et al. 2001, §2.4): far away fewer shells suffice, so
+//! the volume's LOD levels composite successive pairs of shells (level `k` has `⌈L / 2^k⌉`
+//! layers, layer `j` standing at level-0 height `j · 2^k`), and the renderer cross-fades between
+//! two neighbouring levels as the object recedes: at blend `τ` shell `j` of level `k` shows
+//! `(1 − τ)` of its own texture plus `τ` of level `k + 1`'s layer `j / 2` (nothing for odd `j`),
+//! so `τ = 1` is exactly level `k + 1` and nothing pops.
+//!
+//! The schedule follows the projected size: the fur depth in pixels (fur depth × the longest
+//! painted length × pixels per object unit at the bounding sphere's centre) times
+//! `shells_per_pixel` is the shell count wanted, clamped to `[min_shells, max_shells]`; it falls
+//! between two levels' counts `S_{k+1} ≤ s < S_k`, and `τ = (S_k − s) / (S_k − S_{k+1})`.
+
+use super::camera::Camera;
+use super::settings::RenderSettings;
+
+/// What a frame draws, as [`super::Renderer::frame_info`] reports it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameInfo {
+    /// Shells drawn above the skin (instances of the shell pass).
+    pub shells: u32,
+    /// LOD level drawn: 0 is the full stack, level `k` has `⌈L / 2^k⌉` layers.
+    pub level: u32,
+    /// Cross-fade toward level `level + 1`, `[0, 1)`; 0 without LOD.
+    pub blend: f32,
+    /// The continuous shell count the schedule asked for (`shells` without LOD).
+    pub target_shells: f32,
+    /// Radius of the mesh's bounding sphere in pixels; `None` when the camera is inside it.
+    pub radius_pixels: Option<f32>,
+    /// Fur depth × the longest painted length in pixels at the sphere's centre; `None` as above.
+    pub fur_pixels: Option<f32>,
+}
+
+/// The shell array's levels: level `k` has `counts[k]` layers from array layer `bases[k]`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(super) struct Levels {
+    pub counts: Vec<u32>,
+    pub bases: Vec<u32>,
+}
+
+impl Levels {
+    /// Level 0 with `layers` layers, then halves (rounded up) down to a single layer.
+    pub fn new(layers: u32) -> Self {
+        let mut counts = vec![layers];
+        while let Some(&last) = counts.last().filter(|&&c| c > 1) {
+            counts.push(last.div_ceil(2));
+        }
+        let bases = counts
+            .iter()
+            .scan(0, |base, &c| {
+                let here = *base;
+                *base += c;
+                Some(here)
+            })
+            .collect();
+        Levels { counts, bases }
+    }
+
+    /// Layers of all levels together.
+    pub fn total(&self) -> u32 {
+        self.counts.iter().sum()
+    }
+}
+
+/// The mesh's bounding sphere and painted lengths, what the schedule reads from the scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Extent {
+    pub center: [f64; 3],
+    pub radius: f64,
+    /// The longest painted length multiplier.
+    pub max_length: f64,
+}
+
+/// Pixels per object unit at `center` seen by `camera` (validated), or `None` when the camera
+/// is inside the sphere of `radius` (or behind its centre).
+fn pixels_per_unit(camera: &Camera, center: [f64; 3], radius: f64) -> Option<f64> {
+    let at = |m: &[f32; 16], r: usize, c: usize| f64::from(m[c * 4 + r]);
+    let (view, proj) = (&camera.view, &camera.projection);
+    let view_point: [f64; 4] =
+        std::array::from_fn(|r| (0..3).map(|c| at(view, r, c) * center[c]).sum::<f64>() + at(view, r, 3));
+    // The view matrix may scale: object units to view units along its longest axis.
+    let scale = (0..3)
+        .map(|c| (0..3).map(|r| at(view, r, c).powi(2)).sum::<f64>().sqrt())
+        .fold(0.0, f64::max);
+    let w: f64 = (0..4).map(|k| at(proj, 3, k) * view_point[k]).sum();
+    let perspective = at(proj, 3, 2) != 0.0;
+    // The eye looks down −z: a centre closer than the radius has the camera inside the sphere.
+    if perspective && -view_point[2] <= radius * scale {
+        return None;
+    }
+    if w.is_nan() || w <= 0.0 {
+        return None;
+    }
+    let half_extent = 0.5
+        * (at(proj, 0, 0).abs() * f64::from(camera.width))
+            .max(at(proj, 1, 1).abs() * f64::from(camera.height));
+    let ppu = scale * half_extent / w;
+    ppu.is_finite().then_some(ppu)
+}
+
+/// The level and blend for `settings` (checked), with `fixed` the shell count without LOD.
+pub(super) fn choose(
+    levels: &Levels,
+    settings: &RenderSettings,
+    camera: &Camera,
+    extent: &Extent,
+    fixed: u32,
+) -> FrameInfo {
+    let ppu = pixels_per_unit(camera, extent.center, extent.radius);
+    let radius_pixels = ppu.map(|p| (p * extent.radius) as f32);
+    let fur_pixels = ppu.map(|p| (p * f64::from(settings.fur_depth) * extent.max_length) as f32);
+    let fixed_info = FrameInfo {
+        shells: fixed,
+        level: 0,
+        blend: 0.0,
+        target_shells: fixed as f32,
+        radius_pixels,
+        fur_pixels,
+    };
+    if !settings.lod {
+        return fixed_info;
+    }
+    let shells: Vec<f64> = levels.counts.iter().map(|&c| f64::from(c - 1)).collect();
+    let most = shells[0];
+    let (lo, hi) = (
+        f64::from(settings.min_shells).min(most),
+        f64::from(settings.max_shells).min(most),
+    );
+    let wanted = fur_pixels.map_or(hi, |px| f64::from(px) * f64::from(settings.shells_per_pixel));
+    let s = wanted.clamp(lo, hi);
+    let (mut level, mut blend) = (0, 0.0);
+    if s < most {
+        for k in 0..shells.len() - 1 {
+            if s >= shells[k + 1] {
+                let tau = ((shells[k] - s) / (shells[k] - shells[k + 1])) as f32;
+                // A blend that rounds to 1 is the next level itself.
+                (level, blend) = if tau >= 1.0 { (k + 1, 0.0) } else { (k, tau) };
+                break;
+            }
+        }
+    }
+    FrameInfo {
+        shells: shells[level] as u32,
+        level: level as u32,
+        blend,
+        target_shells: s as f32,
+        ..fixed_info
+    }
+}
