@@ -477,3 +477,31 @@ fn lod_cross_fade_under_prt_has_no_pop() {
         "the levels differ by {pop}, the cross-fade step by {worst}"
     );
 }
+
+#[test]
+fn zero_length_under_prt_renders_exactly_the_skin() {
+    let f = fixture();
+    let (mesh, uvs) = grid(8, |p| p);
+    let mut scene = scene(&mesh, &uvs);
+    let camera = Camera {
+        view: column_major(look_at_rows([0.5, -2.0, 1.5], [0.0; 3], [0.0, 0.0, 1.0])),
+        projection: column_major(perspective_rows(50.0, 0.5, 10.0)),
+        width: 64,
+        height: 64,
+    };
+    let all = RenderSettings {
+        fur_depth: FUR_DEPTH,
+        ..RenderSettings::default()
+    };
+    let skin = RenderSettings {
+        shell_count: Some(0),
+        fins: false,
+        ..all
+    };
+    let skin_image = f.renderer.render(&scene, &camera, &lighting(), &skin).unwrap();
+    scene
+        .update_attributes(None, Some(&vec![0.0; mesh.vertex_count()]))
+        .unwrap();
+    let bald = f.renderer.render(&scene, &camera, &lighting(), &all).unwrap();
+    assert!(bald == skin_image);
+}

@@ -1,7 +1,7 @@
 // Hair lighting (Lengyel et al. 2001, §2.4): the modified Banks / Kajiya-Kay model
 //   Ka + Kd (1 - u²)^(Pd/2) + Ks (1 - v²)^(Ps/2),  u = T·L, v = T·H,
 // evaluated per fragment instead of through a 32 × 32 table, with Banks-style darkening toward
-// the skin. Precomputed radiance transfer (prt-shell-fur §2.4) will branch here on a model flag.
+// the skin.
 
 // Kajiya-Kay alone lights hair on the side of the body turned away from the light as brightly
 // as the lit side; the body shadows it. A wrapped N·L fades the direct terms over a soft band
@@ -25,4 +25,15 @@ fn shade(albedo: vec3<f32>, alpha: f32, tangent: vec3<f32>, normal: vec3<f32>, v
     let rgb = albedo * (frame.ambient.rgb + light * (frame.kajiya_kay.x * diffuse))
         + alpha * light * (frame.kajiya_kay.y * specular);
     return vec4<f32>(rgb * banks, alpha);
+}
+
+// The skin itself: an opaque surface under the hair roots (where the fur is painted away, the
+// whole of what shows), lit by the wrapped N·L instead of the hair terms. Its tangent map holds
+// the roots' mean direction, nearly the normal, which Kajiya-Kay would light darkest exactly
+// where the light falls straight on. Banks-darkened like the roots above it.
+fn shade_skin(albedo: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
+    let l = frame.light_direction.xyz;
+    let lit = clamp((dot(normal, l) + TERMINATOR_WRAP) / (1.0 + TERMINATOR_WRAP), 0.0, 1.0);
+    let light = frame.light_color.rgb * (lit * frame.kajiya_kay.x);
+    return albedo * (frame.ambient.rgb + light) * (1.0 - frame.fur.z);
 }

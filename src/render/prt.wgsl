@@ -7,7 +7,7 @@
 @group(1) @binding(0) var transfer_texture: texture_2d_array<f32>;
 // Per surface vertex, n² rotated coefficients (RGB).
 @group(1) @binding(1) var<storage, read> rotated: array<vec4<f32>>;
-// Per volume layer, the tile mean of each coefficient: the fins' transfer.
+// Per volume layer, the opacity-weighted mean of each coefficient: the fins' transfer.
 @group(1) @binding(2) var<storage, read> layer_means: array<f32>;
 
 // The rotated lighting at a point between surface vertices `ids` with weights `w`.
@@ -17,9 +17,11 @@ fn light_at(ids: vec3<u32>, w: vec3<f32>, k: u32) -> vec3<f32> {
         + w.z * rotated[ids.z * n + k]).rgb;
 }
 
-// Σ_k L'_k t_k with the transfer sampled at `uv` in layer `layer` of every transfer texture.
-fn transfer_radiance(ids: vec3<u32>, w: vec3<f32>, uv: vec2<f32>, layer: u32,
-                     grad: vec4<f32>) -> vec3<f32> {
+// Σ_k L'_k t_k with the transfer sampled at `uv` in layer `layer` of every transfer texture;
+// `alpha` is the shell texel's opacity sampled alike, which the premultiplied transfer divides
+// out.
+fn transfer_radiance(ids: vec3<u32>, w: vec3<f32>, uv: vec2<f32>, layer: u32, grad: vec4<f32>,
+                     alpha: f32) -> vec3<f32> {
     let n = frame.prt.x;
     var sum = vec3<f32>(0.0);
     for (var t = 0u; t < frame.prt.y; t++) {
@@ -30,10 +32,10 @@ fn transfer_radiance(ids: vec3<u32>, w: vec3<f32>, uv: vec2<f32>, layer: u32,
         }
     }
     // A band-limited light rings slightly negative past the terminator.
-    return max(sum, vec3<f32>(0.0));
+    return max(sum / max(alpha, 1e-4), vec3<f32>(0.0));
 }
 
-// Σ_k L'_k t̄_k with the tile-mean transfer at `height` (share of the fur depth) for the fins,
+// Σ_k L'_k t̄_k with the hair's mean transfer at `height` (share of the fur depth) for the fins,
 // which have no transfer of their own: linear between the layers around it.
 fn mean_radiance(ids: vec3<u32>, w: vec3<f32>, height: f32) -> vec3<f32> {
     let n = frame.prt.x;

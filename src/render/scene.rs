@@ -357,8 +357,8 @@ impl FurScene {
         }
         let (means, per_texture) = pool().install(|| {
             (
-                transfer::layer_means(transfer, order),
-                transfer::with_lod_levels(transfer, &self.alpha, &self.levels),
+                transfer::layer_means(transfer, &self.alpha, order),
+                transfer::premultiplied_levels(transfer, &self.alpha, &self.levels),
             )
         });
         let pipelines = renderer.fur_pipelines()?;

@@ -38,11 +38,15 @@ fn surface_vertex(v: SurfaceIn, layers: Layers, painted: bool) -> SurfaceOut {
 }
 
 // The cross-faded texel × vertex color, lit (the model is linear in the texel, so one shading
-// of the blend is the blend of two); premultiplied, opacity × texel alpha. `grad` is unused
-// here (the tangent map has one level).
+// of the blend is the blend of two): the skin as a surface, shells as hair; premultiplied,
+// opacity × texel alpha. `grad` is unused here (the tangent map has one level).
 fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>) -> vec4<f32> {
     let texel = blended(texels);
     let n = unit_or(s.normal, vec3<f32>(0.0, 0.0, 1.0));
+    // Only the skin stands at height 0 (shells start at 1).
+    if (s.height == 0u) {
+        return vec4<f32>(shade_skin(texel.rgb * s.color.rgb * opacity, n), texel.a * opacity);
+    }
     let t = hair_tangent(s.uv, s.height, s.dpdu, s.dpdv, s.up, n);
     let albedo = texel.rgb * s.color.rgb * opacity;
     let height = f32(s.height) * frame.fur.y;

@@ -57,10 +57,12 @@ fn surface_vertex(v: SurfaceIn, layers: Layers, painted: bool) -> SurfaceOut {
 // layers are lit differently), cross-faded; premultiplied, opacity × texel alpha.
 fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>) -> vec4<f32> {
     let tint = s.color.rgb * opacity;
-    let fine = texels.fine.rgb * transfer_radiance(s.ids, s.bary, s.uv, s.layer, grad);
+    let fine = texels.fine.rgb
+        * transfer_radiance(s.ids, s.bary, s.uv, s.layer, grad, texels.fine.a);
     var rgb = fine;
     if (frame.fin.y > 0.0 && s.coarse != NO_LAYER) {
-        let coarse = texels.coarse.rgb * transfer_radiance(s.ids, s.bary, s.uv, s.coarse, grad);
+        let coarse = texels.coarse.rgb
+            * transfer_radiance(s.ids, s.bary, s.uv, s.coarse, grad, texels.coarse.a);
         rgb = mix(fine, coarse, frame.fin.y);
     }
     return vec4<f32>(rgb * tint, blended(texels).a * opacity);

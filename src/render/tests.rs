@@ -394,44 +394,55 @@ fn premultiplying_does_not_depend_on_the_thread_count() {
 }
 
 #[test]
-fn transfer_layer_means_are_the_tile_means_for_any_thread_count() {
+fn transfer_layer_means_weigh_texels_by_opacity_for_any_thread_count() {
     use super::transfer::{layer_means, order_of};
     use crate::prt::pack::{PackedF16, texel_index};
     use half::f16;
-    let (order, layers, resolution) = (3, 3, 5);
+    let (order, layers, resolution) = (4, 3, 5);
     let n = order * order;
-    let textures = order_of(3).unwrap();
-    assert_eq!(textures, order);
+    // Order 4 fills every channel of its 4 textures, the last one to the end of the array.
+    let textures = 4;
+    assert_eq!(order_of(textures), Some(order));
     let voxels = layers * resolution * resolution;
     let value = |k: usize, v: usize| ((k * 7 + v * 13) % 17) as f32 / 8.0 - 1.0;
-    let mut texels = vec![f16::ZERO; 3 * voxels * 4];
+    let mut texels = vec![f16::ZERO; textures * voxels * 4];
     for v in 0..voxels {
         for k in 0..n {
             texels[texel_index(k, v, voxels)] = f16::from_f32(value(k, v));
         }
     }
     let packed = PackedF16 {
-        textures: 3,
+        textures,
         layers,
         resolution,
         texels,
     };
+    // Layer 2 is empty: its plain mean stands in.
+    let texels = resolution * resolution;
+    let alpha: Vec<u8> = (0..voxels)
+        .map(|v| if v / texels == 2 { 0 } else { (v * 37 % 256) as u8 })
+        .collect();
     let run = |threads| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap();
-        pool.install(|| layer_means(&packed, order))
+        pool.install(|| layer_means(&packed, &alpha, order))
     };
     let means = run(1);
     assert!(means == run(2));
     for layer in 0..layers {
         for k in 0..n {
-            let texels = resolution * resolution;
-            let want = (0..texels)
-                .map(|i| f64::from(value(k, layer * texels + i)))
-                .sum::<f64>()
-                / texels as f64;
+            let voxel = |i: usize| layer * texels + i;
+            let weight: f64 = (0..texels).map(|i| f64::from(alpha[voxel(i)])).sum();
+            let want = if weight > 0.0 {
+                (0..texels)
+                    .map(|i| f64::from(alpha[voxel(i)]) * f64::from(value(k, voxel(i))))
+                    .sum::<f64>()
+                    / weight
+            } else {
+                (0..texels).map(|i| f64::from(value(k, voxel(i)))).sum::<f64>() / texels as f64
+            };
             // The values are multiples of 1/8, exact in f16.
             assert!((f64::from(means[layer * n + k]) - want).abs() < 1e-6);
         }
@@ -546,9 +557,9 @@ fn lod_follows_the_projected_fur_depth_between_the_levels() {
 }
 
 #[test]
-fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it() {
+fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
     use super::lod::Levels;
-    use super::transfer::with_lod_levels;
+    use super::transfer::premultiplied_levels;
     use crate::prt::pack::PackedF16;
     use half::f16;
     let (layers, resolution) = (5usize, 2usize);
@@ -572,7 +583,7 @@ fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it() {
             .num_threads(threads)
             .build()
             .unwrap();
-        pool.install(|| with_lod_levels(&packed, &alpha, &levels))
+        pool.install(|| premultiplied_levels(&packed, &alpha, &levels))
     };
     let out = run(1);
     assert!(out == run(2));
@@ -592,7 +603,8 @@ fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it() {
                         weights += a * clear;
                         clear *= 1.0 - a;
                     }
-                    let want = sum / weights;
+                    // Stored premultiplied by the composite's opacity, 1 − clear.
+                    let want = sum / weights * (1.0 - clear);
                     let got = f64::from(out[0][((base as usize + j) * texels + x) * 4 + c].to_f32());
                     assert!(
                         (got - want).abs() < 2e-3,

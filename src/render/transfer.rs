@@ -1,7 +1,15 @@
 //! The PRT transfer textures on the GPU (prt-shell-fur §2.3–§2.4): the packed float16
 //! coefficients (coefficient k in texture k / 4, channel k % 4) as one `Rgba16Float` texture
 //! array with a mip chain, texture `t` taking layers `t · stride ..` (stride = the shell
-//! layers of every LOD level), plus the per-layer tile means that light the fins.
+//! layers of every LOD level), plus the per-layer means of the hair's transfer that light the fins.
+//!
+//! The coefficients are stored premultiplied by the shell texel's opacity, like the shell colors:
+//! a hair texel and the empty texel beside it have quite different transfer (the hair shadows
+//! itself), and the shader, which divides the filtered `t·α` by the filtered `α`, then gets the
+//! transfer of the hair under the fragment whatever the sampling phase. Filtered plainly, the
+//! product of filtered color and filtered transfer changed with the phase at which the shells
+//! sample the texel grid, which showed as rings across the fur (the shells' parallax sweeps that
+//! phase with the view angle).
 //!
 //! An LOD layer composites a run of shells (Lengyel et al. 2001, §2.4), each lit by its own
 //! transfer; the composite's transfer is theirs averaged with the weights "over" gives their
@@ -94,25 +102,35 @@ pub(super) fn check(
     Ok(order)
 }
 
-/// The tile mean of every coefficient per layer, `[layer][n²]` (the fins' transfer), in the
-/// current rayon pool. Each mean is summed in f64 in texel order, so the result does not depend
-/// on the thread count.
-pub(super) fn layer_means(packed: &PackedF16, order: usize) -> Vec<f32> {
+/// The opacity-weighted tile mean of every coefficient per layer, `[layer][n²]`: the transfer of
+/// the hair in the layer, which the fins show (the plain mean where a layer is empty). `alpha` is
+/// the shells' `[L][R²]` opacity bytes. Runs in the current rayon pool; each mean is summed in
+/// f64 in texel order, so the result does not depend on the thread count.
+pub(super) fn layer_means(packed: &PackedF16, alpha: &[u8], order: usize) -> Vec<f32> {
     let n = order * order;
     let texels = packed.resolution * packed.resolution;
     let voxels = packed.layers * texels;
     (0..packed.layers)
         .into_par_iter()
         .flat_map_iter(|layer| {
+            let weights = &alpha[layer * texels..(layer + 1) * texels];
             (0..n).map(move |k| {
                 let (t, c) = (k / CHANNELS, k % CHANNELS);
                 let start = (t * voxels + layer * texels) * CHANNELS + c;
-                let sum: f64 = packed.texels[start..start + texels * CHANNELS]
-                    .iter()
-                    .step_by(CHANNELS)
-                    .map(|v| f64::from(v.to_f32()))
-                    .sum();
-                (sum / texels as f64) as f32
+                let values = packed.texels[start..].iter().step_by(CHANNELS).take(texels);
+                let (mut sum, mut weight, mut plain) = (0.0f64, 0.0f64, 0.0f64);
+                for (v, &a) in values.zip(weights) {
+                    let v = f64::from(v.to_f32());
+                    sum += f64::from(a) * v;
+                    weight += f64::from(a);
+                    plain += v;
+                }
+                let mean = if weight > 0.0 {
+                    sum / weight
+                } else {
+                    plain / texels as f64
+                };
+                mean as f32
             })
         })
         .collect()
@@ -198,12 +216,13 @@ pub(super) fn upload(
     Ok(TransferTextures { view, bytes })
 }
 
-/// Every texture's coefficients for all LOD levels (`levels`), level 0 being `packed`: level `k`
-/// layer `j` composites layers `2j` (inner) and `2j + 1` (outer) of level `k − 1` with weights
-/// `a_i (1 − a_o)` and `a_o` from the shells' opacity (`alpha`, level 0's `[L][R²]` bytes, carried
-/// in f32 through the levels); where both are empty, the plain mean. Runs in the current rayon
-/// pool; every value is computed on its own, so the result does not depend on the thread count.
-pub(super) fn with_lod_levels(packed: &PackedF16, alpha: &[u8], levels: &Levels) -> Vec<Vec<f16>> {
+/// Every texture's coefficients for all LOD levels (`levels`), premultiplied by the opacity of
+/// their shell texel, level 0 being `packed`: level `k` layer `j` composites layers `2j` (inner)
+/// and `2j + 1` (outer) of level `k − 1` with weights `a_i (1 − a_o)` and `a_o` from the shells'
+/// opacity (`alpha`, level 0's `[L][R²]` bytes, carried in f32 through the levels), or the plain
+/// mean where both are empty. Runs in the current rayon pool; every value is computed on its
+/// own, so the result does not depend on the thread count.
+pub(super) fn premultiplied_levels(packed: &PackedF16, alpha: &[u8], levels: &Levels) -> Vec<Vec<f16>> {
     let texels = packed.resolution * packed.resolution;
     let voxels = packed.layers * texels;
     // Opacity of every level's layers, level by level.
@@ -223,12 +242,19 @@ pub(super) fn with_lod_levels(packed: &PackedF16, alpha: &[u8], levels: &Levels)
             .collect();
         alphas.push(next);
     }
+    let premultiply = |values: &[f32], alpha: &[f32]| -> Vec<f16> {
+        values
+            .par_iter()
+            .enumerate()
+            .map(|(i, &v)| f16::from_f32(v * alpha[i / CHANNELS]))
+            .collect()
+    };
     packed
         .texels
         .par_chunks_exact(voxels * CHANNELS)
         .map(|level0| {
-            let mut out: Vec<f16> = level0.to_vec();
             let mut prev: Vec<f32> = level0.iter().map(|v| v.to_f32()).collect();
+            let mut out = premultiply(&prev, &alphas[0]);
             for k in 1..levels.counts.len() {
                 let alpha = &alphas[k - 1];
                 let next: Vec<f32> = (0..levels.counts[k] as usize * texels * CHANNELS)
@@ -250,7 +276,7 @@ pub(super) fn with_lod_levels(packed: &PackedF16, alpha: &[u8], levels: &Levels)
                         }
                     })
                     .collect();
-                out.extend(next.iter().map(|&v| f16::from_f32(v)));
+                out.extend(premultiply(&next, &alphas[k]));
                 prev = next;
             }
             out

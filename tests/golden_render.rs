@@ -1,0 +1,277 @@
+//! Golden images of the fur renderer on the CPU adapter (DESIGN.md §3; the comparison and its
+//! bound, [`Tolerance::RENDER`], are in `common/golden.rs`): a UV sphere covered by lapped
+//! patches, with a small hair volume and its PRT transfer. Each image was looked at when it was
+//! written; regenerate them with `PELT_UPDATE_GOLDEN=1 cargo test --features render --test
+//! golden_render`, look at them again, and commit them with the change.
+#![cfg(feature = "render")]
+
+mod common;
+
+use std::sync::OnceLock;
+
+use common::golden::{Tolerance, check};
+use common::{column_major, look_at_rows, perspective_rows};
+use pelt::hair::HairParams;
+use pelt::lapped::{PatchParams, build_patches};
+use pelt::mesh::shapes::{uv_sphere, uv_sphere_polygons};
+use pelt::prt::pack::{PackedF16, pack_f16};
+use pelt::prt::sh;
+use pelt::prt::volume_input::VolumeInput;
+use pelt::prt::{TransferParams, bake_transfer};
+use pelt::render::{
+    AdapterChoice, Camera, FurScene, LightModel, Lighting, Prt, RenderSettings, Renderer, RgbaImage,
+};
+use pelt::volume::{HairVolume, VolumeParams, bake_volume};
+use pelt::{FurMesh, MeshInput};
+
+/// Image side: small, so lavapipe renders each in a blink.
+const SIDE: u32 = 160;
+/// World units per tile of the hair texture.
+const TILE: f64 = 0.5;
+/// Fur depth, object units (the sphere has radius 1).
+const FUR_DEPTH: f32 = 0.1;
+const SEGMENTS: usize = 48;
+const RINGS: usize = 24;
+
+struct Fixture {
+    renderer: Renderer,
+    positions: Vec<[f32; 3]>,
+    triangles: Vec<[u32; 3]>,
+    polygons: Vec<u32>,
+    volume: HairVolume,
+    transfer: PackedF16,
+}
+
+fn fixture() -> &'static Fixture {
+    static FIXTURE: OnceLock<Fixture> = OnceLock::new();
+    FIXTURE.get_or_init(|| {
+        let renderer = Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe) must exist");
+        let (positions, triangles) = uv_sphere(SEGMENTS, RINGS);
+        let polygons = uv_sphere_polygons(SEGMENTS, RINGS);
+        // Hairs twice the default width stay about a texel wide at 64².
+        let defaults = HairParams::default();
+        let mut hair = HairParams {
+            density: 3000,
+            ..defaults.clone()
+        };
+        hair.undercoat.width = defaults.undercoat.width.map(|w| w * 2.0);
+        hair.overcoat.width = defaults.overcoat.width.map(|w| w * 2.0);
+        let volume = bake_volume(
+            &hair,
+            &VolumeParams {
+                layers: 24,
+                resolution: 64,
+                fin_size: [128, 32],
+                trim: false,
+                ..VolumeParams::default()
+            },
+            None,
+        )
+        .unwrap();
+        let input = VolumeInput::new(&volume, f64::from(FUR_DEPTH) / TILE);
+        let transfer = bake_transfer(
+            &input.transfer_volume(&volume),
+            &TransferParams {
+                order: 4,
+                directions: 256,
+                ..TransferParams::default()
+            },
+            None,
+        )
+        .unwrap();
+        Fixture {
+            renderer,
+            positions,
+            triangles,
+            polygons,
+            volume,
+            transfer: pack_f16(&transfer).unwrap(),
+        }
+    })
+}
+
+/// The sphere with optional comb vectors and lengths, its lapped-patch UVs, uploaded.
+fn scene(comb: Option<&[[f32; 3]]>, length: Option<&[f32]>) -> FurScene {
+    let f = fixture();
+    let mut input = MeshInput::new(&f.positions, &f.triangles).with_polygons(&f.polygons);
+    if let Some(c) = comb {
+        input = input.with_comb(c);
+    }
+    if let Some(l) = length {
+        input = input.with_length(l);
+    }
+    let mesh = FurMesh::new(input).unwrap();
+    let patches = build_patches(
+        &mesh,
+        &PatchParams {
+            tile_size: TILE,
+            ..PatchParams::default()
+        },
+    )
+    .unwrap();
+    let mut scene = FurScene::new(&f.renderer, &mesh, &patches.uv, &f.volume).unwrap();
+    scene.set_transfer(&f.renderer, &f.transfer).unwrap();
+    scene
+}
+
+fn plain() -> &'static FurScene {
+    static SCENE: OnceLock<FurScene> = OnceLock::new();
+    SCENE.get_or_init(|| scene(None, None))
+}
+
+/// Perspective camera at `eye` looking at `target`, z up, `fov` degrees.
+fn camera(eye: [f64; 3], target: [f64; 3], fov: f64) -> Camera {
+    Camera {
+        view: column_major(look_at_rows(eye, target, [0.0, 0.0, 1.0])),
+        projection: column_major(perspective_rows(fov, 0.1, 50.0)),
+        width: SIDE,
+        height: SIDE,
+    }
+}
+
+/// In front of the sphere, a little above it.
+fn frontal() -> Camera {
+    camera([0.0, -4.0, 1.0], [0.0; 3], 36.0)
+}
+
+fn settings() -> RenderSettings {
+    RenderSettings {
+        fur_depth: FUR_DEPTH,
+        ..RenderSettings::default()
+    }
+}
+
+/// Light from the upper right front.
+fn light() -> Lighting {
+    Lighting {
+        direction: [0.6, -0.5, 0.6],
+        ..Lighting::default()
+    }
+}
+
+fn prt_light() -> Lighting {
+    // A sky of radiance 0.15 from above fading to 0.05 below: Y00 and Y10 terms.
+    let (y00, y10) = (
+        0.1 * (4.0 * std::f32::consts::PI).sqrt(),
+        0.05 * (4.0 * std::f32::consts::PI / 3.0).sqrt(),
+    );
+    let mut environment = vec![[0.0f32; 3]; sh::coeff_count(2)];
+    environment[0] = [y00, y00, 1.1 * y00];
+    environment[sh::index(1, 0)] = [y10, y10, 1.1 * y10];
+    Lighting {
+        model: LightModel::Prt(Prt {
+            environment,
+            light_radius: 0.2,
+        }),
+        ..light()
+    }
+}
+
+fn render(scene: &FurScene, camera: &Camera, lighting: &Lighting, settings: &RenderSettings) -> RgbaImage {
+    fixture()
+        .renderer
+        .render(scene, camera, lighting, settings)
+        .unwrap()
+}
+
+fn golden(name: &str, image: &RgbaImage) {
+    check(
+        name,
+        image.width as usize,
+        image.height as usize,
+        &image.pixels,
+        Tolerance::RENDER,
+    );
+}
+
+#[test]
+fn bald_sphere() {
+    let skin = RenderSettings {
+        shell_count: Some(0),
+        fins: false,
+        ..settings()
+    };
+    golden(
+        "render_bald_sphere.png",
+        &render(plain(), &frontal(), &light(), &skin),
+    );
+}
+
+#[test]
+fn furred_sphere_frontal_kajiya_kay_and_prt() {
+    golden(
+        "render_furred_sphere_kajiya_kay.png",
+        &render(plain(), &frontal(), &light(), &settings()),
+    );
+    golden(
+        "render_furred_sphere_prt.png",
+        &render(plain(), &frontal(), &prt_light(), &settings()),
+    );
+}
+
+#[test]
+fn silhouette_with_and_without_fins() {
+    // Close on the right limb: the sphere's edge runs down the middle of the image.
+    let limb = camera([0.9, -3.0, 0.3], [0.9, 0.0, 0.0], 14.0);
+    golden(
+        "render_silhouette_fins.png",
+        &render(plain(), &limb, &light(), &settings()),
+    );
+    let without = RenderSettings {
+        fins: false,
+        ..settings()
+    };
+    golden(
+        "render_silhouette_no_fins.png",
+        &render(plain(), &limb, &light(), &without),
+    );
+}
+
+#[test]
+fn combed_fur_slants_downward() {
+    // Every vertex combed toward −z: the fur leans down, most visibly on the silhouette.
+    let comb = vec![[0.0, 0.0, -0.8]; fixture().positions.len()];
+    let combed = scene(Some(&comb), None);
+    let side = camera([0.0, -4.0, 0.0], [0.0; 3], 36.0);
+    let long = RenderSettings {
+        fur_depth: 2.0 * FUR_DEPTH,
+        ..settings()
+    };
+    golden("render_combed.png", &render(&combed, &side, &light(), &long));
+}
+
+#[test]
+fn painted_length_leaves_a_bald_patch() {
+    // Bald on a cap around +y (facing the camera), full length elsewhere.
+    let lengths: Vec<f32> = fixture()
+        .positions
+        .iter()
+        .map(|p| if p[1] < -0.8 { 0.0 } else { 1.0 })
+        .collect();
+    let painted = scene(None, Some(&lengths));
+    golden(
+        "render_length_painted.png",
+        &render(&painted, &frontal(), &light(), &settings()),
+    );
+}
+
+#[test]
+fn lod_near_and_far() {
+    let lod = RenderSettings {
+        lod: true,
+        min_shells: 1,
+        ..settings()
+    };
+    let near = frontal();
+    let far = camera([0.0, -16.0, 4.0], [0.0; 3], 36.0);
+    let renderer = &fixture().renderer;
+    let (n, f) = (
+        renderer.frame_info(plain(), &near, &lod).unwrap(),
+        renderer.frame_info(plain(), &far, &lod).unwrap(),
+    );
+    // Measured: near 6 pixels of fur ask for 6 shells (level 1 fading into 2), far 1.5 (level
+    // 3 fading into 4).
+    assert!(f.shells < n.shells, "near {n:?}, far {f:?}");
+    golden("render_lod_near.png", &render(plain(), &near, &light(), &lod));
+    golden("render_lod_far.png", &render(plain(), &far, &light(), &lod));
+}
