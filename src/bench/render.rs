@@ -1,13 +1,28 @@
-//! Bench cases of the wgpu fur renderer (feature `render`).
+//! Bench cases of the wgpu fur renderer (feature `render`): frames of Suzanne subdivided to
+//! about 62k triangles under lapped patches, 32 shells and fins, on the adapter [`Renderer`]
+//! picks (hardware first). Uploads are not timed; every frame is read back to the CPU.
+//!
+//! Where the time goes is read off the same frame with parts removed: `.skin` (skin only),
+//! `.no_fins`, and `.tiny` (64², so fill costs next to nothing and what is left is vertex and
+//! primitive work).
 
 use std::sync::OnceLock;
+
+use rayon::prelude::*;
 
 use super::{BenchOptions, CaseResult, time_fallible};
 use crate::error::Result;
 use crate::hair::HairParams;
-use crate::mesh::shapes::{torus, torus_uvs};
-use crate::mesh::{FurMesh, MeshInput};
-use crate::render::{AdapterChoice, Camera, FurScene, Lighting, RenderSettings, Renderer};
+use crate::lapped::{PatchParams, build_patches};
+use crate::mesh::FurMesh;
+use crate::mesh::shapes::{subdivide, suzanne};
+use crate::prt::pack::pack_f16;
+use crate::prt::sh::{self, ShRotation};
+use crate::prt::volume_input::VolumeInput;
+use crate::prt::{TransferParams, bake_transfer};
+use crate::render::{AdapterChoice, Camera, FurScene, LightModel, Lighting, Prt, RenderSettings, Renderer};
+use crate::threads::pool;
+use crate::vec3::{cross, dot};
 use crate::volume::{VolumeParams, bake_volume};
 
 /// Name of the adapter the render cases ran on, for the report's `adapter` field.
@@ -18,78 +33,252 @@ pub(super) fn adapter() -> Option<String> {
     ADAPTER.get().cloned()
 }
 
-fn column_major(rows: [[f32; 4]; 4]) -> [f32; 16] {
-    std::array::from_fn(|i| rows[i % 4][i / 4])
+/// Shells drawn (the volume has one layer more, the skin).
+const SHELLS: usize = 32;
+/// Fur depth, object units (Suzanne is about 2.7 units wide).
+const FUR_DEPTH: f32 = 0.04;
+/// World units per tile of the hair texture.
+const TILE: f64 = 0.25;
+
+fn column_major(rows: [[f64; 4]; 4]) -> [f32; 16] {
+    std::array::from_fn(|i| rows[i % 4][i / 4] as f32)
 }
 
-/// A camera 3.4 units from the torus, 40° above its plane, 60° field of view.
-fn camera(side: u32) -> Camera {
-    let (s, c) = 40f32.to_radians().sin_cos();
-    let (near, far, t) = (0.5f32, 10.0f32, 1.0 / 30f32.to_radians().tan());
-    let d = 3.4f32;
+/// A camera `distance` units in front of Suzanne (she faces −y), a little above and to the side,
+/// 40° vertical field of view, `width × height` pixels.
+fn camera(distance: f64, width: u32, height: u32) -> Camera {
+    let eye = [0.35 * distance, -distance, 0.25 * distance];
+    let norm = |v: [f64; 3]| {
+        let l = dot(v, v).sqrt();
+        v.map(|c| c / l)
+    };
+    let f = norm(eye.map(|c| -c));
+    let s = norm(cross(f, [0.0, 0.0, 1.0]));
+    let u = cross(s, f);
+    let (near, far) = (0.1, 10.0 * distance);
+    let t = 1.0 / 20f64.to_radians().tan();
+    let aspect = f64::from(width) / f64::from(height);
     Camera {
-        // Eye at (0, -d c, d s) looking at the origin, z up.
         view: column_major([
-            [1.0, 0.0, 0.0, 0.0],
-            [0.0, s, c, 0.0],
-            [0.0, -c, s, -d],
+            [s[0], s[1], s[2], -dot(s, eye)],
+            [u[0], u[1], u[2], -dot(u, eye)],
+            [-f[0], -f[1], -f[2], dot(f, eye)],
             [0.0, 0.0, 0.0, 1.0],
         ]),
         projection: column_major([
-            [t, 0.0, 0.0, 0.0],
+            [t / aspect, 0.0, 0.0, 0.0],
             [0.0, t, 0.0, 0.0],
             [0.0, 0.0, far / (near - far), near * far / (near - far)],
             [0.0, 0.0, -1.0, 0.0],
         ]),
-        width: side,
-        height: side,
+        width,
+        height,
     }
 }
 
-/// `render.frame`: one 512² frame (skin, fins, 16 shells, Kajiya–Kay) of a 5,120-face torus with
-/// the default hair volume, read back to the CPU; on the adapter `Renderer` picks (hardware
-/// first). The upload is not timed. `render.frame.skin` times the same frame with the skin only.
+/// Rotates `light` (n² RGB coefficients) into the tile frame of every vertex (normal, dP/du,
+/// dP/dv) with the crate's f64 SH rotation, as a CPU version of the PRT rotation pass would.
+fn rotate_on_cpu(frames: &[[[f64; 3]; 3]], light: &[[f64; 3]]) -> Result<Vec<[f64; 3]>> {
+    let order = sh::order_of_len(light.len())?;
+    let channels: Vec<Vec<f64>> = (0..3).map(|c| light.iter().map(|l| l[c]).collect()).collect();
+    pool().install(|| {
+        frames
+            .par_iter()
+            .map(|&[n, dpdu, _]| {
+                let x: [f64; 3] = std::array::from_fn(|i| dpdu[i] - n[i] * dot(n, dpdu));
+                let l = dot(x, x).sqrt().max(1e-30);
+                let x = x.map(|c| c / l);
+                let rotation = ShRotation::new(order, [x, cross(n, x), n])?;
+                let rotated = channels
+                    .iter()
+                    .map(|c| rotation.apply(c))
+                    .collect::<Result<Vec<_>>>()?;
+                Ok((0..light.len())
+                    .map(|k| [rotated[0][k], rotated[1][k], rotated[2][k]])
+                    .collect::<Vec<_>>())
+            })
+            .collect::<Result<Vec<Vec<_>>>>()
+            .map(|rows| rows.concat())
+    })
+}
+
+/// `render.frame`: one frame of Suzanne subdivided three times (61,952 triangles; twice in
+/// `--quick`, 15,488) with lapped-patch UVs, 32 shells and fins, Kajiya–Kay, at 512² and
+/// 1920 × 1080; the parts (`.skin`, `.no_fins`, `.tiny`); `.lod`, the same scene 4× as far with
+/// LOD on (baseline: the near frame); and PRT (`.prt`, order 5, not in `--quick`) with the CPU
+/// rotation it avoids (`render.prt.rotate.cpu`).
 pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let renderer = Renderer::new(AdapterChoice::PreferHardware)?;
     let adapter = renderer.adapter();
     let name = format!("{} ({}, {})", adapter.name, adapter.backend, adapter.device_type);
     let _ = ADAPTER.set(name.clone());
-    let (around, across) = (64, 40);
-    let (positions, triangles) = torus(around, across);
-    let mesh = FurMesh::new(MeshInput::new(&positions, &triangles))?;
-    let uvs = torus_uvs(around, across, [6.0, 2.0]);
-    // 17 layers: the skin and 16 shells.
-    let params = VolumeParams {
-        layers: 17,
-        trim: false,
-        ..VolumeParams::default()
-    };
-    let volume = bake_volume(&HairParams::default(), &params, None)?;
-    let scene = FurScene::new(&renderer, &mesh, &uvs, &volume)?;
-    let side = 512;
+    let levels = if options.quick { 2 } else { 3 };
+    let data = subdivide(&suzanne(), levels);
+    let mesh = FurMesh::new(data.input())?;
+    let patches = build_patches(
+        &mesh,
+        &PatchParams {
+            tile_size: TILE,
+            ..PatchParams::default()
+        },
+    )?;
+    let volume = bake_volume(
+        &HairParams::default(),
+        &VolumeParams {
+            layers: SHELLS + 1,
+            trim: false,
+            ..VolumeParams::default()
+        },
+        None,
+    )?;
+    let mut scene = FurScene::new(&renderer, &mesh, &patches.uv, &volume)?;
+    let reps = if options.quick { 5 } else { 15 };
     let settings = RenderSettings {
-        fur_depth: 0.06,
+        fur_depth: FUR_DEPTH,
         ..RenderSettings::default()
     };
-    let (camera, lighting) = (camera(side), Lighting::default());
-    let reps = if options.quick { 5 } else { 21 };
-    let timing = time_fallible(reps, || renderer.render(&scene, &camera, &lighting, &settings))?;
-    let size = format!(
-        "{side}x{side}, {} faces, {} fins, {} shells, Kajiya-Kay, readback incl.; {name}",
-        triangles.len(),
+    let lighting = Lighting::default();
+    let what = format!(
+        "Suzanne subdivided {levels}× ({} triangles, {} GPU vertices, {} fins), {SHELLS} shells + fins",
+        data.triangles.len(),
+        scene.surface_vertex_count(),
         scene.fin_count(),
-        scene.layers() - 1,
     );
-    // The same frame with the skin only: what the fur itself costs.
+    let mut results = Vec::new();
+    let frame = |scene: &FurScene,
+                 case: &str,
+                 camera: &Camera,
+                 settings: &RenderSettings,
+                 lighting: &Lighting,
+                 note: &str| {
+        let timing = time_fallible(reps, || renderer.render(scene, camera, lighting, settings))?;
+        let size = format!("{}x{}, {what}{note}; {name}", camera.width, camera.height);
+        Ok::<_, crate::PeltError>(CaseResult::timed(case, size, timing))
+    };
+    let near = camera(5.0, 512, 512);
+    let base = frame(
+        &scene,
+        "render.frame",
+        &near,
+        &settings,
+        &lighting,
+        ", Kajiya-Kay",
+    )?;
+    let hd = frame(
+        &scene,
+        "render.frame.1080p",
+        &camera(5.0, 1920, 1080),
+        &settings,
+        &lighting,
+        ", Kajiya-Kay",
+    )?;
     let skin = RenderSettings {
         shell_count: Some(0),
         fins: false,
         ..settings
     };
-    let skin_timing = time_fallible(reps, || renderer.render(&scene, &camera, &lighting, &skin))?;
-    let skin_size = format!("{side}x{side}, {} faces, skin only; {name}", triangles.len());
-    Ok(vec![
-        CaseResult::timed("render.frame", size, timing),
-        CaseResult::timed("render.frame.skin", skin_size, skin_timing),
-    ])
+    let skin = frame(
+        &scene,
+        "render.frame.skin",
+        &near,
+        &skin,
+        &lighting,
+        ", skin only",
+    )?;
+    let no_fins = RenderSettings {
+        fins: false,
+        ..settings
+    };
+    let no_fins = frame(
+        &scene,
+        "render.frame.no_fins",
+        &near,
+        &no_fins,
+        &lighting,
+        ", fins off",
+    )?;
+    let tiny = frame(
+        &scene,
+        "render.frame.tiny",
+        &camera(5.0, 64, 64),
+        &settings,
+        &lighting,
+        ", 64² (vertex-bound)",
+    )?;
+    let lod = RenderSettings {
+        lod: true,
+        min_shells: 1,
+        max_shells: SHELLS as u32,
+        ..settings
+    };
+    let far = camera(20.0, 512, 512);
+    let info = renderer.frame_info(&scene, &far, &lod)?;
+    let far_case = frame(
+        &scene,
+        "render.frame.lod",
+        &far,
+        &lod,
+        &lighting,
+        &format!(
+            ", 4× as far with LOD: {} shells (level {}, blend {:.2}) for {:.1} px of fur",
+            info.shells,
+            info.level,
+            info.blend,
+            info.fur_pixels.unwrap_or(0.0)
+        ),
+    )?;
+    let speedup = base.seconds / far_case.seconds;
+    results.extend([base.clone(), hd, skin, no_fins, tiny]);
+    results.push(CaseResult {
+        baseline: Some("render.frame".into()),
+        speedup: Some(speedup),
+        ..far_case
+    });
+    if !options.quick {
+        let order = 5;
+        let input = VolumeInput::new(&volume, f64::from(FUR_DEPTH) / TILE);
+        let transfer = bake_transfer(
+            &input.transfer_volume(&volume),
+            &TransferParams {
+                order,
+                ..TransferParams::default()
+            },
+            None,
+        )?;
+        scene.set_transfer(&renderer, &pack_f16(&transfer)?)?;
+        let prt = Lighting {
+            model: LightModel::Prt(Prt::default()),
+            ..lighting
+        };
+        let prt_case = frame(
+            &scene,
+            "render.frame.prt",
+            &near,
+            &settings,
+            &prt,
+            ", PRT order 5",
+        )?;
+        let frames: Vec<[[f64; 3]; 3]> = (0..scene.surface_vertex_count())
+            .map(|i| {
+                let a = i as f64 * 0.618;
+                let n = [a.cos() * 0.6, a.sin() * 0.6, 0.8];
+                [n, [-a.sin(), a.cos(), 0.0], [0.0; 3]]
+            })
+            .collect();
+        let light: Vec<[f64; 3]> = (0..sh::coeff_count(order))
+            .map(|k| [1.0 / (1.0 + k as f64); 3])
+            .collect();
+        let timing = time_fallible(reps, || rotate_on_cpu(&frames, &light))?;
+        results.push(prt_case);
+        results.push(CaseResult::timed(
+            "render.prt.rotate.cpu",
+            format!(
+                "{} vertices, order {order}, RGB: the per-frame rotation in f64 on the CPU that the compute pass replaces (plus a {} MB upload)",
+                frames.len(),
+                frames.len() * sh::coeff_count(order) * 16 / 1_000_000
+            ),
+            timing,
+        ));
+    }
+    Ok(results)
 }
