@@ -15,11 +15,15 @@
 //! specification (no encoder crates); the tests read their output back with independent readers.
 
 pub mod atlas;
+pub mod description;
 pub mod exr;
+pub mod gltf;
 pub mod image;
+pub mod input;
 pub mod ktx2;
 pub mod mip;
 pub mod png;
+mod stack_png;
 
 #[cfg(test)]
 mod tests;
@@ -31,8 +35,11 @@ use std::path::Path;
 use crate::error::{PeltError, Result};
 
 pub use atlas::{AtlasLayout, pack_atlas};
+pub use description::StackDescription;
 pub use exr::{ExrCompression, ExrOptions, ExrSample, save_exr, write_exr};
+pub use gltf::{GltfMode, GltfOptions, encode_glb, save_glb};
 pub use image::{Image, ImageRef, layer_views};
+pub use input::{ExportInput, TransferTextures};
 pub use ktx2::{Ktx2Format, Ktx2Texture, save_ktx2, write_ktx2};
 pub use mip::{MipAlpha, MipLevels, MipOptions, full_mip_count, mip_chain_rgba8, mip_chain_rgba16f};
 pub use png::{PngCompression, PngOptions, PngSample, save_png, write_png};

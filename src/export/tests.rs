@@ -4,6 +4,9 @@
 
 mod atlas;
 mod exr;
+mod fixture;
+mod glb_reader;
+mod gltf;
 mod image;
 mod ktx2;
 mod mip;

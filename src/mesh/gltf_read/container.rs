@@ -24,6 +24,9 @@ fn word(bytes: &[u8], at: usize) -> Option<u32> {
     Some(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
 }
 
+/// A GLB chunk: its type, its data, and where the next chunk starts.
+type Chunk<'a> = (u32, &'a [u8], usize);
+
 /// Splits a GLB into its JSON and optional BIN chunk.
 fn split_glb(bytes: &[u8]) -> Result<(&[u8], Option<&[u8]>), String> {
     let version = word(bytes, 4).ok_or("truncated GLB header")?;
@@ -40,7 +43,7 @@ fn split_glb(bytes: &[u8]) -> Result<(&[u8], Option<&[u8]>), String> {
         ));
     }
     let bytes = &bytes[..length];
-    let chunk = |at: usize| -> Result<Option<(u32, &[u8], usize)>, String> {
+    let chunk = |at: usize| -> Result<Option<Chunk<'_>>, String> {
         if at >= bytes.len() {
             return Ok(None);
         }
