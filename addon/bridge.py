@@ -109,18 +109,18 @@ def image_pixels(rgba: np.ndarray) -> np.ndarray:
     return (rgba[::-1].astype(np.float32) / 255.0).ravel()
 
 
-def write_image(images, name: str, rgba: np.ndarray, *, color: bool = True):
-    """Creates (or refills) the byte image ``name`` in ``images`` (``bpy.data.images``) from
-    ``[H, W, 4] uint8`` straight-alpha pixels, rows top to bottom. ``color`` marks the bytes as
-    sRGB-encoded color; otherwise they are data (tangents, coverage) and tagged Non-Color."""
+def write_image(images, name: str, rgba: np.ndarray, *, color: bool = True, image=None):
+    """Fills ``image`` (or a new byte image ``name`` in ``images``, i.e. ``bpy.data.images``) from
+    ``[H, W, 4] uint8`` straight-alpha pixels, rows top to bottom, resizing it when needed.
+    ``color`` marks the bytes as sRGB-encoded color; otherwise they are data (tangents, coverage)
+    and tagged Non-Color. An existing image is never looked up by name: the caller says which
+    one is its own."""
     pixels = image_pixels(rgba)
     height, width = rgba.shape[:2]
-    image = images.get(name)
-    if image is not None and tuple(image.size) != (width, height):
-        images.remove(image)
-        image = None
     if image is None:
         image = images.new(name, width, height, alpha=True, float_buffer=False)
+    elif tuple(image.size) != (width, height):
+        image.scale(width, height)
     image.colorspace_settings.name = "sRGB" if color else "Non-Color"
     image.alpha_mode = "STRAIGHT"
     image.pixels.foreach_set(pixels)

@@ -1,0 +1,181 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Writes a bake (``pelt.FurAsset``) into Blender: UV map ``PeltUV`` and face attribute
+``pelt_patch`` on the mesh, the ``Pelt …`` images, and the fur material and modifier.
+
+Every datablock Pelt creates carries two custom properties, ``pelt_owner`` (the object's name) and
+``pelt_role`` (what it is), and is found again by them, never by name: a user's own image called
+"Pelt Shells Suzanne" is never touched (Blender gives Pelt's a ``.001`` name instead).
+
+All pixels are prepared before the first datablock changes. If writing fails anyway, the
+datablocks created so far are removed and the mesh's previous ``PeltUV`` / ``pelt_patch`` are put
+back, so a bake either lands whole or leaves the scene as it was.
+"""
+
+import json
+import re
+from pathlib import Path
+
+import bpy
+import numpy as np
+import pelt
+
+from . import bridge
+
+OWNER = "pelt_owner"
+ROLE = "pelt_role"
+
+# Image roles: (name stem, color data?).
+IMAGE_ROLES = {
+    "shells": ("Shells", True),
+    "tangents": ("Tangents", False),
+    "fin": ("Fin", True),
+}
+
+
+def owned(collection, obj, role: str):
+    """Pelt's datablock of ``role`` for ``obj`` in ``collection``, or None."""
+    for item in collection:
+        if item.get(OWNER) == obj.name and item.get(ROLE) == role:
+            return item
+    return None
+
+
+def owned_all(obj) -> list:
+    """Every datablock Pelt made for ``obj`` (images, materials, node groups)."""
+    found = []
+    for collection in (bpy.data.images, bpy.data.materials, bpy.data.node_groups):
+        found.extend(item for item in collection if item.get(OWNER) == obj.name)
+    return found
+
+
+def tag(datablock, obj, role: str):
+    datablock[OWNER] = obj.name
+    datablock[ROLE] = role
+    return datablock
+
+
+def prepare_images(asset: pelt.FurAsset) -> tuple[dict, dict]:
+    """The images of ``asset`` as ``{role: (rgba [H,W,4] uint8, color?)}`` and the atlas layout
+    plus the transfer's decode table, before anything in Blender changes."""
+    volume = asset.volume
+    shells, layout = pelt.pack_atlas(volume["shells"])
+    images = {
+        "shells": (shells, True),
+        "tangents": (pelt.pack_atlas(volume["tangents"])[0], False),
+        "fin": (volume["fin"], True),
+    }
+    info = {"layout": layout, "layers": volume["layers"], "resolution": volume["resolution"]}
+    transfer = asset.transfer
+    if transfer is not None:
+        for k, texture in enumerate(transfer["packed_u8"]):
+            images[f"transfer_{k}"] = (pelt.pack_atlas(texture)[0], False)
+        info["transfer"] = {
+            "order": transfer["order"],
+            "textures": int(transfer["packed_u8"].shape[0]),
+            "scale": transfer["scale"].tolist(),
+            "bias": transfer["bias"].tolist(),
+        }
+    return images, info
+
+
+def _image_name(role: str, obj) -> str:
+    stem = IMAGE_ROLES.get(role, (f"Transfer {role.removeprefix('transfer_')}", False))[0]
+    return f"Pelt {stem} {obj.name}"
+
+
+def _store(image) -> None:
+    """Keeps the pixels with the file: saved beside the .blend when it has been saved, packed into
+    it otherwise."""
+    if bpy.data.filepath:
+        folder = Path(bpy.path.abspath("//pelt_textures"))
+        folder.mkdir(parents=True, exist_ok=True)
+        path = folder / (re.sub(r"[^\w.-]+", "_", image.name) + ".png")
+        image.filepath_raw = str(path)
+        image.file_format = "PNG"
+        image.save()
+        image.filepath = bpy.path.relpath(str(path))
+    else:
+        image.pack()
+
+
+class _Undo:
+    """What a failed write must put back."""
+
+    def __init__(self, mesh):
+        self.created: list = []
+        self.mesh = mesh
+        uv = mesh.uv_layers.get(bridge.UV_MAP)
+        self.uv = None
+        if uv is not None:
+            self.uv = np.empty(2 * len(mesh.loops), np.float32)
+            uv.data.foreach_get("uv", self.uv)
+        patch = mesh.attributes.get(bridge.PATCH_ATTRIBUTE)
+        self.patch = None
+        if patch is not None and patch.domain == "FACE" and patch.data_type == "INT":
+            self.patch = np.empty(len(mesh.polygons), np.int32)
+            patch.data.foreach_get("value", self.patch)
+        self.had_uv = uv is not None
+        self.had_patch = patch is not None
+
+    def restore(self) -> None:
+        for datablock in reversed(self.created):
+            _remove(datablock)
+        mesh = self.mesh
+        uv = mesh.uv_layers.get(bridge.UV_MAP)
+        if self.uv is not None and uv is not None:
+            uv.data.foreach_set("uv", self.uv)
+        elif not self.had_uv and uv is not None:
+            mesh.uv_layers.remove(uv)
+        patch = mesh.attributes.get(bridge.PATCH_ATTRIBUTE)
+        if self.patch is not None and patch is not None:
+            patch.data.foreach_set("value", self.patch)
+        elif not self.had_patch and patch is not None:
+            mesh.attributes.remove(patch)
+
+
+def _remove(datablock) -> None:
+    for collection in (bpy.data.images, bpy.data.materials, bpy.data.node_groups):
+        if datablock.name in collection and collection[datablock.name] == datablock:
+            collection.remove(datablock)
+            return
+
+
+def write_images(obj, images: dict, undo: _Undo) -> dict:
+    """Creates or refills Pelt's images for ``obj``; returns ``{role: image}``. Images of roles no
+    longer produced (a lower transfer order) are removed."""
+    written = {}
+    for role, (rgba, color) in images.items():
+        image = owned(bpy.data.images, obj, role)
+        fresh = image is None
+        image = bridge.write_image(bpy.data.images, _image_name(role, obj), rgba, color=color, image=image)
+        if fresh or image.get(OWNER) != obj.name:
+            undo.created.append(tag(image, obj, role))
+        _store(image)
+        written[role] = image
+    for image in [im for im in bpy.data.images if im.get(OWNER) == obj.name]:
+        if image.get(ROLE) not in written:
+            bpy.data.images.remove(image)
+    return written
+
+
+def write_asset(obj, asset: pelt.FurAsset, *, build_material=None) -> dict:
+    """Writes ``asset`` into ``obj`` and Pelt's datablocks; returns what was written and how long
+    it took, for the report. ``build_material(obj, images, info)`` adds the material and
+    modifier (``None``: images and UVs only)."""
+    images, info = prepare_images(asset)
+    undo = _Undo(obj.data)
+    try:
+        bridge.write_patches(obj.data, asset.patches)
+        written = write_images(obj, images, undo)
+        if build_material is not None:
+            undo.created.extend(build_material(obj, written, info))
+    except Exception:
+        undo.restore()
+        raise
+    obj.pelt.last_bake = json.dumps({"stages": asset.report, "layers": info["layers"], **_summary(info)})
+    return {"images": sorted(written), "info": info}
+
+
+def _summary(info: dict) -> dict:
+    transfer = info.get("transfer")
+    return {"transfer_order": transfer["order"] if transfer else None}
