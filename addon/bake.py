@@ -70,9 +70,9 @@ def bake_options(obj) -> dict:
 
 def start_job(obj) -> bake_job.BakeJob:
     """Reads ``obj`` and its settings (main thread) and returns the job, not yet started."""
-    mesh = bridge.fur_mesh_from_object(obj)
+    arrays = bridge.read_object(obj)
     options = bake_options(obj)
-    return bake_job.BakeJob(preferences.CACHE.get(obj.session_uid), mesh, options)
+    return bake_job.BakeJob(preferences.CACHE.get(obj.session_uid), arrays.fur_mesh, options)
 
 
 def finish(obj, job: bake_job.BakeJob, build_material=None) -> str:
@@ -117,7 +117,7 @@ class PELT_OT_bake(bpy.types.Operator):
         try:
             job = start_job(obj).start()
             job.wait()
-            self.report({"INFO"}, finish(obj, job, build_material=_build_material))
+            self.report({"INFO"}, finish(obj, job, build_material=build_material))
         except pelt.PeltError as error:
             return self._fail(obj.name, error)
         return {"FINISHED"}
@@ -156,7 +156,7 @@ class PELT_OT_bake(bpy.types.Operator):
             self.report({"ERROR"}, f"Pelt: {self._object_name} was removed during the bake, nothing written")
             return {"CANCELLED"}
         try:
-            self.report({"INFO"}, finish(obj, job, build_material=_build_material))
+            self.report({"INFO"}, finish(obj, job, build_material=build_material))
         except pelt.PeltError as error:
             return self._fail(self._object_name, error)
         return {"FINISHED"}
@@ -168,7 +168,7 @@ class PELT_OT_bake(bpy.types.Operator):
         context.workspace.status_text_set(None)
 
 
-def _build_material(obj, images, info):
+def build_material(obj, images, info):
     """The fur material and modifier; returns the datablocks created (hooked up by ``fur_nodes``)."""
     return []
 

@@ -14,11 +14,13 @@ import pelt
 
 
 class BakeJob:
-    """One bake of ``mesh`` through ``pipeline`` with keyword arguments ``options``."""
+    """One bake through ``pipeline`` with keyword arguments ``options`` of the mesh that
+    ``make_mesh()`` returns (called on the worker: building a ``pelt.FurMesh`` validates and
+    indexes the mesh, which is part of the bake, not of Blender's reading)."""
 
-    def __init__(self, pipeline: pelt.Pipeline, mesh: pelt.FurMesh, options: dict):
+    def __init__(self, pipeline: pelt.Pipeline, make_mesh, options: dict):
         self._pipeline = pipeline
-        self._mesh = mesh
+        self._make_mesh = make_mesh
         self._options = options
         self._cancel = threading.Event()
         self._thread = threading.Thread(target=self._run, name="pelt-bake", daemon=True)
@@ -58,7 +60,8 @@ class BakeJob:
         try:
             if self._cancel.is_set():
                 raise pelt.BakeCancelled("cancelled")
-            self.asset = self._pipeline.bake(self._mesh, progress=self._progress, **self._options)
+            mesh = self._make_mesh()
+            self.asset = self._pipeline.bake(mesh, progress=self._progress, **self._options)
         except BaseException as error:  # handed to the main thread, which reports it
             self.error = error
         finally:

@@ -6,9 +6,9 @@ Every datablock Pelt creates carries two custom properties, ``pelt_owner`` (the 
 ``pelt_role`` (what it is), and is found again by them, never by name: a user's own image called
 "Pelt Shells Suzanne" is never touched (Blender gives Pelt's a ``.001`` name instead).
 
-All pixels are prepared before the first datablock changes. If writing fails anyway, the
-datablocks created so far are removed and the mesh's previous ``PeltUV`` / ``pelt_patch`` are put
-back, so a bake either lands whole or leaves the scene as it was.
+All pixels are prepared before the first datablock changes, and the mesh is written last (after
+checking the sizes). If writing fails anyway, the datablocks created so far are removed, so a bake
+either lands whole or leaves the scene as it was.
 """
 
 import json
@@ -16,7 +16,6 @@ import re
 from pathlib import Path
 
 import bpy
-import numpy as np
 import pelt
 
 from . import bridge
@@ -83,54 +82,25 @@ def _image_name(role: str, obj) -> str:
     return f"Pelt {stem} {obj.name}"
 
 
-def _store(image) -> None:
-    """Keeps the pixels with the file: saved beside the .blend when it has been saved, packed into
-    it otherwise."""
-    if bpy.data.filepath:
-        folder = Path(bpy.path.abspath("//pelt_textures"))
-        folder.mkdir(parents=True, exist_ok=True)
-        path = folder / (re.sub(r"[^\w.-]+", "_", image.name) + ".png")
-        image.filepath_raw = str(path)
-        image.file_format = "PNG"
-        image.save()
-        image.filepath = bpy.path.relpath(str(path))
-    else:
-        image.pack()
+def _image_path(name: str):
+    """``(file, filepath)`` beside the saved .blend (``//pelt_textures/…``), or None to pack."""
+    if not bpy.data.filepath:
+        return None
+    folder = Path(bpy.path.abspath("//pelt_textures"))
+    folder.mkdir(parents=True, exist_ok=True)
+    file = folder / (re.sub(r"[^\w.-]+", "_", name) + ".png")
+    return file, bpy.path.relpath(str(file))
 
 
 class _Undo:
-    """What a failed write must put back."""
+    """Datablocks a failed write must remove again."""
 
-    def __init__(self, mesh):
+    def __init__(self):
         self.created: list = []
-        self.mesh = mesh
-        uv = mesh.uv_layers.get(bridge.UV_MAP)
-        self.uv = None
-        if uv is not None:
-            self.uv = np.empty(2 * len(mesh.loops), np.float32)
-            uv.data.foreach_get("uv", self.uv)
-        patch = mesh.attributes.get(bridge.PATCH_ATTRIBUTE)
-        self.patch = None
-        if patch is not None and patch.domain == "FACE" and patch.data_type == "INT":
-            self.patch = np.empty(len(mesh.polygons), np.int32)
-            patch.data.foreach_get("value", self.patch)
-        self.had_uv = uv is not None
-        self.had_patch = patch is not None
 
     def restore(self) -> None:
         for datablock in reversed(self.created):
             _remove(datablock)
-        mesh = self.mesh
-        uv = mesh.uv_layers.get(bridge.UV_MAP)
-        if self.uv is not None and uv is not None:
-            uv.data.foreach_set("uv", self.uv)
-        elif not self.had_uv and uv is not None:
-            mesh.uv_layers.remove(uv)
-        patch = mesh.attributes.get(bridge.PATCH_ATTRIBUTE)
-        if self.patch is not None and patch is not None:
-            patch.data.foreach_set("value", self.patch)
-        elif not self.had_patch and patch is not None:
-            mesh.attributes.remove(patch)
 
 
 def _remove(datablock) -> None:
@@ -147,10 +117,12 @@ def write_images(obj, images: dict, undo: _Undo) -> dict:
     for role, (rgba, color) in images.items():
         image = owned(bpy.data.images, obj, role)
         fresh = image is None
-        image = bridge.write_image(bpy.data.images, _image_name(role, obj), rgba, color=color, image=image)
-        if fresh or image.get(OWNER) != obj.name:
+        name = image.name if image is not None else _image_name(role, obj)
+        image = bridge.write_image(
+            bpy.data.images, name, rgba, color=color, image=image, path=_image_path(name)
+        )
+        if fresh:
             undo.created.append(tag(image, obj, role))
-        _store(image)
         written[role] = image
     for image in [im for im in bpy.data.images if im.get(OWNER) == obj.name]:
         if image.get(ROLE) not in written:
@@ -163,12 +135,13 @@ def write_asset(obj, asset: pelt.FurAsset, *, build_material=None) -> dict:
     it took, for the report. ``build_material(obj, images, info)`` adds the material and
     modifier (``None``: images and UVs only)."""
     images, info = prepare_images(asset)
-    undo = _Undo(obj.data)
+    undo = _Undo()
     try:
-        bridge.write_patches(obj.data, asset.patches)
         written = write_images(obj, images, undo)
         if build_material is not None:
             undo.created.extend(build_material(obj, written, info))
+        # Last: it checks the sizes before changing the mesh, and nothing after it can fail.
+        bridge.write_patches(obj.data, asset.patches)
     except Exception:
         undo.restore()
         raise

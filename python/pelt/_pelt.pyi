@@ -315,6 +315,9 @@ def save_png(
 ) -> None:
     """Write ``[H, W, C]`` (C in 1..4, rows top to bottom, straight alpha) as an 8- or 16-bit PNG."""
 
+def encode_png(image: npt.NDArray[np.uint8] | npt.NDArray[np.uint16], *, srgb: bool = True) -> bytes:
+    """``image`` as the bytes of a PNG file (fast deflate), e.g. to pack into a .blend."""
+
 def save_exr(path: str | os.PathLike[str], image: npt.NDArray[np.float32] | npt.NDArray[np.float16]) -> None:
     """Write ``[H, W, C]`` float32/float16 (C in 1..4: Y, YA, RGB, RGBA) as a ZIP OpenEXR."""
 

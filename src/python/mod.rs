@@ -76,6 +76,7 @@ fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(volume::bake_volume_py, m)?)?;
     m.add_function(wrap_pyfunction!(export::pack_atlas_py, m)?)?;
     m.add_function(wrap_pyfunction!(export::save_png_py, m)?)?;
+    m.add_function(wrap_pyfunction!(export::encode_png_py, m)?)?;
     m.add_function(wrap_pyfunction!(export::save_exr_py, m)?)?;
     m.add_class::<lapped::PyPatches>()?;
     m.add_function(wrap_pyfunction!(lapped::build_patches, m)?)?;
