@@ -7,9 +7,9 @@ order and attaches ``bpy.types.Object.pelt``; ``unregister()`` undoes it in reve
 
 import bpy
 
-from . import ops, panels, props
+from . import comb, comb_tools, ops, paint, panels, props
 
-_MODULES = (props, ops, panels)
+_MODULES = (props, ops, paint, comb, comb_tools, panels)
 
 
 def register() -> None:
