@@ -7,9 +7,9 @@ order and attaches ``bpy.types.Object.pelt``; ``unregister()`` undoes it in reve
 
 import bpy
 
-from . import bake, ops, panels, preferences, props
+from . import bake, comb, comb_tools, ops, paint, panels, preferences, props
 
-_MODULES = (preferences, props, ops, bake, panels)
+_MODULES = (preferences, props, ops, paint, comb, comb_tools, bake, panels)
 
 
 def register() -> None:

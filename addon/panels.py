@@ -6,6 +6,8 @@ import json
 
 import bpy
 
+from . import comb_tools, point_data
+
 # Statistics rows shown after a check: (key, label).
 STAT_ROWS = (
     ("vertices", "Vertices"),
@@ -66,6 +68,29 @@ class VIEW3D_PT_pelt(_PeltPanel, bpy.types.Panel):
                 grid.label(text=label)
                 grid.label(text=str(stats.get(key, "?")))
             box.label(text=f"Area: {stats.get('surface_area', 0.0):.4g}")
+
+
+class VIEW3D_PT_pelt_paint_comb(_PeltPanel, bpy.types.Panel):
+    bl_label = "Paint & Comb"
+    bl_idname = "VIEW3D_PT_pelt_paint_comb"
+    bl_parent_id = "VIEW3D_PT_pelt"
+
+    def draw(self, context):
+        layout = self.layout
+        obj = context.active_object
+        column = layout.column(align=True)
+        column.operator("pelt.paint_color", icon="VPAINT_HLT")
+        column.operator("pelt.paint_length", icon="VPAINT_HLT")
+        row = column.row(align=True)
+        row.enabled = point_data.LENGTH_PAINT in obj.data.attributes
+        row.operator("pelt.apply_length_paint", icon="CHECKMARK")
+        column = layout.column(align=True)
+        column.operator("pelt.comb", icon="CURVE_PATH")
+        column.operator("pelt.comb_gravity", icon="SORT_ASC")
+        column.operator("pelt.comb_smooth", icon="MOD_SMOOTH")
+        row = column.row(align=True)
+        row.enabled = bool(comb_tools.hair_curves_of(obj))
+        row.operator("pelt.comb_from_curves", icon="OUTLINER_OB_CURVES")
 
 
 class _SubPanel(_PeltPanel):
@@ -132,6 +157,7 @@ class VIEW3D_PT_pelt_lighting(_SubPanel, bpy.types.Panel):
 
 CLASSES = (
     VIEW3D_PT_pelt,
+    VIEW3D_PT_pelt_paint_comb,
     VIEW3D_PT_pelt_hair,
     VIEW3D_PT_pelt_shells,
     VIEW3D_PT_pelt_display,
