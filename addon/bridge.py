@@ -168,7 +168,9 @@ def write_image(images, name: str, rgba: np.ndarray, *, color: bool = True, imag
         image.filepath_raw = filepath
     image.colorspace_settings.name = "sRGB" if color else "Non-Color"
     image.alpha_mode = "STRAIGHT"
-    image.reload()
+    # Drop pixels loaded from the previous bake; Blender decodes the new file when next shown
+    # (``reload`` would look for the packed image's file on disk).
+    image.buffers_free()
     return image
 
 

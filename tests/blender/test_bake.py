@@ -191,3 +191,21 @@ def test_thread_count_preference_reaches_the_library():
             pelt.set_thread_count(-1)
     finally:
         pelt.set_thread_count(0)
+
+
+def test_rebake_refreshes_the_pixels_blender_already_loaded(addon):
+    obj = furred_suzanne()
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    shells = pelt_images(obj)["shells"]
+    before = np.empty(shells.size[0] * shells.size[1] * 4, np.float32)
+    shells.pixels.foreach_get(before)  # loads the packed PNG
+    obj.pelt.root_color = (0.9, 0.1, 0.1)
+    obj.pelt.tip_color = (0.9, 0.1, 0.1)
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    assert pelt_images(obj)["shells"] == shells
+    after = np.empty_like(before)
+    shells.pixels.foreach_get(after)
+    skin = after.reshape(shells.size[1], shells.size[0], 4)[-64:, :64]
+    # Layer 0 (the skin) takes the root color: red now, brown before.
+    assert skin[..., 0].mean() > 2 * skin[..., 1].mean()
+    assert not np.array_equal(before, after)
