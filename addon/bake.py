@@ -13,7 +13,7 @@ import time
 import bpy
 import pelt
 
-from . import bake_job, bridge, preferences, writer
+from . import bake_job, bridge, fur, fur_layout, preferences, writer
 
 # Stages of a bake, in order (for the progress bar).
 STAGES = ("patches", "volume", "transfer")
@@ -168,8 +168,17 @@ class PELT_OT_bake(bpy.types.Operator):
         context.workspace.status_text_set(None)
 
 
-def build_material(obj, images, info):
-    """The fur material and modifier; returns the datablocks created (hooked up by ``fur_nodes``)."""
+def build_material(obj, images, info, asset):
+    """The fur material, fin material and Geometry Nodes modifier, so EEVEE and Cycles render
+    the bake (``fur.build_fur``); every check runs before anything is created."""
+    settings = fur_layout.FurSettings.for_volume(
+        info,
+        depth=asset.fur_depth,
+        shells=max(1, min(obj.pelt.max_shells, info["layers"])),
+        fins=obj.pelt.fins,
+        tile_size=asset.tile_size,
+    )
+    fur.build_fur(obj, images, info["layout"], settings)
     return []
 
 

@@ -19,9 +19,7 @@ import bpy
 import pelt
 
 from . import bridge
-
-OWNER = "pelt_owner"
-ROLE = "pelt_role"
+from .ownership import OWNER, ROLE, find_owned, tag
 
 # Image roles: (name stem, color data?).
 IMAGE_ROLES = {
@@ -29,28 +27,6 @@ IMAGE_ROLES = {
     "tangents": ("Tangents", False),
     "fin": ("Fin", True),
 }
-
-
-def owned(collection, obj, role: str):
-    """Pelt's datablock of ``role`` for ``obj`` in ``collection``, or None."""
-    for item in collection:
-        if item.get(OWNER) == obj.name and item.get(ROLE) == role:
-            return item
-    return None
-
-
-def owned_all(obj) -> list:
-    """Every datablock Pelt made for ``obj`` (images, materials, node groups)."""
-    found = []
-    for collection in (bpy.data.images, bpy.data.materials, bpy.data.node_groups):
-        found.extend(item for item in collection if item.get(OWNER) == obj.name)
-    return found
-
-
-def tag(datablock, obj, role: str):
-    datablock[OWNER] = obj.name
-    datablock[ROLE] = role
-    return datablock
 
 
 def prepare_images(asset: pelt.FurAsset) -> tuple[dict, dict]:
@@ -63,7 +39,12 @@ def prepare_images(asset: pelt.FurAsset) -> tuple[dict, dict]:
         "tangents": (pelt.pack_atlas(volume["tangents"])[0], False),
         "fin": (volume["fin"], True),
     }
-    info = {"layout": layout, "layers": volume["layers"], "resolution": volume["resolution"]}
+    info = {
+        "layout": layout,
+        "layers": volume["layers"],
+        "layer_spacing": volume["layer_spacing"],
+        "resolution": volume["resolution"],
+    }
     transfer = asset.transfer
     if transfer is not None:
         for k, texture in enumerate(transfer["packed_u8"]):
@@ -115,14 +96,15 @@ def write_images(obj, images: dict, undo: _Undo) -> dict:
     longer produced (a lower transfer order) are removed."""
     written = {}
     for role, (rgba, color) in images.items():
-        image = owned(bpy.data.images, obj, role)
+        image = find_owned(bpy.data.images, obj.name, role)
         fresh = image is None
         name = image.name if image is not None else _image_name(role, obj)
         image = bridge.write_image(
             bpy.data.images, name, rgba, color=color, image=image, path=_image_path(name)
         )
         if fresh:
-            undo.created.append(tag(image, obj, role))
+            tag(image, obj.name, role)
+            undo.created.append(image)
         written[role] = image
     for image in [im for im in bpy.data.images if im.get(OWNER) == obj.name]:
         if image.get(ROLE) not in written:
@@ -132,14 +114,14 @@ def write_images(obj, images: dict, undo: _Undo) -> dict:
 
 def write_asset(obj, asset: pelt.FurAsset, *, build_material=None) -> dict:
     """Writes ``asset`` into ``obj`` and Pelt's datablocks; returns what was written and how long
-    it took, for the report. ``build_material(obj, images, info)`` adds the material and
+    it took, for the report. ``build_material(obj, images, info, asset)`` adds the material and
     modifier (``None``: images and UVs only)."""
     images, info = prepare_images(asset)
     undo = _Undo()
     try:
         written = write_images(obj, images, undo)
         if build_material is not None:
-            undo.created.extend(build_material(obj, written, info))
+            undo.created.extend(build_material(obj, written, info, asset))
         # Last: it checks the sizes before changing the mesh, and nothing after it can fail.
         bridge.write_patches(obj.data, asset.patches)
     except Exception:

@@ -59,6 +59,13 @@ def test_bake_writes_uvs_patches_and_tagged_packed_images(addon):
     top_left = pixels.reshape(shells.size[1], shells.size[0], 4)[-64:, :64]
     assert np.all(top_left[..., 3] == 1.0)
     assert last_bake(obj) == {"patches": True, "volume": True, "transfer": True}
+    # The material, fin material and modifier that let EEVEE and Cycles render the fur.
+    roles = {m["pelt_role"] for m in bpy.data.materials if m.get("pelt_owner") == obj.name}
+    assert roles == {"fur_material", "fin_material"}
+    modifier = obj.modifiers["Pelt Fur"]
+    assert modifier.type == "NODES" and modifier.node_group.get("pelt_owner") == obj.name
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+    assert len(evaluated.polygons) > 8 * len(mesh.polygons), "skin + 7 shells + fins"
 
 
 def test_rebake_after_a_color_change_skips_every_stage(addon):
@@ -133,6 +140,7 @@ def test_users_datablocks_with_pelt_names_are_never_touched(addon):
     mine.pixels.foreach_get(pixels)
     assert tuple(mine.size) == (4, 4) and np.array_equal(pixels, expected)
     assert "pelt_owner" not in mine and "pelt_owner" not in material
+    assert material.name == f"Pelt Fur {obj.name}" and material.users == 0
     assert pelt_images(obj)["shells"] != mine
 
 
