@@ -7,9 +7,9 @@ order and attaches ``bpy.types.Object.pelt``; ``unregister()`` undoes it in reve
 
 import bpy
 
-from . import ops, panels, props
+from . import bake, comb, comb_tools, ops, paint, panels, preferences, props
 
-_MODULES = (props, ops, panels)
+_MODULES = (preferences, props, ops, paint, comb, comb_tools, bake, panels)
 
 
 def register() -> None:
@@ -17,10 +17,12 @@ def register() -> None:
         for cls in module.CLASSES:
             bpy.utils.register_class(cls)
     bpy.types.Object.pelt = bpy.props.PointerProperty(type=props.PeltObjectSettings)
+    preferences.apply()
 
 
 def unregister() -> None:
     del bpy.types.Object.pelt
+    preferences.CACHE.clear()
     for module in reversed(_MODULES):
         for cls in reversed(module.CLASSES):
             bpy.utils.unregister_class(cls)

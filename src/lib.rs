@@ -17,6 +17,7 @@ pub mod field;
 pub mod hair;
 pub mod lapped;
 pub mod mesh;
+pub mod pipeline;
 pub mod progress;
 pub mod prt;
 mod rng;

@@ -5,12 +5,12 @@ use std::path::PathBuf;
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyBytes, PyDict};
 
 use super::detached;
 use crate::error::PeltError;
 use crate::export::atlas::{AtlasLayout, pack_atlas};
-use crate::export::{ExrOptions, ImageRef, PngOptions, save_exr, save_png};
+use crate::export::{ExrOptions, ImageRef, PngCompression, PngOptions, save_exr, save_png, write_png};
 
 /// Packs ``layers`` (``[L, R, R, C]`` uint8, float16 or float32; C in 1..4) into a grid atlas of
 /// ``ceil(sqrt(L))`` columns, layer 0 top left, row by row; returns ``(image [H, W, C], layout)``.
@@ -82,17 +82,68 @@ pub(super) fn save_png_py(
         srgb,
         ..PngOptions::default()
     };
+    with_png_image(image, |image| detached(py, || image.save(&path, &options)))
+}
+
+/// ``image`` as PNG file bytes (for packing into a .blend without a file): as ``save_png``, with
+/// the fast deflate setting.
+#[pyfunction(name = "encode_png")]
+#[pyo3(signature = (image, *, srgb=true))]
+pub(super) fn encode_png_py<'py>(
+    py: Python<'py>,
+    image: &Bound<'py, PyAny>,
+    srgb: bool,
+) -> PyResult<Bound<'py, PyBytes>> {
+    let options = PngOptions {
+        srgb,
+        compression: PngCompression::Fast,
+    };
+    let bytes = with_png_image(image, |image| {
+        detached(py, || {
+            let mut bytes = Vec::new();
+            image.write(&mut bytes, &options)?;
+            Ok(bytes)
+        })
+    })?;
+    Ok(PyBytes::new(py, &bytes))
+}
+
+/// An 8- or 16-bit image for the PNG writer.
+enum PngImage<'a> {
+    U8(ImageRef<'a, u8>),
+    U16(ImageRef<'a, u16>),
+}
+
+impl PngImage<'_> {
+    fn write(&self, out: &mut Vec<u8>, options: &PngOptions) -> crate::Result<()> {
+        match self {
+            PngImage::U8(image) => write_png(out, image, options),
+            PngImage::U16(image) => write_png(out, image, options),
+        }
+    }
+
+    fn save(&self, path: &std::path::Path, options: &PngOptions) -> crate::Result<()> {
+        match self {
+            PngImage::U8(image) => save_png(path, image, options),
+            PngImage::U16(image) => save_png(path, image, options),
+        }
+    }
+}
+
+/// Calls `write` with `image` (a uint8 or uint16 `[H, W, C]` array) borrowed as a [`PngImage`].
+fn with_png_image<R>(
+    image: &Bound<'_, PyAny>,
+    write: impl FnOnce(&PngImage<'_>) -> PyResult<R>,
+) -> PyResult<R> {
     if let Ok(array) = image.extract::<PyReadonlyArrayDyn<'_, u16>>() {
         let (w, h, c) = image_shape(array.shape())?;
-        let data = contiguous(&array)?;
-        return detached(py, || save_png(&path, &ImageRef::new(w, h, c, data)?, &options));
+        return write(&PngImage::U16(ImageRef::new(w, h, c, contiguous(&array)?)?));
     }
     let array: PyReadonlyArrayDyn<'_, u8> = image
         .extract()
         .map_err(|_| PeltError::parameter("image", "must be a uint8 or uint16 numpy array"))?;
     let (w, h, c) = image_shape(array.shape())?;
-    let data = contiguous(&array)?;
-    detached(py, || save_png(&path, &ImageRef::new(w, h, c, data)?, &options))
+    write(&PngImage::U8(ImageRef::new(w, h, c, contiguous(&array)?)?))
 }
 
 /// Writes ``image`` (``[H, W, C] float32 or float16``, C in 1..4) as a ZIP-compressed OpenEXR
