@@ -43,7 +43,8 @@ impl StackImage<'_> {
         )
     }
 
-    fn encode(&self) -> Result<Vec<u8>> {
+    /// The PNG file.
+    pub(crate) fn encode(&self) -> Result<Vec<u8>> {
         let options = PngOptions {
             srgb: self.is_color(),
             ..PngOptions::default()
