@@ -18,6 +18,7 @@ pub mod hair;
 pub mod lapped;
 pub mod mesh;
 pub mod pipeline;
+pub mod presets;
 pub mod progress;
 pub mod prt;
 mod rng;
