@@ -21,6 +21,7 @@ from ._pelt import (
     bake_volume,
     build_patches,
     encode_png,
+    export_gltf,
     pack_atlas,
     save_exr,
     save_png,
@@ -28,6 +29,8 @@ from ._pelt import (
     sh_project_equirect,
     sh_project_light,
     thread_count,
+    write_asset,
+    write_texture_set,
 )
 
 __all__ = [
@@ -46,6 +49,7 @@ __all__ = [
     "bake_volume",
     "build_patches",
     "encode_png",
+    "export_gltf",
     "pack_atlas",
     "save_exr",
     "save_png",
@@ -53,4 +57,6 @@ __all__ = [
     "sh_project_equirect",
     "sh_project_light",
     "thread_count",
+    "write_asset",
+    "write_texture_set",
 ]

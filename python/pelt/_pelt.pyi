@@ -1,7 +1,7 @@
 """Type stub of the compiled module ``pelt._pelt`` (re-exported by ``pelt``)."""
 
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Literal, TypedDict
 
 import numpy as np
@@ -392,3 +392,77 @@ class Pipeline:
         band selection within ``tolerance``. Every parameter is checked before any stage runs.
         ``progress(stage, fraction)`` returning ``False`` cancels with :class:`BakeCancelled`;
         stages finished before the cancel stay cached."""
+
+# Exports of baked assets (glTF 2.0 binaries, texture sets, asset folders; schema in docs/export.md).
+
+GltfMode = Literal["engine", "geometry"]
+TextureFormat = Literal["png", "ktx2", "exr"]
+
+class ManifestFile(TypedDict, total=False):
+    path: str
+    kind: str
+    format: str
+    pixel_format: str
+    color_space: Literal["srgb", "linear"]
+    width: int
+    height: int
+    layers: int
+    layer: int
+    texture: int
+    levels: int
+    layout: str
+    mode: GltfMode
+    bytes: int
+    meaning: str
+
+class ManifestObject(TypedDict):
+    name: str
+    stack: dict[str, object]
+    files: list[ManifestFile]
+
+class Manifest(TypedDict):
+    format: Literal["pelt-asset"]
+    version: int
+    generator: str
+    objects: list[ManifestObject]
+    files: list[ManifestFile]
+
+def export_gltf(
+    asset: FurAsset | Sequence[FurAsset],
+    path: str | os.PathLike[str],
+    *,
+    mode: GltfMode = "engine",
+    name: str | Sequence[str] | None = None,
+    fins: bool = True,
+    shells: int | None = None,
+) -> None:
+    """Write ``asset`` (one, or several as one node each, named by ``name``; default ``Object``,
+    ``Object.1``, ...) as a glTF binary (GIL released). ``mode="geometry"`` bakes the shells (one
+    primitive each, ``shells`` of them, default every layer above the skin) and the fins
+    (``fins``) into alpha-blended meshes any viewer shows; ``"engine"`` writes the base mesh with
+    ``TEXCOORD_1`` = PeltUV, ``COLOR_0``, ``_PELT_LENGTH``, ``_PELT_COMB``, ``_PELT_DPDU``,
+    ``_PELT_DPDV``, the atlases and the stack description in ``meshes[i].extras.pelt``."""
+
+def write_texture_set(
+    asset: FurAsset | Sequence[FurAsset],
+    folder: str | os.PathLike[str],
+    *,
+    formats: str | Sequence[TextureFormat] | None = None,
+    name: str | Sequence[str] | None = None,
+) -> Manifest:
+    """Write every texture of ``asset`` into ``folder`` in ``formats`` (``"png,ktx2,exr"`` or a
+    list; default all): per-layer and atlas PNGs, EXR density and float16 transfer, KTX2 arrays
+    with mipmaps; plus ``pelt.json``. Returns the manifest (GIL released)."""
+
+def write_asset(
+    asset: FurAsset | Sequence[FurAsset],
+    folder: str | os.PathLike[str],
+    *,
+    formats: str | Sequence[TextureFormat] | None = None,
+    modes: Sequence[GltfMode] | None = None,
+    name: str | Sequence[str] | None = None,
+    fins: bool = True,
+    glb_stem: str = "pelt",
+) -> Manifest:
+    """:func:`write_texture_set` plus one ``<glb_stem>_<mode>.glb`` per mode (default engine and
+    geometry), all listed in ``pelt.json``. Returns the manifest (GIL released)."""

@@ -13,7 +13,7 @@ use rayon::prelude::*;
 
 use super::atlas::{AtlasLayout, pack_atlas};
 use super::image::ImageRef;
-use super::png::{PngOptions, write_png};
+use super::png::{PngCompression, PngOptions, write_png};
 use crate::error::Result;
 use crate::prt::pack::PackedU8;
 use crate::threads::pool;
@@ -47,7 +47,7 @@ impl StackImage<'_> {
     pub(crate) fn encode(&self) -> Result<Vec<u8>> {
         let options = PngOptions {
             srgb: self.is_color(),
-            ..PngOptions::default()
+            compression: PngCompression::Fast,
         };
         let mut out = Vec::new();
         match *self {

@@ -1,5 +1,7 @@
 //! `pelt.pack_atlas` (shell layers laid out in one image, for Blender materials and engines
-//! without texture arrays; see [`crate::export::atlas`]), `pelt.save_png` and `pelt.save_exr`.
+//! without texture arrays; see [`crate::export::atlas`]), `pelt.save_png`, `pelt.encode_png`,
+//! `pelt.save_exr`, and the exports of baked assets: `pelt.export_gltf`,
+//! `pelt.write_texture_set`, `pelt.write_asset` (see [`crate::export`]).
 
 use std::path::PathBuf;
 
@@ -8,9 +10,14 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
 use super::detached;
+use super::pipeline::PyFurAsset;
 use crate::error::PeltError;
 use crate::export::atlas::{AtlasLayout, pack_atlas};
-use crate::export::{ExrOptions, ImageRef, PngCompression, PngOptions, save_exr, save_png, write_png};
+use crate::export::{
+    AssetOptions, ExportInput, ExrOptions, GltfMode, GltfOptions, ImageRef, Manifest, PngCompression, PngOptions,
+    TextureFormats, save_exr, save_glb, save_png, write_asset, write_png, write_texture_set,
+};
+use crate::pipeline::FurAsset;
 
 /// Packs ``layers`` (``[L, R, R, C]`` uint8, float16 or float32; C in 1..4) into a grid atlas of
 /// ``ceil(sqrt(L))`` columns, layer 0 top left, row by row; returns ``(image [H, W, C], layout)``.
@@ -176,4 +183,142 @@ fn contiguous<'a, T: numpy::Element>(array: &'a PyReadonlyArrayDyn<'_, T>) -> Py
     array
         .as_slice()
         .map_err(|_| PeltError::parameter("array", "must be C-contiguous").into())
+}
+
+/// The assets and their names: one `FurAsset` or a sequence of them; `names` one string, a
+/// sequence of strings, or `None` (`Object`, `Object.1`, …).
+fn assets_and_names(asset: &Bound<'_, PyAny>, names: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<(String, FurAsset)>> {
+    let assets: Vec<FurAsset> = match asset.cast::<PyFurAsset>() {
+        Ok(one) => vec![one.get().inner.clone()],
+        Err(_) => {
+            let mut list = Vec::new();
+            for item in asset
+                .try_iter()
+                .map_err(|_| PeltError::parameter("asset", "must be a FurAsset or a sequence of them"))?
+            {
+                let item = item?;
+                let one = item
+                    .cast::<PyFurAsset>()
+                    .map_err(|_| PeltError::parameter("asset", "must be a FurAsset or a sequence of them"))?;
+                list.push(one.get().inner.clone());
+            }
+            list
+        }
+    };
+    let names: Vec<String> = match names {
+        None => (0..assets.len())
+            .map(|i| if i == 0 { "Object".into() } else { format!("Object.{i}") })
+            .collect(),
+        Some(n) => match n.extract::<String>() {
+            Ok(one) => vec![one],
+            Err(_) => n
+                .extract::<Vec<String>>()
+                .map_err(|_| PeltError::parameter("name", "must be a string or a sequence of strings"))?,
+        },
+    };
+    if names.len() != assets.len() {
+        return Err(PeltError::parameter(
+            "name",
+            format!("gives {} names for {} assets", names.len(), assets.len()),
+        )
+        .into());
+    }
+    Ok(names.into_iter().zip(assets).collect())
+}
+
+/// The export inputs of named assets, with `shells` shells when given.
+fn inputs(assets: &[(String, FurAsset)], shells: Option<usize>) -> Vec<ExportInput<'_>> {
+    assets
+        .iter()
+        .map(|(name, asset)| ExportInput {
+            shells,
+            ..ExportInput::from_asset(name, asset)
+        })
+        .collect()
+}
+
+/// Texture containers from ``"png,ktx2"`` or ``["png", "ktx2"]``.
+fn parse_formats(formats: &Bound<'_, PyAny>) -> PyResult<TextureFormats> {
+    let list = match formats.extract::<String>() {
+        Ok(text) => text,
+        Err(_) => formats
+            .extract::<Vec<String>>()
+            .map_err(|_| PeltError::parameter("formats", "must be a string or a sequence of strings"))?
+            .join(","),
+    };
+    Ok(TextureFormats::parse(&list)?)
+}
+
+/// The manifest as a Python object (through JSON).
+fn manifest_object<'py>(py: Python<'py>, manifest: &Manifest) -> PyResult<Bound<'py, PyAny>> {
+    let json = manifest.to_json()?;
+    py.import("json")?.call_method1("loads", (json,))
+}
+
+/// Writes ``asset`` (a ``FurAsset`` or a sequence of them, one glTF node each, named by ``name``)
+/// as a glTF binary: ``mode="engine"`` (base mesh, Pelt's attributes, atlases, stack description
+/// in ``extras``) or ``"geometry"`` (shells and fins as meshes). GIL released.
+#[pyfunction(name = "export_gltf")]
+#[pyo3(signature = (asset, path, *, mode="engine", name=None, fins=true, shells=None))]
+pub(super) fn export_gltf_py(
+    py: Python<'_>,
+    asset: &Bound<'_, PyAny>,
+    path: PathBuf,
+    mode: &str,
+    name: Option<&Bound<'_, PyAny>>,
+    fins: bool,
+    shells: Option<usize>,
+) -> PyResult<()> {
+    let mode = GltfMode::parse(mode)?;
+    let assets = assets_and_names(asset, name)?;
+    detached(py, || {
+        save_glb(&path, &inputs(&assets, shells), &GltfOptions { mode, fins })
+    })
+}
+
+/// Writes the texture set of ``asset`` (one or a sequence, named by ``name``) into ``folder`` in
+/// ``formats`` (``"png,ktx2,exr"`` or a list) with its ``pelt.json``; returns the manifest.
+#[pyfunction(name = "write_texture_set")]
+#[pyo3(signature = (asset, folder, *, formats=None, name=None))]
+pub(super) fn write_texture_set_py<'py>(
+    py: Python<'py>,
+    asset: &Bound<'py, PyAny>,
+    folder: PathBuf,
+    formats: Option<&Bound<'py, PyAny>>,
+    name: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let formats = formats.map_or(Ok(TextureFormats::default()), parse_formats)?;
+    let assets = assets_and_names(asset, name)?;
+    let manifest = detached(py, || write_texture_set(&inputs(&assets, None), &folder, formats))?;
+    manifest_object(py, &manifest)
+}
+
+/// Writes the texture set, one GLB per mode in ``modes`` (``<glb_stem>_<mode>.glb``) and
+/// ``pelt.json`` of ``asset`` (one or a sequence) into ``folder``; returns the manifest.
+#[pyfunction(name = "write_asset")]
+#[pyo3(signature = (asset, folder, *, formats=None, modes=None, name=None, fins=true, glb_stem=String::from("pelt")))]
+#[allow(clippy::too_many_arguments)]
+pub(super) fn write_asset_py<'py>(
+    py: Python<'py>,
+    asset: &Bound<'py, PyAny>,
+    folder: PathBuf,
+    formats: Option<&Bound<'py, PyAny>>,
+    modes: Option<Vec<String>>,
+    name: Option<&Bound<'py, PyAny>>,
+    fins: bool,
+    glb_stem: String,
+) -> PyResult<Bound<'py, PyAny>> {
+    let modes = match modes {
+        Some(modes) => modes.iter().map(|m| GltfMode::parse(m)).collect::<crate::Result<_>>()?,
+        None => AssetOptions::default().modes,
+    };
+    let options = AssetOptions {
+        formats: formats.map_or(Ok(TextureFormats::default()), parse_formats)?,
+        modes,
+        fins,
+        glb_stem,
+    };
+    let assets = assets_and_names(asset, name)?;
+    let manifest = detached(py, || write_asset(&inputs(&assets, None), &folder, &options))?;
+    manifest_object(py, &manifest)
 }

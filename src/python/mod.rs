@@ -78,6 +78,9 @@ fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(export::save_png_py, m)?)?;
     m.add_function(wrap_pyfunction!(export::encode_png_py, m)?)?;
     m.add_function(wrap_pyfunction!(export::save_exr_py, m)?)?;
+    m.add_function(wrap_pyfunction!(export::export_gltf_py, m)?)?;
+    m.add_function(wrap_pyfunction!(export::write_texture_set_py, m)?)?;
+    m.add_function(wrap_pyfunction!(export::write_asset_py, m)?)?;
     m.add_class::<lapped::PyPatches>()?;
     m.add_function(wrap_pyfunction!(lapped::build_patches, m)?)?;
     m.add_function(wrap_pyfunction!(thread_count, m)?)?;
