@@ -19,6 +19,8 @@ GOALS = {
     "prt.transfer.sweep": 1.0,
     "lapped.build.15k": 0.100,
     "lapped.build.100k": 1.0,
+    "export.gltf.engine": 1.0,
+    "export.gltf.geometry": 3.0,
 }
 
 
