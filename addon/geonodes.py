@@ -31,7 +31,7 @@ import pelt
 from .fur_layout import FurSettings
 from .materials import FIN_NORMAL_ATTRIBUTE, FIN_ROLE, FIN_UV_ATTRIBUTE, FUR_ROLE, LAYER_ATTRIBUTE
 from .node_graph import NodeGraph, output
-from .ownership import find_owned, is_owned, owned_or_new
+from .ownership import BUILT, find_owned, is_owned, mark_built, owned_or_new, up_to_date
 
 NODES_ROLE = "fur_nodes"
 MODIFIER_NAME = "Pelt Fur"
@@ -44,6 +44,10 @@ INPUTS = (
     ("Fins", "NodeSocketBool", "fins", "A textured fin on every furred edge (seen near the outline)", None),
     ("Tile Size", "NodeSocketFloat", "tile_size", "Object units per tile of the fin texture", 1e-6),
 )
+
+
+# Bumped whenever the tree built here changes, so files baked before rebuild it.
+BUILD_VERSION = 1
 
 
 def node_group_name(obj) -> str:
@@ -67,7 +71,14 @@ def build_fur_modifier(obj, settings: FurSettings, *, fur_material=None, fin_mat
         node_group_name(obj),
         lambda name: bpy.data.node_groups.new(name, "GeometryNodeTree"),
     )
-    _build_tree(group, fur_material, fin_material)
+    names = (getattr(fur_material, "name", ""), getattr(fin_material, "name", ""))
+    signature = f"{BUILD_VERSION}|{names[0]}|{names[1]}"
+    # The tree depends on the materials only (the settings are the modifier's inputs), so a
+    # re-bake keeps it.
+    if not up_to_date(group, signature):
+        group.pop(BUILT, None)
+        _build_tree(group, fur_material, fin_material)
+        mark_built(group, signature)
     modifier = find_modifier(obj)
     if modifier is None:
         modifier = obj.modifiers.new(MODIFIER_NAME, "NODES")

@@ -28,7 +28,7 @@ import bpy
 import pelt
 
 from .node_graph import NodeGraph, output
-from .ownership import owned_or_new
+from .ownership import BUILT, mark_built, owned_or_new, up_to_date
 
 FUR_ROLE = "fur_material"
 FIN_ROLE = "fin_material"
@@ -38,6 +38,8 @@ FIN_NORMAL_ATTRIBUTE = "pelt_fin_normal"
 COLOR_ATTRIBUTE = "pelt_color"
 UV_MAP = "PeltUV"
 RENDER_METHODS = ("DITHERED", "BLENDED")
+# Bumped whenever the node trees built here change, so files baked before rebuild them.
+BUILD_VERSION = 1
 
 
 def fur_material_name(obj) -> str:
@@ -56,8 +58,10 @@ def build_fur_material(obj, images: dict, layout: dict, *, render_method: str = 
     atlas = _image(images, "shells")
     columns, rows, tile = (_positive_int(layout, key) for key in ("columns", "rows", "tile"))
     _check_render_method(render_method)
-    material = _material(obj, FUR_ROLE, fur_material_name(obj), render_method)
-    g = NodeGraph(material.node_tree)
+    signature = f"{BUILD_VERSION}|{atlas.name}|{columns}|{rows}|{tile}"
+    material, g = _material(obj, FUR_ROLE, fur_material_name(obj), render_method, signature)
+    if g is None:
+        return material
 
     u, v, _ = g.separate(g.node("ShaderNodeUVMap", uv_map=UV_MAP).outputs["UV"])
     layer_node = g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=LAYER_ATTRIBUTE)
@@ -78,6 +82,7 @@ def build_fur_material(obj, images: dict, layout: dict, *, render_method: str = 
     coverage = g.math("MULTIPLY", texel.outputs["Alpha"], color.outputs["Alpha"])
     alpha = g.math("MAXIMUM", coverage, g.math("LESS_THAN", layer, 0.5))
     _shade(g, _tinted(g, texel, color), alpha)
+    mark_built(material, signature)
     return material
 
 
@@ -88,8 +93,10 @@ def build_fin_material(obj, images: dict, *, render_method: str = "DITHERED"):
     fin = _image(images, "fin")
     _check_render_method(render_method)
     height = max(int(fin.size[1]), 1)
-    material = _material(obj, FIN_ROLE, fin_material_name(obj), render_method)
-    g = NodeGraph(material.node_tree)
+    signature = f"{BUILD_VERSION}|{fin.name}|{height}"
+    material, g = _material(obj, FIN_ROLE, fin_material_name(obj), render_method, signature)
+    if g is None:
+        return material
 
     uv_node = g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=FIN_UV_ATTRIBUTE)
     u, v, _ = g.separate(uv_node.outputs["Vector"])
@@ -119,6 +126,7 @@ def build_fin_material(obj, images: dict, *, render_method: str = "DITHERED"):
     color = _color_attribute(g)
     alpha = g.math("MULTIPLY", g.math("MULTIPLY", texel.outputs["Alpha"], color.outputs["Alpha"]), fade)
     _shade(g, _tinted(g, texel, color), alpha)
+    mark_built(material, signature)
     return material
 
 
@@ -157,14 +165,18 @@ def _check_render_method(render_method: str) -> None:
         )
 
 
-def _material(obj, role: str, name: str, render_method: str):
-    """Pelt's ``role`` material of ``obj`` with an empty node tree and the fur's render settings."""
+def _material(obj, role: str, name: str, render_method: str, signature: str):
+    """Pelt's ``role`` material of ``obj`` with the fur's render settings, and a graph on its
+    emptied node tree to build into, or None when the tree was built from the same inputs."""
     material = owned_or_new(bpy.data.materials, obj.name, role, name, bpy.data.materials.new)
-    material.node_tree.nodes.clear()
     material.surface_render_method = render_method
     material.use_transparent_shadow = True
     material.use_backface_culling = False
-    return material
+    if up_to_date(material, signature):
+        return material, None
+    material.node_tree.nodes.clear()
+    material.pop(BUILT, None)  # marked again once the tree is whole
+    return material, NodeGraph(material.node_tree)
 
 
 def _inside(g: NodeGraph, coordinate, inset: float):

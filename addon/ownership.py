@@ -47,3 +47,17 @@ def owned_or_new(collection, owner_name: str, role: str, name: str, new):
     elif item.name != name and collection.get(name) is None:
         item.name = name
     return item
+
+
+BUILT = "pelt_built"
+
+
+def up_to_date(datablock, signature: str) -> bool:
+    """Whether ``datablock`` was last built from inputs with this ``signature`` (so a re-bake can
+    keep its node tree instead of building the same one again)."""
+    return datablock.get(BUILT) == signature
+
+
+def mark_built(datablock, signature: str) -> None:
+    """Records the ``signature`` of the inputs ``datablock`` was just built from."""
+    datablock[BUILT] = signature

@@ -15,11 +15,14 @@ and writes under ``out/demo/``:
   layer atlas in float16 and in 8 bits with the per-coefficient scale and bias of the sidecar;
 - ``relit.png``: the volume seen from the side (layers bottom to top) lit through the transfer by
   a light from +x, +y, −x and −y at 30° elevation, left to right;
+- ``cycles.png``: one Cycles frame of the fur as Blender itself renders it (the Geometry Nodes
+  shells and fins with Pelt's materials), from the front;
 - ``stats.json``: Pelt's statistics of the mesh, the bake's stage report and timings.
 """
 
 import argparse
 import json
+import math
 import time
 from pathlib import Path
 
@@ -29,13 +32,14 @@ from _setup import REPO, register_addon
 
 
 def paint_defaults(mesh) -> None:
-    """Default hair: brown, darker toward the bottom; combed down (object -Z); length 1."""
+    """Default paint: a color multiplier darker toward the bottom (the hair's own colors come from
+    the preset); combed down (object -Z); length 1."""
     n = len(mesh.vertices)
     co = np.empty(3 * n, np.float32)
     mesh.vertices.foreach_get("co", co)
     height = co.reshape(n, 3)[:, 2]
     t = (height - height.min()) / max(float(np.ptp(height)), 1e-6)
-    root, tip = np.array([0.12, 0.06, 0.03]), np.array([0.45, 0.28, 0.15])
+    root, tip = np.array([0.5, 0.45, 0.4]), np.array([1.0, 1.0, 1.0])
     color = np.concatenate([root + t[:, None] * (tip - root), np.ones((n, 1))], axis=1)
     mesh.attributes.new("pelt_color", "FLOAT_COLOR", "POINT").data.foreach_set("color", color.ravel())
     comb = np.tile(np.array([0.0, 0.0, -1.0], np.float32), n)
@@ -88,6 +92,39 @@ def write_transfer(pelt, volume: dict, transfer: dict, out: Path) -> None:
     pelt.save_png(out / "relit.png", (np.clip(rgba, 0, 1) * 255 + 0.5).astype(np.uint8))
 
 
+def stage_scene(scene) -> None:
+    """A camera in front of Suzanne (she looks down −Y), a warm sun from the upper left and a dim
+    sky: for the Cycles frame and the preview."""
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.location = (0.0, -4.2, 0.35)
+    camera.rotation_euler = (math.radians(87.0), 0.0, 0.0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    sun.data.energy = 5.0
+    sun.data.color = (1.0, 0.95, 0.85)
+    sun.rotation_euler = (math.radians(50.0), math.radians(-35.0), math.radians(-20.0))
+    scene.collection.objects.link(sun)
+    world = bpy.data.worlds.new("World")
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.25, 0.3, 0.4, 1.0)
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.6
+    scene.world = world
+
+
+def render_cycles(scene, path: Path, size: int, samples: int) -> None:
+    """One Cycles frame (CPU) of the Geometry Nodes fur."""
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = samples
+    scene.cycles.use_denoising = False
+    scene.render.resolution_x = scene.render.resolution_y = size
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = False
+    scene.render.image_settings.file_format = "PNG"
+    scene.render.filepath = str(path)
+    bpy.ops.render.render(write_still=True)
+
+
 def timed(timings: dict, key: str, operator, **properties) -> None:
     start = time.perf_counter()
     if operator(**properties) != {"FINISHED"}:
@@ -98,6 +135,8 @@ def timed(timings: dict, key: str, operator, **properties) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=REPO / "out" / "demo")
+    parser.add_argument("--cycles-size", type=int, default=320, help="side of the Cycles frame")
+    parser.add_argument("--cycles-samples", type=int, default=16, help="samples of the Cycles frame")
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
 
@@ -123,6 +162,9 @@ def main() -> None:
     settings.enabled = True
     settings.lighting = "PRT"
     settings.tile_size = 0.1
+    settings.fur_depth = 0.08
+    settings.root_color = (0.12, 0.07, 0.04)
+    settings.tip_color = (0.62, 0.42, 0.24)
     timed(timings, "bake_s", bpy.ops.pelt.bake)
     bake_report = json.loads(settings.last_bake)
 
@@ -139,6 +181,14 @@ def main() -> None:
     pelt.save_png(args.out / "tangent_atlas.png", pelt.pack_atlas(volume["tangents"])[0], srgb=False)
     pelt.save_png(args.out / "fin.png", volume["fin"])
     write_transfer(pelt, volume, transfer, args.out)
+
+    scene = bpy.context.scene
+    stage_scene(scene)
+    layers = volume["layers"]
+    addon.fur.prepare_scene(scene, addon.fur_layout.FurSettings(layers=layers, shells=layers))
+    start = time.perf_counter()
+    render_cycles(scene, (args.out / "cycles.png").resolve(), args.cycles_size, args.cycles_samples)
+    timings["cycles_frame_s"] = time.perf_counter() - start
 
     blend = args.out / "demo.blend"
     bpy.ops.wm.save_as_mainfile(filepath=str(blend.resolve()))
@@ -166,6 +216,7 @@ def main() -> None:
     )
     chosen = next(row for row in transfer["bands"] if row["order"] == transfer["order"])
     print(f"  transfer: order {transfer['order']} by band selection (error {chosen['error']:.2%})")
+    print(f"  rendered the Geometry Nodes fur with Cycles in {timings['cycles_frame_s']:.1f} s: cycles.png")
     print(f"  wrote {blend} and the images, transfer_*.exr/png, relit.png, stats.json in {args.out}")
 
 
