@@ -14,8 +14,8 @@ use super::pipeline::PyFurAsset;
 use crate::error::PeltError;
 use crate::export::atlas::{AtlasLayout, pack_atlas};
 use crate::export::{
-    AssetOptions, ExportInput, ExrOptions, GltfMode, GltfOptions, ImageRef, Manifest, PngCompression, PngOptions,
-    TextureFormats, save_exr, save_glb, save_png, write_asset, write_png, write_texture_set,
+    AssetOptions, ExportInput, ExrOptions, GltfMode, GltfOptions, ImageRef, Manifest, PngCompression,
+    PngOptions, TextureFormats, save_exr, save_glb, save_png, write_asset, write_png, write_texture_set,
 };
 use crate::pipeline::FurAsset;
 
@@ -187,7 +187,10 @@ fn contiguous<'a, T: numpy::Element>(array: &'a PyReadonlyArrayDyn<'_, T>) -> Py
 
 /// The assets and their names: one `FurAsset` or a sequence of them; `names` one string, a
 /// sequence of strings, or `None` (`Object`, `Object.1`, …).
-fn assets_and_names(asset: &Bound<'_, PyAny>, names: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<(String, FurAsset)>> {
+fn assets_and_names(
+    asset: &Bound<'_, PyAny>,
+    names: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Vec<(String, FurAsset)>> {
     let assets: Vec<FurAsset> = match asset.cast::<PyFurAsset>() {
         Ok(one) => vec![one.get().inner.clone()],
         Err(_) => {
@@ -207,7 +210,13 @@ fn assets_and_names(asset: &Bound<'_, PyAny>, names: Option<&Bound<'_, PyAny>>) 
     };
     let names: Vec<String> = match names {
         None => (0..assets.len())
-            .map(|i| if i == 0 { "Object".into() } else { format!("Object.{i}") })
+            .map(|i| {
+                if i == 0 {
+                    "Object".into()
+                } else {
+                    format!("Object.{i}")
+                }
+            })
             .collect(),
         Some(n) => match n.extract::<String>() {
             Ok(one) => vec![one],
@@ -309,7 +318,10 @@ pub(super) fn write_asset_py<'py>(
     glb_stem: String,
 ) -> PyResult<Bound<'py, PyAny>> {
     let modes = match modes {
-        Some(modes) => modes.iter().map(|m| GltfMode::parse(m)).collect::<crate::Result<_>>()?,
+        Some(modes) => modes
+            .iter()
+            .map(|m| GltfMode::parse(m))
+            .collect::<crate::Result<_>>()?,
         None => AssetOptions::default().modes,
     };
     let options = AssetOptions {
