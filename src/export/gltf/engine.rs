@@ -26,6 +26,7 @@ pub(super) fn add_object(
     input: &ExportInput<'_>,
 ) -> Result<json::Index<json::Mesh>> {
     let v = SplitVertices::new(input)?;
+    v.check_derivatives()?;
     let volume = input.volume;
     let mut jobs = vec![
         StackImage::Layer(volume, 0),

@@ -16,7 +16,7 @@ use super::super::description::StackDescription;
 use super::super::input::ExportInput;
 use super::super::stack_png::{StackImage, encode_all};
 use super::builder::{GlbBuilder, SamplerKind};
-use super::vertices::SplitVertices;
+use super::vertices::{SplitVertices, check_lifted};
 use super::{Primitive, material, pelt_extras};
 use crate::error::Result;
 use crate::mesh::fin_quads;
@@ -86,6 +86,9 @@ pub(super) fn add_object(
                 })
                 .collect()
         });
+        for positions in &lifted_layers {
+            check_lifted(positions, |i| v.split.source[i])?;
+        }
         let mut shell_material = vec![None; volume.layers];
         for (&layer, positions) in layers.iter().zip(&lifted_layers) {
             let material = *shell_material[layer].get_or_insert_with(|| {
@@ -174,6 +177,7 @@ fn fin_primitive(
             col.push(colors.map_or([1.0; 4], |c| c[x].map(|v| v.clamp(0.0, 1.0))));
         }
     }
+    check_lifted(&pos, |i| quads[i / 4].vertices[i % 2])?;
     let indices: Vec<u32> = (0..quads.len() as u32)
         .flat_map(|q| [0, 1, 3, 0, 3, 2].map(|k| 4 * q + k))
         .collect();

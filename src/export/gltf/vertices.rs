@@ -3,7 +3,7 @@
 //! vertex, in glTF's conventions (unit normals, colors in `[0, 1]`).
 
 use super::super::input::ExportInput;
-use crate::error::Result;
+use crate::error::{PeltError, Result};
 use crate::mesh::{UvSplit, split_at_uv_seams};
 
 /// Hair color where the mesh has none: white, so the texture's own color shows (as the renderer).
@@ -58,6 +58,26 @@ impl SplitVertices {
         })
     }
 
+    /// Checks the surface derivatives: a UV layout whose triangles are almost collapsed in the tile
+    /// can push them past the f32 range, and glTF accessors must hold finite values.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming `corner_uvs` and the mesh vertex.
+    pub fn check_derivatives(&self) -> Result<()> {
+        let bad = |d: &[[f32; 3]]| d.iter().position(|v| !v.iter().all(|c| c.is_finite()));
+        if let Some(i) = bad(&self.split.dpdu).or_else(|| bad(&self.split.dpdv)) {
+            return Err(PeltError::parameter(
+                "corner_uvs",
+                format!(
+                    "the UVs around mesh vertex {} are so compressed that dP/du or dP/dv exceeds the \
+                     f32 range",
+                    self.split.source[i]
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// Length multipliers per mesh vertex (1 where the mesh has none).
     pub fn mesh_lengths(input: &ExportInput<'_>) -> Vec<f32> {
         input.mesh.length().map_or_else(
@@ -77,5 +97,28 @@ impl SplitVertices {
             .flatten()
             .copied()
             .collect()
+    }
+}
+
+/// Checks lifted positions (shells or fins): the offset `fur_depth · length · (n + c − n (n · c))`
+/// can leave the f32 range for a huge comb vector, and glTF accessors must hold finite values.
+/// `vertex(i)` is the mesh vertex of position `i`.
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] naming `comb[v]` of the first vertex whose position is not
+/// finite.
+pub(super) fn check_lifted(positions: &[[f32; 3]], vertex: impl Fn(usize) -> u32) -> Result<()> {
+    match positions.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
+        None => Ok(()),
+        Some(i) => {
+            let v = vertex(i);
+            Err(PeltError::parameter(
+                format!("comb[{v}]"),
+                format!(
+                    "lifts vertex {v} out of the f32 range (position + fur_depth · length · \
+                     (n + comb − n (n · comb)) is not finite)"
+                ),
+            ))
+        }
     }
 }

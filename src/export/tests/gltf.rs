@@ -379,3 +379,25 @@ fn bad_objects_are_named() {
         "objects[0].transfer.u8"
     );
 }
+
+#[test]
+fn offsets_beyond_f32_are_refused_naming_the_comb() {
+    let fx = Fixture::new();
+    let mesh = &fx.mesh;
+    let comb = vec![[1e38f32, 0.0, 0.0]; mesh.vertex_count()];
+    let huge = crate::FurMesh::new(
+        crate::MeshInput::new(mesh.positions(), mesh.triangles())
+            .with_comb(&comb)
+            .with_length(mesh.length().unwrap()),
+    )
+    .unwrap();
+    let input = ExportInput {
+        mesh: &huge,
+        fur_depth: 1e5,
+        ..fx.input("Huge")
+    };
+    let name = parameter_name(encode_glb(&[input], &options(GltfMode::Geometry)));
+    assert!(name.starts_with("objects[0].comb["), "{name}");
+    // The engine mode writes the comb as given (finite) and lets the engine lift.
+    assert!(encode_glb(&[input], &options(GltfMode::Engine)).is_ok());
+}

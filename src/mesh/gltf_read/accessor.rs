@@ -99,9 +99,10 @@ pub(super) fn read(
     }
     let count = accessor.count.0 as usize;
     let element = component_bytes(ctype) * dims;
+    // Without a buffer view every element would be zero (specification §3.6.2.1): nothing a mesh
+    // attribute can use, and refusing it keeps the element count bounded by the buffer's size.
     let Some(view_index) = accessor.buffer_view else {
-        // No buffer view: every element is zero (specification §3.6.2.1).
-        return Ok((dims, vec![0.0; dims * count]));
+        return Err(format!("{what}: accessor {} has no buffer view", index.value()));
     };
     let view = doc
         .root

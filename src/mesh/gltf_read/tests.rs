@@ -156,6 +156,9 @@ fn broken_files_are_refused_with_a_reason() {
     assert!(parse(&glb(&bad_type, &bin)).contains("does not allow"));
     let dangling = json.replace(r#""indices": 2"#, r#""indices": 7"#);
     assert!(parse(&glb(&dangling, &bin)).contains("invalid glTF"));
+    let viewless = json.replace(r#"{"bufferView": 2, "count": 4"#, r#"{"count": 4"#);
+    let m = parse(&glb(&viewless, &bin));
+    assert!(m.contains("bufferView") || m.contains("buffer view"), "{m}");
     let cycle = json.replace(r#""children": [1]"#, r#""children": [2]"#);
     assert!(parse(&glb(&cycle, &bin)).contains("cycle"));
     let data_uri = json.replace(
