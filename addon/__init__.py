@@ -7,9 +7,9 @@ order and attaches ``bpy.types.Object.pelt``; ``unregister()`` undoes it in reve
 
 import bpy
 
-from . import bake, comb, comb_tools, ops, paint, panels, preferences, props
+from . import bake, comb, comb_tools, export, ops, paint, panels, preferences, props
 
-_MODULES = (preferences, props, ops, paint, comb, comb_tools, bake, panels)
+_MODULES = (preferences, props, ops, paint, comb, comb_tools, bake, export, panels)
 
 
 def register() -> None:
@@ -18,9 +18,11 @@ def register() -> None:
             bpy.utils.register_class(cls)
     bpy.types.Object.pelt = bpy.props.PointerProperty(type=props.PeltObjectSettings)
     preferences.apply()
+    export.register_menus()
 
 
 def unregister() -> None:
+    export.unregister_menus()
     del bpy.types.Object.pelt
     preferences.CACHE.clear()
     for module in reversed(_MODULES):

@@ -155,6 +155,15 @@ class VIEW3D_PT_pelt_lighting(_SubPanel, bpy.types.Panel):
             column.prop(settings, "prt_order")
 
 
+class VIEW3D_PT_pelt_export(_SubPanel, bpy.types.Panel):
+    bl_label = "Export"
+    bl_idname = "VIEW3D_PT_pelt_export"
+
+    def draw_settings(self, layout, settings):
+        layout.label(text="glTF for engines and viewers, with textures")
+        layout.operator("pelt.export", icon="EXPORT")
+
+
 CLASSES = (
     VIEW3D_PT_pelt,
     VIEW3D_PT_pelt_paint_comb,
@@ -162,4 +171,5 @@ CLASSES = (
     VIEW3D_PT_pelt_shells,
     VIEW3D_PT_pelt_display,
     VIEW3D_PT_pelt_lighting,
+    VIEW3D_PT_pelt_export,
 )
