@@ -10,6 +10,11 @@ PY := $(VENV)/bin/python
 VERSION := $(shell sed -n 's/^version = "\(.*\)"/\1/p' Cargo.toml | head -n 1)
 APT_PACKAGES := mesa-vulkan-drivers libvulkan1 libegl1 libegl-mesa0 libgl1-mesa-dri
 PY_REQUIREMENTS := bpy==5.0.1 pytest==9.2.0 maturin==1.16.0 ruff==0.17.6
+# The Khronos glTF-Validator (a JavaScript library), pinned; installed into build/node.
+GLTF_VALIDATOR := gltf-validator@2.0.0-dev.3.10
+VALIDATOR_STAMP := build/node/.validator-stamp
+# Where tests/gltf_export.rs writes the files the validator checks.
+GLTF_CHECK_DIR := target/tmp/gltf-check
 
 # Everything the wheel is built from.
 RUST_SOURCES := Cargo.toml Cargo.lock pyproject.toml $(shell find src python -type f 2>/dev/null)
@@ -23,20 +28,22 @@ export XDG_RUNTIME_DIR ?= /tmp/pelt-runtime-$(shell id -u)
 # cargo test links the `python` feature's test binaries against libpython.
 export LD_LIBRARY_PATH := $(shell $(PYTHON) -c 'import sysconfig; print(sysconfig.get_config_var("LIBDIR") or "")'):$(LD_LIBRARY_PATH)
 
-.PHONY: demo test bench package setup system-deps check-rust check-python clean
+.PHONY: demo test bench package setup system-deps check-rust check-gltf check-python clean
 
 demo: setup
 	$(PY) blender_scripts/demo.py
 
-test: setup $(ZIP) check-rust check-python
+test: setup $(ZIP) check-rust check-gltf check-python
 
 setup: system-deps $(INSTALL_STAMP)
 	@mkdir -p -m 700 $(XDG_RUNTIME_DIR)
 
-# Mesa's Vulkan (lavapipe) and GL drivers: a real GPU device on machines without a GPU.
+# Mesa's Vulkan (lavapipe) and GL drivers: a real GPU device on machines without a GPU; Node.js
+# and npm for the glTF validator when no npm is on the PATH.
 system-deps:
 	@missing=$$(for p in $(APT_PACKAGES); do \
 		dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'ok installed' || echo $$p; done); \
+	command -v npm >/dev/null || missing="$$missing nodejs npm"; \
 	if [ -n "$$missing" ]; then \
 		if [ "$$(id -u)" = 0 ]; then \
 			echo "installing $$missing"; \
@@ -70,6 +77,16 @@ check-rust:
 	cargo fmt --check
 	cargo clippy --all-targets --all-features -- -D warnings
 	cargo test --all-features
+
+$(VALIDATOR_STAMP): Makefile | system-deps
+	npm install --silent --no-audit --no-fund --prefix build/node $(GLTF_VALIDATOR)
+	touch $@
+
+# Suzanne and a multi-object scene in both glTF modes, through the Khronos validator: 0 errors.
+check-gltf: $(VALIDATOR_STAMP)
+	rm -rf $(GLTF_CHECK_DIR)
+	PELT_GLTF_OUT=$(GLTF_CHECK_DIR) cargo test --all-features --quiet --test gltf_export
+	node scripts/validate_gltf.mjs $(GLTF_CHECK_DIR)/*.glb
 
 check-python: setup
 	$(VENV)/bin/ruff check addon blender_scripts scripts tests/blender python

@@ -7,9 +7,9 @@ order and attaches ``bpy.types.Object.pelt``; ``unregister()`` undoes it in reve
 
 import bpy
 
-from . import ops, panels, props
+from . import bake, comb, comb_tools, export, ops, paint, panels, preferences, props
 
-_MODULES = (props, ops, panels)
+_MODULES = (preferences, props, ops, paint, comb, comb_tools, bake, export, panels)
 
 
 def register() -> None:
@@ -17,10 +17,14 @@ def register() -> None:
         for cls in module.CLASSES:
             bpy.utils.register_class(cls)
     bpy.types.Object.pelt = bpy.props.PointerProperty(type=props.PeltObjectSettings)
+    preferences.apply()
+    export.register_menus()
 
 
 def unregister() -> None:
+    export.unregister_menus()
     del bpy.types.Object.pelt
+    preferences.CACHE.clear()
     for module in reversed(_MODULES):
         for cls in reversed(module.CLASSES):
             bpy.utils.unregister_class(cls)

@@ -67,64 +67,110 @@ def _point_attribute(mesh, name: str) -> np.ndarray | None:
     return _read(attribute.data, prop, vertex_count, columns, np.float32)
 
 
+def _corner_vertices(mesh) -> np.ndarray:
+    """The vertex of every corner (loop), uint32. The ``.corner_vert`` attribute is Blender's own
+    storage (since 3.6) and reads in one copy; ``loops`` converts item by item (100× slower)."""
+    corner_vert = mesh.attributes.get(".corner_vert")
+    if corner_vert is not None:
+        return _read(corner_vert.data, "value", len(mesh.loops), 1, np.int32).view(np.uint32)
+    return _read(mesh.loops, "vertex_index", len(mesh.loops), 1, np.uint32)
+
+
+def _positions(mesh) -> np.ndarray:
+    """Vertex positions ``[N, 3]`` float32 (the ``position`` attribute reads in one copy; a mesh
+    without vertices has none)."""
+    position = mesh.attributes.get("position")
+    data = position.data if position is not None else mesh.vertices
+    return _read(data, "vector" if position is not None else "co", len(mesh.vertices), 3, np.float32)
+
+
+def loop_triangles(mesh) -> tuple[np.ndarray, np.ndarray]:
+    """``(loops [T, 3] uint32, polygon [T] int32)`` of the loop triangles, each read in one copy
+    (``foreach_get`` is a copy only when the numpy dtype is the property's own)."""
+    mesh.calc_loop_triangles()
+    count = len(mesh.loop_triangles)
+    loops = _read(mesh.loop_triangles, "loops", count, 3, np.uint32)
+    polygons = _read(mesh.loop_triangle_polygons, "value", count, 1, np.int32)
+    return loops, polygons
+
+
 def read_mesh(mesh) -> MeshArrays:
     """Reads positions, loop triangles, vertex normals and the Pelt point attributes of ``mesh``."""
-    mesh.calc_loop_triangles()
     vertex_count = len(mesh.vertices)
-    triangle_count = len(mesh.loop_triangles)
-    triangles = _read(mesh.loop_triangles, "vertices", triangle_count, 3, np.uint32)
+    loops, polygons = loop_triangles(mesh)
+    triangles = _corner_vertices(mesh)[loops]
     # A script can leave a corner naming a vertex that does not exist. Blender would read past the
     # end of its arrays computing normals for such a mesh, so skip them and let pelt name the index.
-    indices_valid = triangle_count == 0 or int(triangles.max()) < vertex_count
+    indices_valid = len(triangles) == 0 or int(triangles.max()) < vertex_count
     return MeshArrays(
-        positions=_read(mesh.vertices, "co", vertex_count, 3, np.float32),
+        positions=_positions(mesh),
         triangles=triangles,
         normals=_read(mesh.vertex_normals, "vector", vertex_count, 3, np.float32) if indices_valid else None,
-        triangle_polygons=_read(mesh.loop_triangles, "polygon_index", triangle_count, 1, np.uint32),
+        triangle_polygons=polygons.view(np.uint32),
         color=_point_attribute(mesh, "pelt_color"),
         comb=_point_attribute(mesh, "pelt_comb"),
         length=_point_attribute(mesh, "pelt_length"),
     )
 
 
-def fur_mesh_from_object(obj) -> pelt.FurMesh:
-    """The object's mesh (as edited, without modifiers) as a ``pelt.FurMesh``.
+def read_object(obj) -> MeshArrays:
+    """The object's mesh (as edited, without modifiers) as arrays.
 
-    Raises ``pelt.PeltError`` (``InvalidMeshError`` for bad geometry or attributes).
+    Raises ``pelt.InvalidMeshError`` when ``obj`` is not a mesh or an attribute is unusable.
     """
     if obj is None or obj.type != "MESH":
         raise pelt.InvalidMeshError("the active object is not a mesh")
     if obj.mode == "EDIT":
         obj.update_from_editmode()
-    return read_mesh(obj.data).fur_mesh()
+    return read_mesh(obj.data)
 
 
-def image_pixels(rgba: np.ndarray) -> np.ndarray:
-    """``[H, W, 4] uint8`` rows top to bottom (Pelt's order) as the flat float32 buffer of a
-    Blender image, whose rows run bottom to top."""
+def fur_mesh_from_object(obj) -> pelt.FurMesh:
+    """The object's mesh as a validated ``pelt.FurMesh``.
+
+    Raises ``pelt.PeltError`` (``InvalidMeshError`` for bad geometry or attributes).
+    """
+    return read_object(obj).fur_mesh()
+
+
+def _check_rgba(rgba: np.ndarray) -> None:
     if rgba.ndim != 3 or rgba.shape[2] != 4 or rgba.dtype != np.uint8:
         raise pelt.InvalidParameterError(
-            f"invalid parameter `rgba`: must be [H, W, 4] uint8, got {rgba.shape}"
+            f"invalid parameter `rgba`: must be [H, W, 4] uint8, got {rgba.shape} {rgba.dtype}"
         )
-    return (rgba[::-1].astype(np.float32) / 255.0).ravel()
 
 
-def write_image(images, name: str, rgba: np.ndarray, *, color: bool = True):
-    """Creates (or refills) the byte image ``name`` in ``images`` (``bpy.data.images``) from
-    ``[H, W, 4] uint8`` straight-alpha pixels, rows top to bottom. ``color`` marks the bytes as
-    sRGB-encoded color; otherwise they are data (tangents, coverage) and tagged Non-Color."""
-    pixels = image_pixels(rgba)
+def write_image(images, name: str, rgba: np.ndarray, *, color: bool = True, image=None, path=None):
+    """Makes ``image`` (or a new image ``name`` in ``images``, i.e. ``bpy.data.images``) show
+    ``[H, W, 4] uint8`` straight-alpha pixels, rows top to bottom.
+
+    Pelt encodes the pixels as PNG (fast, GIL released) and Blender loads them when first shown,
+    so nothing is converted pixel by pixel here: with ``path`` (a file path and the ``filepath``
+    Blender should store, e.g. relative ``//…``) the PNG is written there; otherwise it is packed
+    into the .blend. ``color`` marks the bytes as sRGB-encoded color; otherwise they are data
+    (tangents, transfer) and tagged Non-Color. An existing image is never looked up by name: the
+    caller says which one is its own."""
+    _check_rgba(rgba)
     height, width = rgba.shape[:2]
-    image = images.get(name)
-    if image is not None and tuple(image.size) != (width, height):
-        images.remove(image)
-        image = None
     if image is None:
         image = images.new(name, width, height, alpha=True, float_buffer=False)
+    if image.packed_file is not None:
+        image.unpack(method="REMOVE")
+    image.source = "FILE"
+    if path is None:
+        data = pelt.encode_png(rgba, srgb=color)
+        # The name a packed image would be unpacked to; no file is read or written.
+        image.filepath_raw = "//" + "".join(c if c.isalnum() or c in "-_." else "_" for c in name) + ".png"
+        image.pack(data=data, data_len=len(data))
+    else:
+        file, filepath = path
+        pelt.save_png(file, rgba, srgb=color)
+        image.filepath_raw = filepath
     image.colorspace_settings.name = "sRGB" if color else "Non-Color"
     image.alpha_mode = "STRAIGHT"
-    image.pixels.foreach_set(pixels)
-    image.update()
+    # Drop pixels loaded from the previous bake; Blender decodes the new file when next shown
+    # (``reload`` would look for the packed image's file on disk).
+    image.buffers_free()
     return image
 
 
@@ -139,23 +185,22 @@ def write_patches(mesh, patches) -> None:
 
     Checks the sizes before touching the mesh, so a mismatch raises ``pelt.InvalidMeshError`` and
     changes nothing."""
-    mesh.calc_loop_triangles()
-    triangle_count = len(mesh.loop_triangles)
+    loops, polygons = loop_triangles(mesh)
+    triangle_count = len(loops)
     uv = np.asarray(patches.uv, dtype=np.float32)
     patch = np.asarray(patches.patch, dtype=np.int32)
     if uv.shape != (triangle_count, 3, 2) or patch.shape != (triangle_count,):
         raise pelt.InvalidMeshError(
             f"patches are for {patch.shape[0]} triangles, the mesh has {triangle_count}: bake them again"
         )
-    loops = _read(mesh.loop_triangles, "loops", triangle_count, 3, np.int64)
-    polygons = _read(mesh.loop_triangles, "polygon_index", triangle_count, 1, np.int64)
     loop_uv = np.zeros((len(mesh.loops), 2), np.float32)
     loop_uv[loops.ravel()] = uv.reshape(-1, 2)
     polygon_patch = np.full(len(mesh.polygons), -1, np.int32)
     polygon_patch[polygons] = patch
 
     layer = mesh.uv_layers.get(UV_MAP) or mesh.uv_layers.new(name=UV_MAP)
-    layer.data.foreach_set("uv", loop_uv.ravel())
+    # A UV map is a FLOAT2 corner attribute; its "vector" reads in one copy ("uv" item by item).
+    mesh.attributes[layer.name].data.foreach_set("vector", loop_uv.ravel())
     attribute = mesh.attributes.get(PATCH_ATTRIBUTE)
     if attribute is not None and (attribute.domain != "FACE" or attribute.data_type != "INT"):
         mesh.attributes.remove(attribute)

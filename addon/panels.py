@@ -1,9 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The "Pelt" tab of the 3D view sidebar."""
+"""The "Pelt" tab of the 3D view sidebar: the main panel (check, bake, last report) and one
+sub-panel per group of settings."""
 
 import json
 
 import bpy
+
+from . import comb_tools, point_data
 
 # Statistics rows shown after a check: (key, label).
 STAT_ROWS = (
@@ -18,9 +21,14 @@ STAT_ROWS = (
 )
 
 
-class VIEW3D_PT_pelt(bpy.types.Panel):
-    bl_label = "Pelt"
-    bl_idname = "VIEW3D_PT_pelt"
+def _json(text: str):
+    try:
+        return json.loads(text) if text else None
+    except ValueError:
+        return None
+
+
+class _PeltPanel:
     bl_space_type = "VIEW_3D"
     bl_region_type = "UI"
     bl_category = "Pelt"
@@ -30,25 +38,138 @@ class VIEW3D_PT_pelt(bpy.types.Panel):
         obj = context.active_object
         return obj is not None and obj.type == "MESH"
 
+
+class VIEW3D_PT_pelt(_PeltPanel, bpy.types.Panel):
+    bl_label = "Pelt"
+    bl_idname = "VIEW3D_PT_pelt"
+
     def draw_header(self, context):
         self.layout.prop(context.active_object.pelt, "enabled", text="")
 
     def draw(self, context):
         layout = self.layout
         settings = context.active_object.pelt
+        row = layout.row(align=True)
+        row.scale_y = 1.4
+        row.operator("pelt.bake", icon="RENDER_STILL")
         layout.operator("pelt.check_mesh", icon="CHECKMARK")
-        if not settings.last_check:
-            return
-        try:
-            stats = json.loads(settings.last_check)
-        except ValueError:
-            return
-        box = layout.box()
-        grid = box.grid_flow(columns=2, even_columns=True)
-        for key, label in STAT_ROWS:
-            grid.label(text=label)
-            grid.label(text=str(stats.get(key, "?")))
-        box.label(text=f"Area: {stats.get('surface_area', 0.0):.4g}")
+        bake = _json(settings.last_bake)
+        if bake:
+            box = layout.box()
+            box.label(text="Last Bake", icon="INFO")
+            for stage in bake.get("stages", []):
+                text = f"{stage['seconds']:.2f} s" if stage["ran"] else "skipped (unchanged)"
+                box.label(text=f"{stage['stage'].title()}: {text}")
+        stats = _json(settings.last_check)
+        if stats:
+            box = layout.box()
+            grid = box.grid_flow(columns=2, even_columns=True)
+            for key, label in STAT_ROWS:
+                grid.label(text=label)
+                grid.label(text=str(stats.get(key, "?")))
+            box.label(text=f"Area: {stats.get('surface_area', 0.0):.4g}")
 
 
-CLASSES = (VIEW3D_PT_pelt,)
+class VIEW3D_PT_pelt_paint_comb(_PeltPanel, bpy.types.Panel):
+    bl_label = "Paint & Comb"
+    bl_idname = "VIEW3D_PT_pelt_paint_comb"
+    bl_parent_id = "VIEW3D_PT_pelt"
+
+    def draw(self, context):
+        layout = self.layout
+        obj = context.active_object
+        column = layout.column(align=True)
+        column.operator("pelt.paint_color", icon="VPAINT_HLT")
+        column.operator("pelt.paint_length", icon="VPAINT_HLT")
+        row = column.row(align=True)
+        row.enabled = point_data.LENGTH_PAINT in obj.data.attributes
+        row.operator("pelt.apply_length_paint", icon="CHECKMARK")
+        column = layout.column(align=True)
+        column.operator("pelt.comb", icon="CURVE_PATH")
+        column.operator("pelt.comb_gravity", icon="SORT_ASC")
+        column.operator("pelt.comb_smooth", icon="MOD_SMOOTH")
+        row = column.row(align=True)
+        row.enabled = bool(comb_tools.hair_curves_of(obj))
+        row.operator("pelt.comb_from_curves", icon="OUTLINER_OB_CURVES")
+
+
+class _SubPanel(_PeltPanel):
+    bl_parent_id = "VIEW3D_PT_pelt"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        self.draw_settings(layout, context.active_object.pelt)
+
+
+class VIEW3D_PT_pelt_hair(_SubPanel, bpy.types.Panel):
+    bl_label = "Hair"
+    bl_idname = "VIEW3D_PT_pelt_hair"
+    bl_options = set()
+
+    def draw_settings(self, layout, settings):
+        layout.menu("PELT_MT_presets", icon="PRESET")
+        for name in ("density", "guard_fraction", "undercoat_length", "undercoat_width", "overcoat_length",
+                     "overcoat_width", "taper", "curl", "helix_radius", "helix_frequency", "slant",
+                     "length_jitter", "clump_strength", "clump_count", "root_color", "tip_color",
+                     "color_jitter", "seed"):  # fmt: skip
+            layout.prop(settings, name)
+
+
+class VIEW3D_PT_pelt_shells(_SubPanel, bpy.types.Panel):
+    bl_label = "Shells & Textures"
+    bl_idname = "VIEW3D_PT_pelt_shells"
+
+    def draw_settings(self, layout, settings):
+        for name in ("fur_depth", "tile_size", "layers", "resolution", "coverage", "patch_seed"):
+            layout.prop(settings, name)
+
+
+class VIEW3D_PT_pelt_display(_SubPanel, bpy.types.Panel):
+    bl_label = "Fins & Level of Detail"
+    bl_idname = "VIEW3D_PT_pelt_display"
+
+    def draw_settings(self, layout, settings):
+        layout.prop(settings, "fins")
+        layout.prop(settings, "lod")
+        column = layout.column(align=True)
+        column.active = settings.lod
+        column.prop(settings, "min_shells")
+        column.prop(settings, "max_shells")
+
+
+class VIEW3D_PT_pelt_lighting(_SubPanel, bpy.types.Panel):
+    bl_label = "Lighting"
+    bl_idname = "VIEW3D_PT_pelt_lighting"
+
+    def draw_settings(self, layout, settings):
+        layout.prop(settings, "lighting")
+        column = layout.column()
+        column.active = settings.lighting == "PRT"
+        column.prop(settings, "prt_auto_order")
+        if settings.prt_auto_order:
+            column.prop(settings, "prt_tolerance")
+        else:
+            column.prop(settings, "prt_order")
+
+
+class VIEW3D_PT_pelt_export(_SubPanel, bpy.types.Panel):
+    bl_label = "Export"
+    bl_idname = "VIEW3D_PT_pelt_export"
+
+    def draw_settings(self, layout, settings):
+        layout.label(text="glTF for engines and viewers, with textures")
+        layout.operator("pelt.export", icon="EXPORT")
+
+
+CLASSES = (
+    VIEW3D_PT_pelt,
+    VIEW3D_PT_pelt_paint_comb,
+    VIEW3D_PT_pelt_hair,
+    VIEW3D_PT_pelt_shells,
+    VIEW3D_PT_pelt_display,
+    VIEW3D_PT_pelt_lighting,
+    VIEW3D_PT_pelt_export,
+)

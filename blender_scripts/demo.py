@@ -1,25 +1,28 @@
 """The main job on a built-in default: Suzanne with a painted color and comb, through Pelt.
 
-Run with the project's Python (``make demo``): builds Suzanne, paints a default hair color (a
-brown gradient, darker at the bottom), a comb pointing down the surface and a length of one, runs
-the pipeline as far as it exists (today: checking the mesh in Pelt and baking the default hair
-volume), and writes under ``out/demo/``:
+Run with the project's Python (``make demo``). Does the artist's whole flow headless, through the
+add-on's operators: builds Suzanne, paints a default hair color (a brown gradient, darker at the
+bottom) and length, combs the hair down with gravity, bakes (patches, hair volume, PRT transfer)
+and writes under ``out/demo/``:
 
-- ``suzanne.blend``: the scene with the painted ``pelt_*`` attributes, the lapped patches (UV map
-  ``PeltUV``, face attribute ``pelt_patch``) and the ``Pelt …`` images;
+- ``demo.blend``: the scene with the painted ``pelt_*`` attributes, ``PeltUV``, ``pelt_patch``,
+  the ``Pelt …`` images (packed) and the fur material and modifier;
 - ``patches.png``: Suzanne from the front, faces colored by patch, hair direction drawn;
-- ``shell_atlas.png``, ``tangent_atlas.png``, ``fin.png``: the default hair volume's shell layers
-  (4×4 atlas, layer 0 = skin top left), hair tangents and fin texture, saved by Blender;
+- ``shell_atlas.png``, ``tangent_atlas.png``, ``fin.png``: the hair volume's shell layers (atlas,
+  layer 0 = skin top left), hair tangents and fin texture;
 - ``transfer_K.exr`` / ``transfer_K.png`` + ``transfer.json``: the precomputed radiance transfer
   of that volume (order chosen by band selection), 4 SH coefficients per RGBA texture, each as a
-  4×4 layer atlas in float16 and in 8 bits with the per-coefficient scale and bias of the sidecar;
+  layer atlas in float16 and in 8 bits with the per-coefficient scale and bias of the sidecar;
 - ``relit.png``: the volume seen from the side (layers bottom to top) lit through the transfer by
   a light from +x, +y, −x and −y at 30° elevation, left to right;
-- ``stats.json``: Pelt's statistics of the mesh and the volume, and the time each step took.
+- ``cycles.png``: one Cycles frame of the fur as Blender itself renders it (the Geometry Nodes
+  shells and fins with Pelt's materials), from the front;
+- ``stats.json``: Pelt's statistics of the mesh, the bake's stage report and timings.
 """
 
 import argparse
 import json
+import math
 import time
 from pathlib import Path
 
@@ -29,13 +32,14 @@ from _setup import REPO, register_addon
 
 
 def paint_defaults(mesh) -> None:
-    """Default hair: brown, darker toward the bottom; combed down (object -Z); length 1."""
+    """Default paint: a color multiplier darker toward the bottom (the hair's own colors come from
+    the preset); combed down (object -Z); length 1."""
     n = len(mesh.vertices)
     co = np.empty(3 * n, np.float32)
     mesh.vertices.foreach_get("co", co)
     height = co.reshape(n, 3)[:, 2]
     t = (height - height.min()) / max(float(np.ptp(height)), 1e-6)
-    root, tip = np.array([0.12, 0.06, 0.03]), np.array([0.45, 0.28, 0.15])
+    root, tip = np.array([0.5, 0.45, 0.4]), np.array([1.0, 1.0, 1.0])
     color = np.concatenate([root + t[:, None] * (tip - root), np.ones((n, 1))], axis=1)
     mesh.attributes.new("pelt_color", "FLOAT_COLOR", "POINT").data.foreach_set("color", color.ravel())
     comb = np.tile(np.array([0.0, 0.0, -1.0], np.float32), n)
@@ -64,14 +68,8 @@ def relit_side_view(volume: dict, coefficients: np.ndarray, light: np.ndarray) -
     return np.repeat(seen[::-1], max(1, res // layers), axis=0)
 
 
-def bake_and_write_transfer(pelt, volume: dict, out: Path, timings: dict) -> dict:
-    """PRT of the volume (fur one tile deep), its textures, and the four relit side views."""
-    start = time.perf_counter()
-    spacing = volume["layer_spacing"] * volume["resolution"]
-    covered = volume["coverage"] > 0
-    tangents = np.where(covered[..., None], volume["tangents"][..., :3] / 127.5 - 1.0, 0.0).astype(np.float32)
-    transfer = pelt.bake_transfer(volume["density"], tangents, layer_spacing=spacing, phase="kajiya-kay")
-    timings["bake_transfer_s"] = time.perf_counter() - start
+def write_transfer(pelt, volume: dict, transfer: dict, out: Path) -> None:
+    """The transfer's textures and the four relit side views."""
     for k in range(transfer["packed_f16"].shape[0]):
         pelt.save_exr(out / f"transfer_{k}.exr", pelt.pack_atlas(transfer["packed_f16"][k])[0])
         pelt.save_png(out / f"transfer_{k}.png", pelt.pack_atlas(transfer["packed_u8"][k])[0], srgb=False)
@@ -92,20 +90,59 @@ def bake_and_write_transfer(pelt, volume: dict, out: Path, timings: dict) -> dic
     )
     rgba = np.concatenate([encoded, np.ones((*encoded.shape[:2], 1))], axis=2)
     pelt.save_png(out / "relit.png", (np.clip(rgba, 0, 1) * 255 + 0.5).astype(np.uint8))
-    return transfer
+
+
+def stage_scene(scene) -> None:
+    """A camera in front of Suzanne (she looks down −Y), a warm sun from the upper left and a dim
+    sky: for the Cycles frame and the preview."""
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.location = (0.0, -4.2, 0.35)
+    camera.rotation_euler = (math.radians(87.0), 0.0, 0.0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    sun.data.energy = 5.0
+    sun.data.color = (1.0, 0.95, 0.85)
+    sun.rotation_euler = (math.radians(50.0), math.radians(-35.0), math.radians(-20.0))
+    scene.collection.objects.link(sun)
+    world = bpy.data.worlds.new("World")
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.25, 0.3, 0.4, 1.0)
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.6
+    scene.world = world
+
+
+def render_cycles(scene, path: Path, size: int, samples: int) -> None:
+    """One Cycles frame (CPU) of the Geometry Nodes fur."""
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = samples
+    scene.cycles.use_denoising = False
+    scene.render.resolution_x = scene.render.resolution_y = size
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = False
+    scene.render.image_settings.file_format = "PNG"
+    scene.render.filepath = str(path)
+    bpy.ops.render.render(write_still=True)
+
+
+def timed(timings: dict, key: str, operator, **properties) -> None:
+    start = time.perf_counter()
+    if operator(**properties) != {"FINISHED"}:
+        raise SystemExit(f"{key} did not finish")
+    timings[key] = time.perf_counter() - start
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=REPO / "out" / "demo")
+    parser.add_argument("--cycles-size", type=int, default=320, help="side of the Cycles frame")
+    parser.add_argument("--cycles-samples", type=int, default=16, help="samples of the Cycles frame")
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
 
     import pelt
 
-    register_addon()
-    from addon import bridge
-
+    addon = register_addon()
     bpy.ops.wm.read_factory_settings(use_empty=True)
     timings = {}
 
@@ -113,78 +150,74 @@ def main() -> None:
     bpy.ops.mesh.primitive_monkey_add()
     obj = bpy.context.active_object
     obj.name = "Suzanne"
+    bpy.ops.object.shade_smooth()
     paint_defaults(obj.data)
-    obj.pelt.enabled = True
     timings["build_and_paint_s"] = time.perf_counter() - start
 
-    start = time.perf_counter()
-    if bpy.ops.pelt.check_mesh() != {"FINISHED"}:
-        raise SystemExit("pelt.check_mesh did not finish")
-    timings["check_mesh_s"] = time.perf_counter() - start
+    timed(timings, "check_mesh_s", bpy.ops.pelt.check_mesh)
     stats = json.loads(obj.pelt.last_check)
+    timed(timings, "comb_gravity_s", bpy.ops.pelt.comb_gravity, strength=1.0)
+    bpy.ops.pelt.apply_preset(preset="MINK")
+    settings = obj.pelt
+    settings.enabled = True
+    settings.lighting = "PRT"
+    settings.tile_size = 0.1
+    settings.fur_depth = 0.08
+    settings.root_color = (0.12, 0.07, 0.04)
+    settings.tip_color = (0.62, 0.42, 0.24)
+    timed(timings, "bake_s", bpy.ops.pelt.bake)
+    bake_report = json.loads(settings.last_bake)
 
-    start = time.perf_counter()
-    fur = bridge.read_mesh(obj.data).fur_mesh()
-    patches = pelt.build_patches(fur, tile_size=0.1, seed=1)
-    bridge.write_patches(obj.data, patches)
-    timings["patches_s"] = time.perf_counter() - start
+    # The asset of that bake: the cached pipeline answers at once (every stage reused).
+    asset = addon.bake.start_job(obj).start()
+    asset.wait()
+    asset = asset.asset
+    fur = asset.mesh
+    patches = asset.patches
+    volume = asset.volume
+    transfer = asset.transfer
     pelt.save_png(args.out / "patches.png", patches.picture(fur, width=768, height=768))
+    pelt.save_png(args.out / "shell_atlas.png", pelt.pack_atlas(volume["shells"])[0])
+    pelt.save_png(args.out / "tangent_atlas.png", pelt.pack_atlas(volume["tangents"])[0], srgb=False)
+    pelt.save_png(args.out / "fin.png", volume["fin"])
+    write_transfer(pelt, volume, transfer, args.out)
 
+    scene = bpy.context.scene
+    stage_scene(scene)
+    layers = volume["layers"]
+    addon.fur.prepare_scene(scene, addon.fur_layout.FurSettings(layers=layers, shells=layers))
     start = time.perf_counter()
-    volume = pelt.bake_volume(pelt.HairParams())
-    timings["bake_volume_s"] = time.perf_counter() - start
-    images = {
-        "shell_atlas": (pelt.pack_atlas(volume["shells"])[0], True),
-        "tangent_atlas": (pelt.pack_atlas(volume["tangents"])[0], False),
-        "fin": (volume["fin"], True),
-    }
-    for stem, (pixels, color) in images.items():
-        image = bridge.write_image(bpy.data.images, f"Pelt {stem} {obj.name}", pixels, color=color)
-        image.filepath_raw = str((args.out / f"{stem}.png").resolve())
-        image.file_format = "PNG"
-        image.save()
-    transfer = bake_and_write_transfer(pelt, volume, args.out, timings)
+    render_cycles(scene, (args.out / "cycles.png").resolve(), args.cycles_size, args.cycles_samples)
+    timings["cycles_frame_s"] = time.perf_counter() - start
 
-    blend = args.out / "suzanne.blend"
+    blend = args.out / "demo.blend"
     bpy.ops.wm.save_as_mainfile(filepath=str(blend.resolve()))
     report = {"pelt": pelt.__version__, "threads": pelt.thread_count(), "object": obj.name, "stats": stats}
     report["patches"] = {k: v for k, v in patches.quality.items() if isinstance(v, (int, float))}
     report["volume"] = volume["stats"]
     report["transfer"] = {"order": transfer["order"], "bands": transfer["bands"]}
+    report["bake"] = bake_report["stages"]
     report["timings"] = timings
     (args.out / "stats.json").write_text(json.dumps(report, indent=2) + "\n")
 
     print(f"pelt {pelt.__version__} demo ({pelt.thread_count()} threads)")
     print(
-        "  built Suzanne and painted pelt_color, pelt_comb (down), pelt_length (1) "
-        f"on {stats['vertices']} vertices"
+        f"  built Suzanne ({stats['vertices']} vertices, {stats['faces']} triangles, "
+        f"{stats['components']} components), painted pelt_color and pelt_length, combed down "
+        f"(gravity) in {timings['comb_gravity_s'] * 1000:.0f} ms"
     )
-    print(
-        f"  checked the mesh in Pelt: {stats['faces']} triangles, {stats['edges']} edges, "
-        f"{stats['boundary_edges']} boundary edges, {stats['components']} components, "
-        f"area {stats['surface_area']:.3f}"
-    )
+    for stage in bake_report["stages"]:
+        print(f"  bake: {stage['stage']:<9} {stage['seconds']:6.2f} s  {stage['summary']}")
     q = patches.quality
     print(
-        f"  covered it with {q['patch_count']} lapped patches (tile 0.1) "
-        f"in {timings['patches_s'] * 1000:.0f} ms: "
-        f"alignment {q['mean_alignment_deg']:.2f}°, stretch ok on {q['stretch_within_fraction']:.1%}, "
-        f"{q['flipped_faces']} flipped, seams {q['seam_length_fraction']:.1%}"
-    )
-    vs = volume["stats"]
-    print(
-        f"  baked the default hair volume: {vs['strands']} strands into {vs['layers']} layers of "
-        f"{volume['resolution']}² ({vs['trimmed']} trimmed) in {timings['bake_volume_s'] * 1000:.0f} ms"
+        f"  patches: alignment {q['mean_alignment_deg']:.2f}°, "
+        f"stretch ok on {q['stretch_within_fraction']:.1%}, {q['flipped_faces']} flipped, "
+        f"seams {q['seam_length_fraction']:.1%}"
     )
     chosen = next(row for row in transfer["bands"] if row["order"] == transfer["order"])
-    print(
-        f"  baked the transfer (Kajiya-Kay phase): order {transfer['order']} chosen by band selection "
-        f"(error {chosen['error']:.2%}) in {timings['bake_transfer_s']:.2f} s"
-    )
-    print(
-        f"  wrote {blend}, patches.png, {', '.join(f'{s}.png' for s in images)}, "
-        f"transfer_*.exr/png, relit.png and {args.out / 'stats.json'}"
-    )
+    print(f"  transfer: order {transfer['order']} by band selection (error {chosen['error']:.2%})")
+    print(f"  rendered the Geometry Nodes fur with Cycles in {timings['cycles_frame_s']:.1f} s: cycles.png")
+    print(f"  wrote {blend} and the images, transfer_*.exr/png, relit.png, stats.json in {args.out}")
 
 
 if __name__ == "__main__":

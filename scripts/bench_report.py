@@ -13,11 +13,14 @@ from pathlib import Path
 GOALS = {
     "mesh.build": 0.030,
     "blender.transfer": 0.100,
+    "blender.bake.overhead": 0.5,
     "volume.bake.exact@128x128x16": 0.050,
     "volume.bake.exact@1024x1024x64": 2.0,
     "prt.transfer.sweep": 1.0,
     "lapped.build.15k": 0.100,
     "lapped.build.100k": 1.0,
+    "export.gltf.engine": 1.0,
+    "export.gltf.geometry": 3.0,
 }
 
 

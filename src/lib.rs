@@ -17,6 +17,8 @@ pub mod field;
 pub mod hair;
 pub mod lapped;
 pub mod mesh;
+pub mod pipeline;
+pub mod presets;
 pub mod progress;
 pub mod prt;
 mod rng;

@@ -2,9 +2,10 @@
 //!
 //! Pelt runs inside Blender's process, so it never takes over rayon's global pool: heavy work runs
 //! in [`pool`], whose size is `PELT_THREADS` when set (a positive integer) and the number of cores
-//! otherwise. Results never depend on the thread count (see [`deterministic_sum`]).
+//! otherwise, until [`set_thread_count`] (the add-on's preference) replaces it. Results never
+//! depend on the thread count (see [`deterministic_sum`]).
 
-use std::sync::OnceLock;
+use std::sync::{Arc, RwLock};
 
 use rayon::prelude::*;
 
@@ -14,22 +15,39 @@ pub const THREADS_ENV: &str = "PELT_THREADS";
 /// Rows per chunk in [`deterministic_sum`]; fixed so that the summation tree never changes.
 const SUM_CHUNK: usize = 4096;
 
-/// The pool all parallel stages run in.
-pub fn pool() -> &'static rayon::ThreadPool {
-    static POOL: OnceLock<rayon::ThreadPool> = OnceLock::new();
-    POOL.get_or_init(|| {
+static POOL: RwLock<Option<Arc<rayon::ThreadPool>>> = RwLock::new(None);
+
+/// The pool all parallel stages run in (built on first use). A stage holds its own handle, so
+/// [`set_thread_count`] never disturbs work in flight.
+pub fn pool() -> Arc<rayon::ThreadPool> {
+    if let Some(pool) = POOL.read().unwrap_or_else(|e| e.into_inner()).as_ref() {
+        return pool.clone();
+    }
+    let mut slot = POOL.write().unwrap_or_else(|e| e.into_inner());
+    slot.get_or_insert_with(|| {
         let threads = std::env::var(THREADS_ENV)
             .ok()
             .and_then(|v| v.trim().parse::<usize>().ok())
             .filter(|&n| n > 0)
             .unwrap_or(0);
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .thread_name(|i| format!("pelt-{i}"))
-            .build()
-            .or_else(|_| rayon::ThreadPoolBuilder::new().num_threads(1).build())
-            .expect("a one-thread pool can always be built")
+        Arc::new(build(threads))
     })
+    .clone()
+}
+
+/// Replaces the pool by one of `threads` workers (0: one per core); later stages use it.
+pub fn set_thread_count(threads: usize) {
+    let pool = Arc::new(build(threads));
+    *POOL.write().unwrap_or_else(|e| e.into_inner()) = Some(pool);
+}
+
+fn build(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .thread_name(|i| format!("pelt-{i}"))
+        .build()
+        .or_else(|_| rayon::ThreadPoolBuilder::new().num_threads(1).build())
+        .expect("a one-thread pool can always be built")
 }
 
 /// Number of threads in [`pool`].

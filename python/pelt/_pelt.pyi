@@ -1,7 +1,7 @@
 """Type stub of the compiled module ``pelt._pelt`` (re-exported by ``pelt``)."""
 
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Literal, TypedDict
 
 import numpy as np
@@ -162,6 +162,9 @@ def build_patches(
 def thread_count() -> int:
     """Number of worker threads Pelt uses (``PELT_THREADS``, default: all cores)."""
 
+def set_thread_count(threads: int) -> None:
+    """Use ``threads`` workers (0: one per core) for work started from now on; ``[0, 1024]``."""
+
 class CoatParams(TypedDict):
     length: list[float]
     width: list[float]
@@ -312,6 +315,9 @@ def save_png(
 ) -> None:
     """Write ``[H, W, C]`` (C in 1..4, rows top to bottom, straight alpha) as an 8- or 16-bit PNG."""
 
+def encode_png(image: npt.NDArray[np.uint8] | npt.NDArray[np.uint16], *, srgb: bool = True) -> bytes:
+    """``image`` as the bytes of a PNG file (fast deflate), e.g. to pack into a .blend."""
+
 def save_exr(path: str | os.PathLike[str], image: npt.NDArray[np.float32] | npt.NDArray[np.float16]) -> None:
     """Write ``[H, W, C]`` float32/float16 (C in 1..4: Y, YA, RGB, RGBA) as a ZIP OpenEXR."""
 
@@ -320,3 +326,143 @@ def sh_project_light(
 ) -> npt.NDArray[np.float32]:
     """SH coefficients ``[order²]`` of a unit-power light from ``direction`` over a cone of
     ``half_angle`` radians (0: directional)."""
+
+class StageReport(TypedDict):
+    stage: Literal["patches", "volume", "transfer"]
+    ran: bool
+    seconds: float
+    summary: str
+
+class FurAsset:
+    """The result of :meth:`Pipeline.bake`: every stage's output, shared with the pipeline's
+    cache (the getters copy arrays out)."""
+
+    @property
+    def mesh(self) -> FurMesh: ...
+    @property
+    def patches(self) -> Patches: ...
+    @property
+    def volume(self) -> HairVolume: ...
+    @property
+    def transfer(self) -> TransferResult | None:
+        """As :func:`bake_transfer` returns it, plus ``depth_in_tiles``; ``None`` without PRT."""
+    @property
+    def report(self) -> list[StageReport]:
+        """Per stage, in order: whether it ran or was reused, seconds, a summary line."""
+    @property
+    def tile_size(self) -> float: ...
+    @property
+    def fur_depth(self) -> float: ...
+    @property
+    def layers(self) -> int: ...
+    @property
+    def resolution(self) -> int: ...
+
+class Pipeline:
+    """A bake cache, one per furred object: keeps the last result of each stage (patches, volume,
+    transfer) keyed by exactly the inputs it reads, so a re-bake runs only what changed (a new
+    vertex color runs nothing, a new comb the patches, new hair the volume and transfer)."""
+
+    def __init__(self) -> None: ...
+    def clear(self) -> None:
+        """Forget every cached stage."""
+    def bake(
+        self,
+        mesh: FurMesh,
+        *,
+        tile_size: float = 1.0,
+        seed: int = 1,
+        down: tuple[float, float, float] | None = None,
+        hair: HairParams | None = None,
+        layers: int = 16,
+        resolution: int = 128,
+        coverage: str = "exact",
+        fin_size: tuple[int, int] = (512, 128),
+        fur_depth: float | None = None,
+        transfer: bool = True,
+        order: int | None = None,
+        tolerance: float = 0.02,
+        directions: int = 256,
+        phase: Literal["isotropic", "kajiya-kay"] = "kajiya-kay",
+        progress: Callable[[str, float], bool | None] | None = None,
+    ) -> FurAsset:
+        """Bake ``mesh`` (GIL released): lapped patches with tiles ``tile_size`` object units wide,
+        the hair volume of ``hair``, and (``transfer=True``) its PRT transfer for fur
+        ``fur_depth`` object units deep (default: one tile). ``order=None`` picks the SH order by
+        band selection within ``tolerance``. Every parameter is checked before any stage runs.
+        ``progress(stage, fraction)`` returning ``False`` cancels with :class:`BakeCancelled`;
+        stages finished before the cancel stay cached."""
+
+# Exports of baked assets (glTF 2.0 binaries, texture sets, asset folders; schema in docs/export.md).
+
+GltfMode = Literal["engine", "geometry"]
+TextureFormat = Literal["png", "ktx2", "exr"]
+
+class ManifestFile(TypedDict, total=False):
+    path: str
+    kind: str
+    format: str
+    pixel_format: str
+    color_space: Literal["srgb", "linear"]
+    width: int
+    height: int
+    layers: int
+    layer: int
+    texture: int
+    levels: int
+    layout: str
+    mode: GltfMode
+    bytes: int
+    meaning: str
+
+class ManifestObject(TypedDict):
+    name: str
+    stack: dict[str, object]
+    files: list[ManifestFile]
+
+class Manifest(TypedDict):
+    format: Literal["pelt-asset"]
+    version: int
+    generator: str
+    objects: list[ManifestObject]
+    files: list[ManifestFile]
+
+def export_gltf(
+    asset: FurAsset | Sequence[FurAsset],
+    path: str | os.PathLike[str],
+    *,
+    mode: GltfMode = "engine",
+    name: str | Sequence[str] | None = None,
+    fins: bool = True,
+    shells: int | None = None,
+) -> None:
+    """Write ``asset`` (one, or several as one node each, named by ``name``; default ``Object``,
+    ``Object.1``, ...) as a glTF binary (GIL released). ``mode="geometry"`` bakes the shells (one
+    primitive each, ``shells`` of them, default every layer above the skin) and the fins
+    (``fins``) into alpha-blended meshes any viewer shows; ``"engine"`` writes the base mesh with
+    ``TEXCOORD_1`` = PeltUV, ``COLOR_0``, ``_PELT_LENGTH``, ``_PELT_COMB``, ``_PELT_DPDU``,
+    ``_PELT_DPDV``, the atlases and the stack description in ``meshes[i].extras.pelt``."""
+
+def write_texture_set(
+    asset: FurAsset | Sequence[FurAsset],
+    folder: str | os.PathLike[str],
+    *,
+    formats: str | Sequence[TextureFormat] | None = None,
+    name: str | Sequence[str] | None = None,
+) -> Manifest:
+    """Write every texture of ``asset`` into ``folder`` in ``formats`` (``"png,ktx2,exr"`` or a
+    list; default all): per-layer and atlas PNGs, EXR density and float16 transfer, KTX2 arrays
+    with mipmaps; plus ``pelt.json``. Returns the manifest (GIL released)."""
+
+def write_asset(
+    asset: FurAsset | Sequence[FurAsset],
+    folder: str | os.PathLike[str],
+    *,
+    formats: str | Sequence[TextureFormat] | None = None,
+    modes: Sequence[GltfMode] | None = None,
+    name: str | Sequence[str] | None = None,
+    fins: bool = True,
+    glb_stem: str = "pelt",
+) -> Manifest:
+    """:func:`write_texture_set` plus one ``<glb_stem>_<mode>.glb`` per mode (default engine and
+    geometry), all listed in ``pelt.json``. Returns the manifest (GIL released)."""

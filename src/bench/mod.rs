@@ -13,6 +13,7 @@ use serde::Serialize;
 use crate::error::Result;
 
 mod export;
+mod gltf;
 mod hair;
 mod lapped;
 mod mesh;
@@ -114,6 +115,10 @@ const CASES: &[Case] = &[
     Case {
         name: "export",
         run: export::export_writers,
+    },
+    Case {
+        name: "export.gltf",
+        run: gltf::export_gltf,
     },
     Case {
         name: "prt.transfer",

@@ -1,4 +1,6 @@
-//! Image writers for baked textures: PNG, OpenEXR and KTX2, plus the atlas layout.
+//! Export of baked fur for engines and other tools: image writers (PNG, OpenEXR, KTX2), the atlas
+//! layout, glTF 2.0 binaries ([`gltf`]), texture sets ([`texture_set`]) and whole folders with
+//! their `pelt.json` manifest ([`asset`], [`manifest`]). Layout and schemas: `docs/export.md`.
 //!
 //! Lengyel et al. 2001, §2.2 store the shell layers as a stack of RGBA textures. Engines sample
 //! them as a 2D-array texture (KTX2, with mipmaps), while Blender materials and many engines have
@@ -13,13 +15,24 @@
 //!
 //! The EXR and KTX2 writers are written by hand from the OpenEXR file layout and the KTX 2.0
 //! specification (no encoder crates); the tests read their output back with independent readers.
+//!
+//! The object-level exports take [`ExportInput`]s (one borrowed, validated object each; a pipeline
+//! bake gives one with [`ExportInput::from_asset`]) and describe the stack with
+//! [`StackDescription`], shared by the glTF `extras` and the manifest.
 
+pub mod asset;
 pub mod atlas;
+pub mod description;
 pub mod exr;
+pub mod gltf;
 pub mod image;
+pub mod input;
 pub mod ktx2;
+pub mod manifest;
 pub mod mip;
 pub mod png;
+mod stack_png;
+pub mod texture_set;
 
 #[cfg(test)]
 mod tests;
@@ -30,12 +43,18 @@ use std::path::Path;
 
 use crate::error::{PeltError, Result};
 
+pub use asset::{AssetOptions, write_asset};
 pub use atlas::{AtlasLayout, pack_atlas};
+pub use description::StackDescription;
 pub use exr::{ExrCompression, ExrOptions, ExrSample, save_exr, write_exr};
+pub use gltf::{GltfMode, GltfOptions, encode_glb, save_glb};
 pub use image::{Image, ImageRef, layer_views};
+pub use input::{ExportInput, TransferTextures};
 pub use ktx2::{Ktx2Format, Ktx2Texture, save_ktx2, write_ktx2};
+pub use manifest::{MANIFEST_NAME, Manifest, ManifestFile, ManifestObject};
 pub use mip::{MipAlpha, MipLevels, MipOptions, full_mip_count, mip_chain_rgba8, mip_chain_rgba16f};
 pub use png::{PngCompression, PngOptions, PngSample, save_png, write_png};
+pub use texture_set::{TextureFormats, write_texture_set};
 
 /// The name [`PeltError::Io`] reports for failures of a caller's `Write` (it has no path).
 pub const WRITER_NAME: &str = "<writer>";

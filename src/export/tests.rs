@@ -4,10 +4,14 @@
 
 mod atlas;
 mod exr;
+mod fixture;
+mod glb_reader;
+mod gltf;
 mod image;
 mod ktx2;
 mod mip;
 mod png;
+mod texture_set;
 
 use crate::error::PeltError;
 use crate::rng::Rng;

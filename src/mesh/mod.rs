@@ -5,19 +5,28 @@
 //! ([`validate`]); then the mesh builds what the stages share: the edge map with 64-bit edge keys
 //! (as in the hybrid-fur paper's prism adjacency), vertex→face adjacency and connected components
 //! ([`topology`]), area-weighted vertex normals and per-vertex tangent frames ([`frames`]), and
-//! statistics ([`stats`]). Degenerate (zero-area) triangles and non-manifold edges are accepted and
-//! counted: later stages must cope with them, never crash on them.
+//! statistics ([`stats`]). For consumers that store one UV per vertex (the renderer, glTF) the
+//! mesh is split at the seams of the lapped patches' UVs ([`uv_split`]); fins stand on its edges
+//! ([`fins`]) and shells off its skin ([`shell_offset`]). Degenerate (zero-area) triangles and
+//! non-manifold edges are accepted and counted: later stages must cope with them, never crash on
+//! them.
 
+pub mod fins;
 mod frames;
+pub mod gltf_read;
 pub mod obj;
 pub mod shapes;
+pub mod shell_offset;
 mod stats;
 mod topology;
+pub mod uv_split;
 mod validate;
 
+pub use fins::{FinQuad, fin_quads};
 pub use frames::orthonormal_basis;
 pub use stats::MeshStats;
 pub use topology::{Edge, NO_COMPONENT, NO_EDGE, Topology, edge_key};
+pub use uv_split::{UvSplit, split_at_uv_seams};
 
 use crate::error::Result;
 use crate::threads::pool;

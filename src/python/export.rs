@@ -1,16 +1,23 @@
 //! `pelt.pack_atlas` (shell layers laid out in one image, for Blender materials and engines
-//! without texture arrays; see [`crate::export::atlas`]), `pelt.save_png` and `pelt.save_exr`.
+//! without texture arrays; see [`crate::export::atlas`]), `pelt.save_png`, `pelt.encode_png`,
+//! `pelt.save_exr`, and the exports of baked assets: `pelt.export_gltf`,
+//! `pelt.write_texture_set`, `pelt.write_asset` (see [`crate::export`]).
 
 use std::path::PathBuf;
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyBytes, PyDict};
 
 use super::detached;
+use super::pipeline::PyFurAsset;
 use crate::error::PeltError;
 use crate::export::atlas::{AtlasLayout, pack_atlas};
-use crate::export::{ExrOptions, ImageRef, PngOptions, save_exr, save_png};
+use crate::export::{
+    AssetOptions, ExportInput, ExrOptions, GltfMode, GltfOptions, ImageRef, Manifest, PngCompression,
+    PngOptions, TextureFormats, save_exr, save_glb, save_png, write_asset, write_png, write_texture_set,
+};
+use crate::pipeline::FurAsset;
 
 /// Packs ``layers`` (``[L, R, R, C]`` uint8, float16 or float32; C in 1..4) into a grid atlas of
 /// ``ceil(sqrt(L))`` columns, layer 0 top left, row by row; returns ``(image [H, W, C], layout)``.
@@ -82,17 +89,68 @@ pub(super) fn save_png_py(
         srgb,
         ..PngOptions::default()
     };
+    with_png_image(image, |image| detached(py, || image.save(&path, &options)))
+}
+
+/// ``image`` as PNG file bytes (for packing into a .blend without a file): as ``save_png``, with
+/// the fast deflate setting.
+#[pyfunction(name = "encode_png")]
+#[pyo3(signature = (image, *, srgb=true))]
+pub(super) fn encode_png_py<'py>(
+    py: Python<'py>,
+    image: &Bound<'py, PyAny>,
+    srgb: bool,
+) -> PyResult<Bound<'py, PyBytes>> {
+    let options = PngOptions {
+        srgb,
+        compression: PngCompression::Fast,
+    };
+    let bytes = with_png_image(image, |image| {
+        detached(py, || {
+            let mut bytes = Vec::new();
+            image.write(&mut bytes, &options)?;
+            Ok(bytes)
+        })
+    })?;
+    Ok(PyBytes::new(py, &bytes))
+}
+
+/// An 8- or 16-bit image for the PNG writer.
+enum PngImage<'a> {
+    U8(ImageRef<'a, u8>),
+    U16(ImageRef<'a, u16>),
+}
+
+impl PngImage<'_> {
+    fn write(&self, out: &mut Vec<u8>, options: &PngOptions) -> crate::Result<()> {
+        match self {
+            PngImage::U8(image) => write_png(out, image, options),
+            PngImage::U16(image) => write_png(out, image, options),
+        }
+    }
+
+    fn save(&self, path: &std::path::Path, options: &PngOptions) -> crate::Result<()> {
+        match self {
+            PngImage::U8(image) => save_png(path, image, options),
+            PngImage::U16(image) => save_png(path, image, options),
+        }
+    }
+}
+
+/// Calls `write` with `image` (a uint8 or uint16 `[H, W, C]` array) borrowed as a [`PngImage`].
+fn with_png_image<R>(
+    image: &Bound<'_, PyAny>,
+    write: impl FnOnce(&PngImage<'_>) -> PyResult<R>,
+) -> PyResult<R> {
     if let Ok(array) = image.extract::<PyReadonlyArrayDyn<'_, u16>>() {
         let (w, h, c) = image_shape(array.shape())?;
-        let data = contiguous(&array)?;
-        return detached(py, || save_png(&path, &ImageRef::new(w, h, c, data)?, &options));
+        return write(&PngImage::U16(ImageRef::new(w, h, c, contiguous(&array)?)?));
     }
     let array: PyReadonlyArrayDyn<'_, u8> = image
         .extract()
         .map_err(|_| PeltError::parameter("image", "must be a uint8 or uint16 numpy array"))?;
     let (w, h, c) = image_shape(array.shape())?;
-    let data = contiguous(&array)?;
-    detached(py, || save_png(&path, &ImageRef::new(w, h, c, data)?, &options))
+    write(&PngImage::U8(ImageRef::new(w, h, c, contiguous(&array)?)?))
 }
 
 /// Writes ``image`` (``[H, W, C] float32 or float16``, C in 1..4) as a ZIP-compressed OpenEXR
@@ -125,4 +183,154 @@ fn contiguous<'a, T: numpy::Element>(array: &'a PyReadonlyArrayDyn<'_, T>) -> Py
     array
         .as_slice()
         .map_err(|_| PeltError::parameter("array", "must be C-contiguous").into())
+}
+
+/// The assets and their names: one `FurAsset` or a sequence of them; `names` one string, a
+/// sequence of strings, or `None` (`Object`, `Object.1`, …).
+fn assets_and_names(
+    asset: &Bound<'_, PyAny>,
+    names: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Vec<(String, FurAsset)>> {
+    let assets: Vec<FurAsset> = match asset.cast::<PyFurAsset>() {
+        Ok(one) => vec![one.get().inner.clone()],
+        Err(_) => {
+            let mut list = Vec::new();
+            for item in asset
+                .try_iter()
+                .map_err(|_| PeltError::parameter("asset", "must be a FurAsset or a sequence of them"))?
+            {
+                let item = item?;
+                let one = item
+                    .cast::<PyFurAsset>()
+                    .map_err(|_| PeltError::parameter("asset", "must be a FurAsset or a sequence of them"))?;
+                list.push(one.get().inner.clone());
+            }
+            list
+        }
+    };
+    let names: Vec<String> = match names {
+        None => (0..assets.len())
+            .map(|i| {
+                if i == 0 {
+                    "Object".into()
+                } else {
+                    format!("Object.{i}")
+                }
+            })
+            .collect(),
+        Some(n) => match n.extract::<String>() {
+            Ok(one) => vec![one],
+            Err(_) => n
+                .extract::<Vec<String>>()
+                .map_err(|_| PeltError::parameter("name", "must be a string or a sequence of strings"))?,
+        },
+    };
+    if names.len() != assets.len() {
+        return Err(PeltError::parameter(
+            "name",
+            format!("gives {} names for {} assets", names.len(), assets.len()),
+        )
+        .into());
+    }
+    Ok(names.into_iter().zip(assets).collect())
+}
+
+/// The export inputs of named assets, with `shells` shells when given.
+fn inputs(assets: &[(String, FurAsset)], shells: Option<usize>) -> Vec<ExportInput<'_>> {
+    assets
+        .iter()
+        .map(|(name, asset)| ExportInput {
+            shells,
+            ..ExportInput::from_asset(name, asset)
+        })
+        .collect()
+}
+
+/// Texture containers from ``"png,ktx2"`` or ``["png", "ktx2"]``.
+fn parse_formats(formats: &Bound<'_, PyAny>) -> PyResult<TextureFormats> {
+    let list = match formats.extract::<String>() {
+        Ok(text) => text,
+        Err(_) => formats
+            .extract::<Vec<String>>()
+            .map_err(|_| PeltError::parameter("formats", "must be a string or a sequence of strings"))?
+            .join(","),
+    };
+    Ok(TextureFormats::parse(&list)?)
+}
+
+/// The manifest as a Python object (through JSON).
+fn manifest_object<'py>(py: Python<'py>, manifest: &Manifest) -> PyResult<Bound<'py, PyAny>> {
+    let json = manifest.to_json()?;
+    py.import("json")?.call_method1("loads", (json,))
+}
+
+/// Writes ``asset`` (a ``FurAsset`` or a sequence of them, one glTF node each, named by ``name``)
+/// as a glTF binary: ``mode="engine"`` (base mesh, Pelt's attributes, atlases, stack description
+/// in ``extras``) or ``"geometry"`` (shells and fins as meshes). GIL released.
+#[pyfunction(name = "export_gltf")]
+#[pyo3(signature = (asset, path, *, mode="engine", name=None, fins=true, shells=None))]
+pub(super) fn export_gltf_py(
+    py: Python<'_>,
+    asset: &Bound<'_, PyAny>,
+    path: PathBuf,
+    mode: &str,
+    name: Option<&Bound<'_, PyAny>>,
+    fins: bool,
+    shells: Option<usize>,
+) -> PyResult<()> {
+    let mode = GltfMode::parse(mode)?;
+    let assets = assets_and_names(asset, name)?;
+    detached(py, || {
+        save_glb(&path, &inputs(&assets, shells), &GltfOptions { mode, fins })
+    })
+}
+
+/// Writes the texture set of ``asset`` (one or a sequence, named by ``name``) into ``folder`` in
+/// ``formats`` (``"png,ktx2,exr"`` or a list) with its ``pelt.json``; returns the manifest.
+#[pyfunction(name = "write_texture_set")]
+#[pyo3(signature = (asset, folder, *, formats=None, name=None))]
+pub(super) fn write_texture_set_py<'py>(
+    py: Python<'py>,
+    asset: &Bound<'py, PyAny>,
+    folder: PathBuf,
+    formats: Option<&Bound<'py, PyAny>>,
+    name: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let formats = formats.map_or(Ok(TextureFormats::default()), parse_formats)?;
+    let assets = assets_and_names(asset, name)?;
+    let manifest = detached(py, || write_texture_set(&inputs(&assets, None), &folder, formats))?;
+    manifest_object(py, &manifest)
+}
+
+/// Writes the texture set, one GLB per mode in ``modes`` (``<glb_stem>_<mode>.glb``) and
+/// ``pelt.json`` of ``asset`` (one or a sequence) into ``folder``; returns the manifest.
+#[pyfunction(name = "write_asset")]
+#[pyo3(signature = (asset, folder, *, formats=None, modes=None, name=None, fins=true, glb_stem=String::from("pelt")))]
+#[allow(clippy::too_many_arguments)]
+pub(super) fn write_asset_py<'py>(
+    py: Python<'py>,
+    asset: &Bound<'py, PyAny>,
+    folder: PathBuf,
+    formats: Option<&Bound<'py, PyAny>>,
+    modes: Option<Vec<String>>,
+    name: Option<&Bound<'py, PyAny>>,
+    fins: bool,
+    glb_stem: String,
+) -> PyResult<Bound<'py, PyAny>> {
+    let modes = match modes {
+        Some(modes) => modes
+            .iter()
+            .map(|m| GltfMode::parse(m))
+            .collect::<crate::Result<_>>()?,
+        None => AssetOptions::default().modes,
+    };
+    let options = AssetOptions {
+        formats: formats.map_or(Ok(TextureFormats::default()), parse_formats)?,
+        modes,
+        fins,
+        glb_stem,
+    };
+    let assets = assets_and_names(asset, name)?;
+    let manifest = detached(py, || write_asset(&inputs(&assets, None), &folder, &options))?;
+    manifest_object(py, &manifest)
 }

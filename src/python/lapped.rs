@@ -1,5 +1,7 @@
 //! `pelt.build_patches` and `pelt.Patches`: the Python face of [`crate::lapped`].
 
+use std::sync::Arc;
+
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -13,7 +15,7 @@ use crate::progress::ProgressCallback;
 /// A patch layout: per-corner UVs, patch ids, the direction field and quality figures.
 #[pyclass(name = "Patches", module = "pelt", frozen)]
 pub(super) struct PyPatches {
-    inner: Patches,
+    pub(super) inner: Arc<Patches>,
 }
 
 #[pymethods]
@@ -174,5 +176,7 @@ pub(super) fn build_patches(
         lapped::build_patches_with_progress(&mesh.inner, &params, callback)
     });
     let inner = reporter.finish(outcome)?;
-    Ok(PyPatches { inner })
+    Ok(PyPatches {
+        inner: Arc::new(inner),
+    })
 }

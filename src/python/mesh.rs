@@ -1,5 +1,7 @@
 //! `pelt.FurMesh`: the Python face of [`crate::FurMesh`].
 
+use std::sync::Arc;
+
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -12,7 +14,7 @@ use crate::threads::pool;
 /// A validated triangle mesh with per-vertex hair attributes.
 #[pyclass(name = "FurMesh", module = "pelt", frozen)]
 pub(super) struct PyFurMesh {
-    pub(super) inner: FurMesh,
+    pub(super) inner: Arc<FurMesh>,
 }
 
 /// `rows` as a new numpy array of shape `[len, C]`.
@@ -87,7 +89,9 @@ impl PyFurMesh {
             };
             FurMesh::new(input)
         })?;
-        Ok(PyFurMesh { inner })
+        Ok(PyFurMesh {
+            inner: Arc::new(inner),
+        })
     }
 
     /// Statistics as a dict: vertices, faces, edges, boundary_edges, non_manifold_edges,

@@ -9,6 +9,7 @@ mod errors;
 mod export;
 mod lapped;
 mod mesh;
+mod pipeline;
 mod progress;
 mod prt;
 mod volume;
@@ -46,6 +47,20 @@ fn thread_count() -> usize {
     crate::threads::thread_count()
 }
 
+/// Sets the number of worker threads for later work (0: one per core), in `[0, 1024]`.
+#[pyfunction]
+fn set_thread_count(threads: i64) -> PyResult<()> {
+    if !(0..=1024).contains(&threads) {
+        return Err(crate::PeltError::parameter(
+            "threads",
+            format!("must be in [0, 1024] (0: one per core), got {threads}"),
+        )
+        .into());
+    }
+    crate::threads::set_thread_count(threads as usize);
+    Ok(())
+}
+
 /// Panics inside [`detached`] on purpose, so tests can check that no panic crosses into Python.
 #[pyfunction]
 fn _panic_for_test(py: Python<'_>, message: String) -> PyResult<()> {
@@ -61,13 +76,20 @@ fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(volume::bake_volume_py, m)?)?;
     m.add_function(wrap_pyfunction!(export::pack_atlas_py, m)?)?;
     m.add_function(wrap_pyfunction!(export::save_png_py, m)?)?;
+    m.add_function(wrap_pyfunction!(export::encode_png_py, m)?)?;
     m.add_function(wrap_pyfunction!(export::save_exr_py, m)?)?;
+    m.add_function(wrap_pyfunction!(export::export_gltf_py, m)?)?;
+    m.add_function(wrap_pyfunction!(export::write_texture_set_py, m)?)?;
+    m.add_function(wrap_pyfunction!(export::write_asset_py, m)?)?;
     m.add_class::<lapped::PyPatches>()?;
     m.add_function(wrap_pyfunction!(lapped::build_patches, m)?)?;
     m.add_function(wrap_pyfunction!(thread_count, m)?)?;
+    m.add_function(wrap_pyfunction!(set_thread_count, m)?)?;
     m.add_function(wrap_pyfunction!(prt::bake_transfer, m)?)?;
     m.add_function(wrap_pyfunction!(prt::sh_project_equirect, m)?)?;
     m.add_function(wrap_pyfunction!(prt::sh_project_light, m)?)?;
+    m.add_class::<pipeline::PyPipeline>()?;
+    m.add_class::<pipeline::PyFurAsset>()?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     Ok(())
 }

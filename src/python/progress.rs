@@ -31,10 +31,19 @@ impl PyProgress {
 
     /// Calls the callable with `fraction`; `false` to cancel.
     pub(super) fn report(&self, fraction: f64) -> bool {
+        self.call(|py, callable| callable.call1(py, (fraction,)))
+    }
+
+    /// Calls the callable with `(stage, fraction)`; `false` to cancel.
+    pub(super) fn report_stage(&self, stage: &str, fraction: f64) -> bool {
+        self.call(|py, callable| callable.call1(py, (stage, fraction)))
+    }
+
+    fn call(&self, invoke: impl FnOnce(Python<'_>, &Py<PyAny>) -> PyResult<Py<PyAny>>) -> bool {
         let Some(callable) = &self.callable else {
             return true;
         };
-        Python::attach(|py| match callable.call1(py, (fraction,)) {
+        Python::attach(|py| match invoke(py, callable) {
             // Only an explicit `False` cancels: a callable returning None keeps going.
             Ok(answer) => !answer.bind(py).is(pyo3::types::PyBool::new(py, false).as_any()),
             Err(error) => {

@@ -10,13 +10,13 @@ use super::progress::PyProgress;
 use crate::error::PeltError;
 use crate::progress::ProgressCallback;
 use crate::prt::bands::{BandParams, BandReport, bake_transfer_auto};
-use crate::prt::pack::{pack_f16, pack_u8};
+use crate::prt::pack::{PackedF16, PackedU8, pack_f16, pack_u8};
 use crate::prt::sh;
 use crate::prt::transfer::{
     Method, Phase, Transfer, TransferParams, TransferVolume, bake_transfer as core_bake,
 };
 
-fn parse_phase(phase: &str) -> PyResult<Phase> {
+pub(super) fn parse_phase(phase: &str) -> PyResult<Phase> {
     match phase {
         "isotropic" => Ok(Phase::Isotropic),
         "kajiya-kay" | "kajiya_kay" => Ok(Phase::KajiyaKay),
@@ -126,6 +126,20 @@ pub(super) fn bake_transfer<'py>(
         Ok((transfer, report, f16, u8, sidecar))
     });
     let (transfer, report, f16, u8, sidecar) = reporter.finish(outcome)?;
+    transfer_dict(py, transfer, report.as_ref(), f16, u8, sidecar)
+}
+
+/// The transfer result as a dict (see the stub's `TransferResult`); the arrays take the vectors
+/// without a copy.
+pub(super) fn transfer_dict<'py>(
+    py: Python<'py>,
+    transfer: Transfer,
+    report: Option<&BandReport>,
+    f16: PackedF16,
+    u8: PackedU8,
+    sidecar: String,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (layers, resolution) = (transfer.layers, transfer.resolution);
     let n = transfer.coeff_count();
     let textures = f16.textures;
     let d = PyDict::new(py);
@@ -134,8 +148,8 @@ pub(super) fn bake_transfer<'py>(
         PyArray1::from_vec(py, transfer.coefficients).reshape([layers, resolution, resolution, n])?,
     )?;
     d.set_item("order", transfer.order)?;
-    d.set_item("tolerance_met", report.as_ref().map(|r| r.met))?;
-    d.set_item("bands", bands_list(py, report.as_ref())?)?;
+    d.set_item("tolerance_met", report.map(|r| r.met))?;
+    d.set_item("bands", bands_list(py, report)?)?;
     let packed_shape = [textures, layers, resolution, resolution, 4];
     d.set_item(
         "packed_f16",

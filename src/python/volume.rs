@@ -168,7 +168,7 @@ fn array<'py, T: numpy::Element>(
     Ok(PyArray1::from_vec(py, data).reshape(shape)?.into_any())
 }
 
-fn volume_dict<'py>(py: Python<'py>, v: HairVolume) -> PyResult<Bound<'py, PyDict>> {
+pub(super) fn volume_dict<'py>(py: Python<'py>, v: HairVolume) -> PyResult<Bound<'py, PyDict>> {
     let (r, l) = (v.resolution, v.layers);
     let d = PyDict::new(py);
     d.set_item("resolution", r)?;

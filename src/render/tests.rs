@@ -1,5 +1,6 @@
-//! CPU-side checks of the renderer: matrices, seams and surface derivatives, fins, premultiplied
-//! colors and input validation. The GPU passes are tested in `tests/render_fur.rs`.
+//! CPU-side checks of the renderer: matrices, GPU vertices of the split mesh and the fins,
+//! premultiplied colors and input validation (the split and the fin quads themselves are tested in
+//! `mesh/`). The GPU passes are tested in `tests/render_fur.rs`.
 
 use super::camera::{Camera, invert};
 use super::image::RgbaImage;
@@ -9,7 +10,6 @@ use super::textures::premultiply;
 use super::{fin_mesh, surface_mesh};
 use crate::color::{linear_to_srgb, srgb_to_linear};
 use crate::error::PeltError;
-use crate::mesh::shapes::torus;
 use crate::{FurMesh, MeshInput};
 
 fn column_major(rows: [[f64; 4]; 4]) -> [f32; 16] {
@@ -227,83 +227,6 @@ fn vertices_split_only_where_uvs_differ_and_derivatives_match_the_map() {
     let mut sources = split.source.clone();
     sources.sort_unstable();
     assert_eq!(sources, [0, 0, 1, 2, 2, 3]);
-}
-
-#[test]
-fn torus_derivatives_follow_the_parametric_surface() {
-    let (around, across, repeats) = (48usize, 24usize, [4.0f64, 2.0]);
-    let (positions, triangles) = torus(around, across);
-    let mesh = FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap();
-    // UVs of the parametric angles (θ around, φ across), scaled to a few tiles; the wrap-around
-    // quads get the end of the range so no triangle spans the whole tile.
-    let uv_of = |i: usize, j: usize| {
-        [
-            (repeats[0] * i as f64 / around as f64) as f32,
-            (repeats[1] * j as f64 / across as f64) as f32,
-        ]
-    };
-    let mut uvs = Vec::new();
-    for i in 0..around {
-        for j in 0..across {
-            let (a, b, c, d) = (uv_of(i, j), uv_of(i + 1, j), uv_of(i + 1, j + 1), uv_of(i, j + 1));
-            uvs.push([a, b, c]);
-            uvs.push([a, c, d]);
-        }
-    }
-    let split = surface_mesh::build(&mesh, &uvs).unwrap();
-    // Seams where i or j wraps: one extra column of `across + 1` and row of `around` vertices.
-    assert_eq!(split.vertices.len(), (around + 1) * (across + 1));
-    for (v, &src) in split.vertices.iter().zip(&split.source) {
-        let (i, j) = (src as usize / across, src as usize % across);
-        let (theta, phi) = (
-            std::f64::consts::TAU * i as f64 / around as f64,
-            std::f64::consts::TAU * j as f64 / across as f64,
-        );
-        // P = ((1 + r cos φ) cos θ, (1 + r cos φ) sin θ, r sin φ), u = 4 θ / 2π, v = 2 φ / 2π.
-        let r = 1.0 + 0.35 * phi.cos();
-        let dpdu = [-r * theta.sin(), r * theta.cos(), 0.0].map(|c| c * std::f64::consts::TAU / repeats[0]);
-        let dpdv = [
-            -0.35 * phi.sin() * theta.cos(),
-            -0.35 * phi.sin() * theta.sin(),
-            0.35 * phi.cos(),
-        ]
-        .map(|c| c * std::f64::consts::TAU / repeats[1]);
-        for (got, want) in [(v.dpdu, dpdu), (v.dpdv, dpdv)] {
-            let scale = want.iter().map(|c| c * c).sum::<f64>().sqrt();
-            let err = (0..3)
-                .map(|k| (f64::from(got[k]) - want[k]).powi(2))
-                .sum::<f64>()
-                .sqrt();
-            // Averaged chords of a 48 × 24 torus are a few percent off the tangent; a copy on a
-            // seam only sees the faces on its side of it (one-sided chords, half a step off).
-            let seam = v.uv[0] == 0.0 || v.uv[0] == 4.0 || v.uv[1] == 0.0 || v.uv[1] == 2.0;
-            let tolerance = if seam { 0.2 } else { 0.03 };
-            assert!(err < tolerance * scale, "vertex {src}: {got:?} vs {want:?}");
-        }
-    }
-}
-
-#[test]
-fn bad_uvs_are_named() {
-    let mesh = square();
-    let short = [[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]];
-    assert_eq!(
-        parameter_name(surface_mesh::build(&mesh, &short).unwrap_err()),
-        "corner_uvs"
-    );
-    let nan = [
-        [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]],
-        [[0.0, 0.0], [f32::NAN, 1.0], [0.0, 1.0]],
-    ];
-    assert_eq!(
-        parameter_name(surface_mesh::build(&mesh, &nan).unwrap_err()),
-        "corner_uvs[1]"
-    );
-    let flat = [[[0.5, 0.5]; 3]; 2];
-    assert_eq!(
-        parameter_name(surface_mesh::build(&mesh, &flat).unwrap_err()),
-        "corner_uvs"
-    );
 }
 
 #[test]

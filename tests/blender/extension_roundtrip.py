@@ -1,4 +1,5 @@
-"""Installs the built extension zip into a fresh Blender, checks Suzanne, uninstalls; prints JSON.
+"""Installs the built extension zip into a fresh Blender, checks and bakes Suzanne, uninstalls;
+prints JSON.
 
 Run by ``test_extension_install.py`` in its own process, with the user folders of that test, so
 that the ``pelt`` module imported is the one unpacked from the zip's wheel, not the development
@@ -32,6 +33,18 @@ obj.data.calc_loop_triangles()
 result["check"] = sorted(bpy.ops.pelt.check_mesh())
 result["stats"] = json.loads(obj.pelt.last_check)
 result["blender_counts"] = {"vertices": len(obj.data.vertices), "faces": len(obj.data.loop_triangles)}
+
+# The extension's preferences are registered under its package name.
+prefs = bpy.context.preferences.addons["bl_ext.user_default.pelt"].preferences
+result["preferences"] = {"threads": prefs.threads, "cache_size": prefs.cache_size, "adapter": prefs.adapter}
+obj.pelt.enabled = True
+obj.pelt.layers = 8
+obj.pelt.resolution = "64"
+obj.pelt.lighting = "PRT"
+result["bake"] = sorted(bpy.ops.pelt.bake())
+result["baked_stages"] = [s["stage"] for s in json.loads(obj.pelt.last_bake)["stages"] if s["ran"]]
+result["uv"] = "PeltUV" in obj.data.uv_layers
+result["images"] = sorted(im["pelt_role"] for im in bpy.data.images if im.get("pelt_owner") == obj.name)
 
 repos = bpy.context.preferences.extensions.repos
 index = next(i for i, repo in enumerate(repos) if repo.module == "user_default")

@@ -11,7 +11,7 @@ from pathlib import Path
 from conftest import REPO
 
 
-def test_zip_installs_checks_suzanne_and_uninstalls():
+def test_zip_installs_bakes_suzanne_and_uninstalls():
     version = tomllib.loads((REPO / "Cargo.toml").read_text())["package"]["version"]
     archive = REPO / "dist" / f"pelt-{version}-linux_x64.zip"
     assert archive.exists(), f"{archive} is missing: `make package` builds it (make test runs it first)"
@@ -35,6 +35,11 @@ def test_zip_installs_checks_suzanne_and_uninstalls():
     assert result["check"] == ["FINISHED"]
     assert result["stats"]["vertices"] == result["blender_counts"]["vertices"] == 507
     assert result["stats"]["faces"] == result["blender_counts"]["faces"] == 968
+    assert result["preferences"] == {"threads": 0, "cache_size": 8, "adapter": "auto"}
+    assert result["bake"] == ["FINISHED"]
+    assert result["baked_stages"] == ["patches", "volume", "transfer"]
+    assert result["uv"]
+    assert {"shells", "tangents", "fin", "transfer_0"} <= set(result["images"])
     assert result["installed_dir_existed"]
     assert result["uninstall"] == ["FINISHED"]
     assert not result["enabled_after"] and not result["property_after"] and not result["operator_after"]

@@ -1,0 +1,208 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The shader side of the Blender fur: materials ``Pelt Fur <object>`` (skin and shells) and
+``Pelt Fin <object>`` (fins), for EEVEE and Cycles (Lengyel et al. 2001, §2.3).
+
+``Pelt Fur`` samples the shell atlas at the layer of each face's shell: the geometry nodes
+(``geonodes.py``) store that layer in the point attribute ``pelt_layer``, and the material reads
+``atlas_uv = (cell(layer) + fract(PeltUV)) / (columns, rows)``, flipped to Blender's bottom-up rows
+(``fur_layout.atlas_uv`` is the same formula in numpy). The layer cells sit side by side in one
+image, so the sample must never blend two cells: the image is read with Closest interpolation
+(no filtering across a border, and no mipmaps whose texels would straddle two layers) and the
+in-cell coordinate is kept half a texel inside the cell, so even a coordinate landing exactly on a
+border reads its own layer. Color = texel × ``pelt_color``; alpha = texel alpha × the color's alpha,
+1 on the skin (layer 0).
+
+``Pelt Fin`` samples the fin texture at ``pelt_fin_uv`` (``u`` along the edge, repeating; ``v`` 0 at
+the root, 1 at the tip, kept half a texel inside so the tip never wraps to the root) and fades the
+fin by ``max(0, 2|p| - 1)``, ``p`` = fin normal · view direction, so only fins near the silhouette
+show. The fin normal is the unsheared fin's (``pelt_fin_normal``, object space), as in
+``src/render/fins.wgsl``.
+
+Both render with EEVEE's DITHERED method: it writes depth and needs no sorting, so the many
+overlapping shells and fins of one object composite correctly (BLENDED sorts per object only).
+Cycles takes the Principled BSDF's alpha as transparency; it needs as many transparent bounces as
+surfaces a ray crosses (``fur.prepare_scene``).
+"""
+
+import bpy
+import pelt
+
+from .node_graph import NodeGraph, output
+from .ownership import BUILT, mark_built, owned_or_new, up_to_date
+
+FUR_ROLE = "fur_material"
+FIN_ROLE = "fin_material"
+LAYER_ATTRIBUTE = "pelt_layer"
+FIN_UV_ATTRIBUTE = "pelt_fin_uv"
+FIN_NORMAL_ATTRIBUTE = "pelt_fin_normal"
+COLOR_ATTRIBUTE = "pelt_color"
+UV_MAP = "PeltUV"
+RENDER_METHODS = ("DITHERED", "BLENDED")
+# Bumped whenever the node trees built here change, so files baked before rebuild them.
+BUILD_VERSION = 1
+
+
+def fur_material_name(obj) -> str:
+    return f"Pelt Fur {obj.name}"
+
+
+def fin_material_name(obj) -> str:
+    return f"Pelt Fin {obj.name}"
+
+
+def build_fur_material(obj, images: dict, layout: dict, *, render_method: str = "DITHERED"):
+    """Creates or rebuilds Pelt's skin-and-shell material for ``obj`` from ``images["shells"]``
+    (the shell atlas image) and ``layout`` (the atlas layout of ``pelt.pack_atlas``: ``columns``,
+    ``rows``, ``tile``); returns it. Raises ``pelt.InvalidParameterError`` (changing nothing) when
+    an input is missing or malformed."""
+    atlas = _image(images, "shells")
+    columns, rows, tile = (_positive_int(layout, key) for key in ("columns", "rows", "tile"))
+    _check_render_method(render_method)
+    signature = f"{BUILD_VERSION}|{atlas.name}|{columns}|{rows}|{tile}"
+    material, g = _material(obj, FUR_ROLE, fur_material_name(obj), render_method, signature)
+    if g is None:
+        return material
+
+    u, v, _ = g.separate(g.node("ShaderNodeUVMap", uv_map=UV_MAP).outputs["UV"])
+    layer_node = g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=LAYER_ATTRIBUTE)
+    layer = g.math("ROUND", layer_node.outputs["Fac"])
+    column = g.math("FLOORED_MODULO", layer, float(columns))
+    row = g.math("FLOOR", g.math("DIVIDE", layer, float(columns)))
+    inset = 0.5 / tile
+    atlas_u = g.math("DIVIDE", g.math("ADD", column, _inside(g, u, inset)), float(columns))
+    atlas_v = g.math("SUBTRACT", 1.0, g.math("DIVIDE", g.math("ADD", row, _inside(g, v, inset)), float(rows)))
+    texel = g.node(
+        "ShaderNodeTexImage",
+        {"Vector": g.combine(atlas_u, atlas_v)},
+        image=atlas,
+        interpolation="Closest",
+        extension="EXTEND",
+    )
+    color = _color_attribute(g)
+    coverage = g.math("MULTIPLY", texel.outputs["Alpha"], color.outputs["Alpha"])
+    alpha = g.math("MAXIMUM", coverage, g.math("LESS_THAN", layer, 0.5))
+    _shade(g, _tinted(g, texel, color), alpha)
+    mark_built(material, signature)
+    return material
+
+
+def build_fin_material(obj, images: dict, *, render_method: str = "DITHERED"):
+    """Creates or rebuilds Pelt's fin material for ``obj`` from ``images["fin"]`` (the fin
+    texture: row 0, the top of the Pelt image, is the tip of the hair); returns it. Raises
+    ``pelt.InvalidParameterError`` (changing nothing) when the image is missing."""
+    fin = _image(images, "fin")
+    _check_render_method(render_method)
+    height = max(int(fin.size[1]), 1)
+    signature = f"{BUILD_VERSION}|{fin.name}|{height}"
+    material, g = _material(obj, FIN_ROLE, fin_material_name(obj), render_method, signature)
+    if g is None:
+        return material
+
+    uv_node = g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=FIN_UV_ATTRIBUTE)
+    u, v, _ = g.separate(uv_node.outputs["Vector"])
+    inset = 0.5 / height
+    v = g.math("MAXIMUM", g.math("MINIMUM", v, 1.0 - inset), inset)
+    texel = g.node(
+        "ShaderNodeTexImage",
+        {"Vector": g.combine(u, v)},
+        image=fin,
+        interpolation="Linear",
+        extension="REPEAT",
+    )
+    fin_normal = g.node(
+        "ShaderNodeVectorTransform",
+        {
+            "Vector": g.node(
+                "ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=FIN_NORMAL_ATTRIBUTE
+            ).outputs["Vector"]
+        },
+        vector_type="NORMAL",
+        convert_from="OBJECT",
+        convert_to="WORLD",
+    ).outputs["Vector"]
+    incoming = g.node("ShaderNodeNewGeometry").outputs["Incoming"]
+    p = g.vector_math("DOT_PRODUCT", g.vector_math("NORMALIZE", fin_normal), incoming)
+    fade = g.math("MAXIMUM", g.math("MULTIPLY_ADD", g.math("ABSOLUTE", p), 2.0, -1.0), 0.0)
+    color = _color_attribute(g)
+    alpha = g.math("MULTIPLY", g.math("MULTIPLY", texel.outputs["Alpha"], color.outputs["Alpha"]), fade)
+    _shade(g, _tinted(g, texel, color), alpha)
+    mark_built(material, signature)
+    return material
+
+
+def check_inputs(images: dict, layout: dict, render_method: str = "DITHERED") -> None:
+    """Raises ``pelt.InvalidParameterError`` unless both materials can be built from these."""
+    _image(images, "shells")
+    _image(images, "fin")
+    for key in ("columns", "rows", "tile"):
+        _positive_int(layout, key)
+    _check_render_method(render_method)
+
+
+def _image(images: dict, key: str):
+    image = images.get(key) if hasattr(images, "get") else None
+    if not isinstance(image, bpy.types.Image):
+        raise pelt.InvalidParameterError(
+            f"invalid parameter `images`: needs the {key!r} image, got {image!r}"
+        )
+    return image
+
+
+def _positive_int(layout: dict, key: str) -> int:
+    value = layout.get(key) if hasattr(layout, "get") else None
+    if not isinstance(value, int) or value < 1:
+        raise pelt.InvalidParameterError(
+            f"invalid parameter `layout`: {key!r} must be a positive integer (pelt.pack_atlas's layout), "
+            f"got {value!r}"
+        )
+    return value
+
+
+def _check_render_method(render_method: str) -> None:
+    if render_method not in RENDER_METHODS:
+        raise pelt.InvalidParameterError(
+            f"invalid parameter `render_method`: must be one of {RENDER_METHODS}, got {render_method!r}"
+        )
+
+
+def _material(obj, role: str, name: str, render_method: str, signature: str):
+    """Pelt's ``role`` material of ``obj`` with the fur's render settings, and a graph on its
+    emptied node tree to build into, or None when the tree was built from the same inputs."""
+    material = owned_or_new(bpy.data.materials, obj.name, role, name, bpy.data.materials.new)
+    material.surface_render_method = render_method
+    material.use_transparent_shadow = True
+    material.use_backface_culling = False
+    if up_to_date(material, signature):
+        return material, None
+    material.node_tree.nodes.clear()
+    material.pop(BUILT, None)  # marked again once the tree is whole
+    return material, NodeGraph(material.node_tree)
+
+
+def _inside(g: NodeGraph, coordinate, inset: float):
+    """``fract(coordinate)`` kept within ``[inset, 1 - inset]``."""
+    return g.math("MAXIMUM", g.math("MINIMUM", g.math("FRACT", coordinate), 1.0 - inset), inset)
+
+
+def _color_attribute(g: NodeGraph):
+    return g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=COLOR_ATTRIBUTE)
+
+
+def _tinted(g: NodeGraph, texel, color):
+    """The texel's color × the painted ``pelt_color``."""
+    mix = g.node(
+        "ShaderNodeMix",
+        {"Factor": 1.0, "A": texel.outputs["Color"], "B": color.outputs["Color"]},
+        data_type="RGBA",
+        blend_type="MULTIPLY",
+    )
+    return output(mix, "Result")
+
+
+def _shade(g: NodeGraph, base_color, alpha) -> None:
+    """A Principled BSDF (soft, low specular: hair seen as a surface) into the material output."""
+    bsdf = g.node(
+        "ShaderNodeBsdfPrincipled",
+        {"Base Color": base_color, "Alpha": alpha, "Roughness": 0.6, "Specular IOR Level": 0.3},
+    )
+    g.node("ShaderNodeOutputMaterial", {"Surface": bsdf.outputs["BSDF"]}, target="ALL")

@@ -1,0 +1,136 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Writes a bake (``pelt.FurAsset``) into Blender: UV map ``PeltUV`` and face attribute
+``pelt_patch`` on the mesh, the ``Pelt …`` images, and the fur material and modifier.
+
+Every datablock Pelt creates carries two custom properties, ``pelt_owner`` (the object's name) and
+``pelt_role`` (what it is), and is found again by them, never by name: a user's own image called
+"Pelt Shells Suzanne" is never touched (Blender gives Pelt's a ``.001`` name instead).
+
+All pixels are prepared before the first datablock changes, and the mesh is written last (after
+checking the sizes). If writing fails anyway, the datablocks created so far are removed, so a bake
+either lands whole or leaves the scene as it was.
+"""
+
+import json
+import re
+from pathlib import Path
+
+import bpy
+import pelt
+
+from . import bridge
+from .ownership import OWNER, ROLE, find_owned, tag
+
+# Image roles: (name stem, color data?).
+IMAGE_ROLES = {
+    "shells": ("Shells", True),
+    "tangents": ("Tangents", False),
+    "fin": ("Fin", True),
+}
+
+
+def prepare_images(asset: pelt.FurAsset) -> tuple[dict, dict]:
+    """The images of ``asset`` as ``{role: (rgba [H,W,4] uint8, color?)}`` and the atlas layout
+    plus the transfer's decode table, before anything in Blender changes."""
+    volume = asset.volume
+    shells, layout = pelt.pack_atlas(volume["shells"])
+    images = {
+        "shells": (shells, True),
+        "tangents": (pelt.pack_atlas(volume["tangents"])[0], False),
+        "fin": (volume["fin"], True),
+    }
+    info = {
+        "layout": layout,
+        "layers": volume["layers"],
+        "layer_spacing": volume["layer_spacing"],
+        "resolution": volume["resolution"],
+    }
+    transfer = asset.transfer
+    if transfer is not None:
+        for k, texture in enumerate(transfer["packed_u8"]):
+            images[f"transfer_{k}"] = (pelt.pack_atlas(texture)[0], False)
+        info["transfer"] = {
+            "order": transfer["order"],
+            "textures": int(transfer["packed_u8"].shape[0]),
+            "scale": transfer["scale"].tolist(),
+            "bias": transfer["bias"].tolist(),
+        }
+    return images, info
+
+
+def _image_name(role: str, obj) -> str:
+    stem = IMAGE_ROLES.get(role, (f"Transfer {role.removeprefix('transfer_')}", False))[0]
+    return f"Pelt {stem} {obj.name}"
+
+
+def _image_path(name: str):
+    """``(file, filepath)`` beside the saved .blend (``//pelt_textures/…``), or None to pack."""
+    if not bpy.data.filepath:
+        return None
+    folder = Path(bpy.path.abspath("//pelt_textures"))
+    folder.mkdir(parents=True, exist_ok=True)
+    file = folder / (re.sub(r"[^\w.-]+", "_", name) + ".png")
+    return file, bpy.path.relpath(str(file))
+
+
+class _Undo:
+    """Datablocks a failed write must remove again."""
+
+    def __init__(self):
+        self.created: list = []
+
+    def restore(self) -> None:
+        for datablock in reversed(self.created):
+            _remove(datablock)
+
+
+def _remove(datablock) -> None:
+    for collection in (bpy.data.images, bpy.data.materials, bpy.data.node_groups):
+        if datablock.name in collection and collection[datablock.name] == datablock:
+            collection.remove(datablock)
+            return
+
+
+def write_images(obj, images: dict, undo: _Undo) -> dict:
+    """Creates or refills Pelt's images for ``obj``; returns ``{role: image}``. Images of roles no
+    longer produced (a lower transfer order) are removed."""
+    written = {}
+    for role, (rgba, color) in images.items():
+        image = find_owned(bpy.data.images, obj.name, role)
+        fresh = image is None
+        name = image.name if image is not None else _image_name(role, obj)
+        image = bridge.write_image(
+            bpy.data.images, name, rgba, color=color, image=image, path=_image_path(name)
+        )
+        if fresh:
+            tag(image, obj.name, role)
+            undo.created.append(image)
+        written[role] = image
+    for image in [im for im in bpy.data.images if im.get(OWNER) == obj.name]:
+        if image.get(ROLE) not in written:
+            bpy.data.images.remove(image)
+    return written
+
+
+def write_asset(obj, asset: pelt.FurAsset, *, build_material=None) -> dict:
+    """Writes ``asset`` into ``obj`` and Pelt's datablocks; returns what was written and how long
+    it took, for the report. ``build_material(obj, images, info, asset)`` adds the material and
+    modifier (``None``: images and UVs only)."""
+    images, info = prepare_images(asset)
+    undo = _Undo()
+    try:
+        written = write_images(obj, images, undo)
+        if build_material is not None:
+            undo.created.extend(build_material(obj, written, info, asset))
+        # Last: it checks the sizes before changing the mesh, and nothing after it can fail.
+        bridge.write_patches(obj.data, asset.patches)
+    except Exception:
+        undo.restore()
+        raise
+    obj.pelt.last_bake = json.dumps({"stages": asset.report, "layers": info["layers"], **_summary(info)})
+    return {"images": sorted(written), "info": info}
+
+
+def _summary(info: dict) -> dict:
+    transfer = info.get("transfer")
+    return {"transfer_order": transfer["order"] if transfer else None}

@@ -1,0 +1,303 @@
+//! glTF 2.0 binary (`.glb`) export of furred objects, in two modes (see [`GltfMode`]): the shells
+//! and fins baked into geometry any viewer shows, or the base mesh with the attributes, textures
+//! and shell-stack description an engine-side shader needs (Lengyel et al. 2001, §2.3–§2.4).
+//!
+//! Several objects go into one file as one node and one mesh each, in the order given, all in one
+//! scene. The file depends only on the inputs: no timestamps, objects and primitives in a fixed
+//! order, images stored once per distinct content, parallel work collected in order.
+//!
+//! Files: `builder.rs` (buffer views, accessors, images, samplers, the GLB container),
+//! `vertices.rs` (the split mesh's attributes), `geometry.rs` and `engine.rs` (one per mode).
+
+mod builder;
+mod engine;
+mod geometry;
+mod vertices;
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use gltf_json as json;
+use json::validation::Checked;
+use serde::{Deserialize, Serialize};
+
+use super::description::StackDescription;
+use super::input::ExportInput;
+use super::save_to_path;
+use crate::error::{PeltError, Result};
+use builder::GlbBuilder;
+
+/// What the GLB holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum GltfMode {
+    /// Shells and fins as real meshes with alpha-blended materials: any viewer shows the fur.
+    Geometry,
+    /// The base mesh with Pelt's attributes, the atlases and the stack description in `extras`,
+    /// for engine-side shell shaders.
+    #[default]
+    Engine,
+}
+
+impl GltfMode {
+    /// The mode's name as the command line and Python spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            GltfMode::Geometry => "geometry",
+            GltfMode::Engine => "engine",
+        }
+    }
+
+    /// Parses `geometry` or `engine`.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming `mode` for any other text.
+    pub fn parse(text: &str) -> Result<Self> {
+        match text {
+            "geometry" => Ok(GltfMode::Geometry),
+            "engine" => Ok(GltfMode::Engine),
+            other => Err(PeltError::parameter(
+                "mode",
+                format!("must be \"geometry\" or \"engine\", got {other:?}"),
+            )),
+        }
+    }
+}
+
+/// Options of [`encode_glb`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GltfOptions {
+    /// What the file holds.
+    pub mode: GltfMode,
+    /// `geometry` mode: include the fins (one double-sided quad per edge).
+    pub fins: bool,
+}
+
+impl Default for GltfOptions {
+    fn default() -> Self {
+        GltfOptions {
+            mode: GltfMode::Engine,
+            fins: true,
+        }
+    }
+}
+
+/// The GLB of `objects` (one node and mesh each, in order).
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] naming `objects` when there is none or the file would exceed
+/// 4 GiB, or `objects[i].<field>` for a field [`ExportInput::validate`] rejects.
+pub fn encode_glb(objects: &[ExportInput<'_>], options: &GltfOptions) -> Result<Vec<u8>> {
+    validate_objects(objects)?;
+    let mut builder = GlbBuilder::new();
+    let mut nodes = Vec::with_capacity(objects.len());
+    for (i, input) in objects.iter().enumerate() {
+        let mesh = match options.mode {
+            GltfMode::Geometry => geometry::add_object(&mut builder, input, options.fins),
+            GltfMode::Engine => engine::add_object(&mut builder, input),
+        }
+        .map_err(|e| in_object(i, input.name, e))?;
+        nodes.push(builder.root.push(json::Node {
+            mesh: Some(mesh),
+            name: Some(input.name.into()),
+            ..json::Node::default()
+        }));
+    }
+    let scene = builder.root.push(json::Scene {
+        extensions: None,
+        extras: None,
+        name: Some("Pelt".into()),
+        nodes,
+    });
+    builder.root.scene = Some(scene);
+    builder.finish()
+}
+
+/// [`encode_glb`] into a new file at `path`.
+///
+/// # Errors
+/// As [`encode_glb`]; I/O failures name `path`. Nothing is written when the input is invalid.
+pub fn save_glb(path: impl AsRef<Path>, objects: &[ExportInput<'_>], options: &GltfOptions) -> Result<()> {
+    let bytes = encode_glb(objects, options)?;
+    save_to_path(path.as_ref(), |out| {
+        std::io::Write::write_all(out, &bytes).map_err(super::writer_error)
+    })
+}
+
+/// Checks that there is at least one object and each is valid, naming the object at fault.
+pub(crate) fn validate_objects(objects: &[ExportInput<'_>]) -> Result<()> {
+    if objects.is_empty() {
+        return Err(PeltError::parameter("objects", "must hold at least one object"));
+    }
+    for (i, input) in objects.iter().enumerate() {
+        input.validate().map_err(|e| in_object(i, input.name, e))?;
+    }
+    Ok(())
+}
+
+/// Prefixes a parameter error with the object it is about.
+pub(crate) fn in_object(index: usize, name: &str, error: PeltError) -> PeltError {
+    match error {
+        PeltError::InvalidParameter { name: field, reason } => PeltError::parameter(
+            format!("objects[{index}].{field}"),
+            format!("(object {name:?}) {reason}"),
+        ),
+        other => other,
+    }
+}
+
+/// The four attributes every primitive has.
+#[derive(Debug, Clone, Copy)]
+struct Primitive {
+    position: json::Index<json::Accessor>,
+    normal: json::Index<json::Accessor>,
+    uv: json::Index<json::Accessor>,
+    color: json::Index<json::Accessor>,
+}
+
+impl Primitive {
+    /// A triangle-list primitive of these attributes plus `extra` ones.
+    fn primitive(
+        &self,
+        indices: json::Index<json::Accessor>,
+        material: json::Index<json::Material>,
+        extra: &[(json::mesh::Semantic, json::Index<json::Accessor>)],
+    ) -> json::mesh::Primitive {
+        use json::mesh::Semantic;
+        let mut attributes = BTreeMap::new();
+        for (semantic, accessor) in [
+            (Semantic::Positions, self.position),
+            (Semantic::Normals, self.normal),
+            (Semantic::TexCoords(0), self.uv),
+            (Semantic::Colors(0), self.color),
+        ]
+        .into_iter()
+        .chain(extra.iter().cloned())
+        {
+            attributes.insert(Checked::Valid(semantic), accessor);
+        }
+        json::mesh::Primitive {
+            attributes,
+            extensions: None,
+            extras: None,
+            indices: Some(indices),
+            material: Some(material),
+            mode: Checked::Valid(json::mesh::Mode::Triangles),
+            targets: None,
+        }
+    }
+}
+
+/// A rough, non-metallic material whose base color is `texture` (read with `TEXCOORD_<tex_coord>`,
+/// multiplied by `COLOR_0`), opaque or alpha-blended, single- or double-sided.
+fn material(
+    builder: &mut GlbBuilder,
+    name: String,
+    texture: json::Index<json::Texture>,
+    tex_coord: u32,
+    blend: bool,
+    double_sided: bool,
+) -> json::Index<json::Material> {
+    let alpha = if blend {
+        json::material::AlphaMode::Blend
+    } else {
+        json::material::AlphaMode::Opaque
+    };
+    builder.root.push(json::Material {
+        alpha_mode: Checked::Valid(alpha),
+        double_sided,
+        name: Some(name),
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_texture: Some(json::texture::Info {
+                index: texture,
+                tex_coord,
+                extensions: None,
+                extras: None,
+            }),
+            metallic_factor: json::material::StrengthFactor(0.0),
+            roughness_factor: json::material::StrengthFactor(1.0),
+            ..json::material::PbrMetallicRoughness::default()
+        },
+        ..json::Material::default()
+    })
+}
+
+/// Indices (into the glTF `textures` array) of the engine mode's textures.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EngineTextures {
+    /// Layer 0 (the skin), also the material's base color.
+    pub skin: u32,
+    /// Every shell layer in the atlas (sRGB color, straight alpha).
+    pub shells_atlas: u32,
+    /// Every tangent layer in the atlas (`0.5·d + 0.5`, linear).
+    pub tangents_atlas: u32,
+    /// The fin texture (sRGB color, straight alpha).
+    pub fin: u32,
+    /// The 8-bit transfer textures, each an atlas of the layers.
+    pub transfer: Vec<u32>,
+}
+
+/// The engine mode's vertex attribute names.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EngineAttributes {
+    /// Patch UVs in tile units.
+    pub uv: String,
+    /// Hair color, linear RGBA.
+    pub color: String,
+    /// Length multiplier.
+    pub length: String,
+    /// Comb vector, object space.
+    pub comb: String,
+    /// `∂P/∂u` (object units per tile unit).
+    pub dpdu: String,
+    /// `∂P/∂v`.
+    pub dpdv: String,
+}
+
+/// `extras.pelt` of an exported mesh.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GltfExtras {
+    /// Always `pelt-gltf`.
+    pub format: String,
+    /// Schema version, 1.
+    pub version: u32,
+    /// `geometry` or `engine`.
+    pub mode: String,
+    /// The shell stack.
+    pub stack: StackDescription,
+    /// `engine` mode: vertex attribute names.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub attributes: Option<EngineAttributes>,
+    /// `engine` mode: texture indices.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub textures: Option<EngineTextures>,
+}
+
+/// `{"pelt": GltfExtras}` as a raw JSON value.
+fn pelt_extras(
+    mode: &str,
+    stack: &StackDescription,
+    textures: Option<EngineTextures>,
+) -> Result<json::Extras> {
+    let attributes = textures.as_ref().map(|_| EngineAttributes {
+        uv: "TEXCOORD_1".into(),
+        color: "COLOR_0".into(),
+        length: "_PELT_LENGTH".into(),
+        comb: "_PELT_COMB".into(),
+        dpdu: "_PELT_DPDU".into(),
+        dpdv: "_PELT_DPDV".into(),
+    });
+    let extras = GltfExtras {
+        format: "pelt-gltf".into(),
+        version: 1,
+        mode: mode.into(),
+        stack: stack.clone(),
+        attributes,
+        textures,
+    };
+    let mut wrapper = BTreeMap::new();
+    wrapper.insert("pelt", extras);
+    let raw = serde_json::value::to_raw_value(&wrapper)
+        .map_err(|e| PeltError::Internal(format!("glTF extras: {e}")))?;
+    Ok(Some(raw))
+}

@@ -1,0 +1,67 @@
+//! Fin placement: one quad per mesh edge (Lengyel et al. 2001, §2.3, Figure 3), standing on the
+//! edge along each end's growth direction, textured with the fin texture over a random interval
+//! whose length scales with the edge (§2.2, "Fin texture").
+//!
+//! The renderer extrudes these quads in its vertex shader and the glTF export bakes them into
+//! geometry; both read the same quads, so an exported fin lies where the preview draws it.
+
+use crate::FurMesh;
+use crate::rng::Rng;
+
+/// Seed of the fin texture intervals (any fixed value: fins look the same on every run).
+const FIN_SEED: u64 = 0x5045_4c54_4649_4e53;
+
+/// The fin of one edge.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FinQuad {
+    /// The edge's index in [`crate::mesh::Topology::edges`].
+    pub edge: u32,
+    /// The edge's end vertices `[a, b]`, `a < b`.
+    pub vertices: [u32; 2],
+    /// Unit normal of the fin plane: edge × (sum of the end normals).
+    pub normal: [f32; 3],
+    /// Midpoint of the edge (where the renderer evaluates its view-dependent fade).
+    pub center: [f32; 3],
+    /// Fin texture `u` at `a`, in `[0, 1)` (tile units; the texture wraps along `u`).
+    pub u0: f64,
+    /// Fin texture `u` at `b`: `u0 + edge length · uv_scale`.
+    pub u1: f64,
+}
+
+/// The fins of every edge that has a length and a well-defined fin plane, in edge order;
+/// `uv_scale` is tile units per object unit (see [`crate::mesh::UvSplit::uv_scale`]).
+pub fn fin_quads(mesh: &FurMesh, uv_scale: f64) -> Vec<FinQuad> {
+    let (positions, normals) = (mesh.positions(), mesh.normals());
+    let mut fins = Vec::new();
+    for (index, edge) in mesh.topology().edges().iter().enumerate() {
+        let [a, b] = edge.vertices();
+        let (pa, pb) = (positions[a as usize], positions[b as usize]);
+        let e: [f64; 3] = std::array::from_fn(|i| f64::from(pb[i]) - f64::from(pa[i]));
+        let len = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
+        let n: [f64; 3] =
+            std::array::from_fn(|i| f64::from(normals[a as usize][i]) + f64::from(normals[b as usize][i]));
+        let f = [
+            n[1] * e[2] - n[2] * e[1],
+            n[2] * e[0] - n[0] * e[2],
+            n[0] * e[1] - n[1] * e[0],
+        ];
+        let f_len = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+        // A collapsed edge, or one whose end normals cancel or run along it, has no fin plane.
+        if len == 0.0 || f_len.is_nan() || f_len <= 1e-9 * len {
+            continue;
+        }
+        let u0 = Rng::stream(FIN_SEED, 0, index as u64).next_f64();
+        fins.push(FinQuad {
+            edge: index as u32,
+            vertices: [a, b],
+            normal: f.map(|c| (c / f_len) as f32),
+            center: std::array::from_fn(|i| ((f64::from(pa[i]) + f64::from(pb[i])) * 0.5) as f32),
+            u0,
+            u1: u0 + len * uv_scale,
+        });
+    }
+    fins
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,197 @@
+//! The mesh split where the tile UVs of the lapped patches jump: a vertex on a patch seam has one
+//! UV per patch, so every consumer that stores one UV per vertex (the GPU buffers of the renderer,
+//! glTF meshes) needs a copy of it per UV. Each copy also gets the surface derivatives `∂P/∂u`,
+//! `∂P/∂v` that carry the hair-direction map from the tile frame to the surface (Lengyel et al.
+//! 2001, §2.1 and §2.4: the shells are textured through each patch's own parameterization, and
+//! lighting needs the hair tangent on the surface).
+//!
+//! The renderer and the glTF export share this code, so an exported mesh has exactly the vertices,
+//! UVs and order the preview draws.
+
+use crate::FurMesh;
+use crate::error::{PeltError, Result};
+use crate::vec3::{cross, dot};
+
+/// A mesh split at UV seams. Arrays indexed by split vertex have one row per copy.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UvSplit {
+    /// The mesh vertex each split vertex came from (to gather per-vertex attributes).
+    pub source: Vec<u32>,
+    /// The tile UV of each split vertex (−0 folded into +0).
+    pub uvs: Vec<[f32; 2]>,
+    /// `∂P/∂u`: object units per tile unit along the tile's x, in the tangent plane.
+    pub dpdu: Vec<[f32; 3]>,
+    /// `∂P/∂v`: along the tile's y.
+    pub dpdv: Vec<[f32; 3]>,
+    /// Three split-vertex indices per triangle, in the mesh's triangle order.
+    pub indices: Vec<u32>,
+    /// Tile units per object unit: summed UV side lengths over summed 3D side lengths. The fins
+    /// map edge length to fin-texture length with it (Lengyel §2.2: the same scale as the faces).
+    pub uv_scale: f64,
+}
+
+impl UvSplit {
+    /// Number of split vertices.
+    pub fn len(&self) -> usize {
+        self.source.len()
+    }
+
+    /// Whether there are no vertices (never true for a split of a valid mesh).
+    pub fn is_empty(&self) -> bool {
+        self.source.is_empty()
+    }
+
+    /// `values` (one per mesh vertex) gathered for each split vertex.
+    pub fn expand<T: Copy>(&self, values: &[T]) -> Vec<T> {
+        self.source.iter().map(|&v| values[v as usize]).collect()
+    }
+}
+
+/// Checks that there is one finite UV triple per triangle.
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] naming `corner_uvs` (wrong row count) or `corner_uvs[f]` (a
+/// value that is not finite).
+pub fn validate_uvs(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result<()> {
+    if corner_uvs.len() != mesh.face_count() {
+        return Err(PeltError::parameter(
+            "corner_uvs",
+            format!(
+                "must have one row per triangle ({}), got {}",
+                mesh.face_count(),
+                corner_uvs.len()
+            ),
+        ));
+    }
+    if let Some(f) = corner_uvs
+        .iter()
+        .position(|c| !c.iter().flatten().all(|v| v.is_finite()))
+    {
+        return Err(PeltError::parameter(
+            format!("corner_uvs[{f}]"),
+            format!("must be finite, got {:?}", corner_uvs[f]),
+        ));
+    }
+    Ok(())
+}
+
+fn sub(a: [f32; 3], b: [f32; 3]) -> [f64; 3] {
+    std::array::from_fn(|i| f64::from(a[i]) - f64::from(b[i]))
+}
+
+/// `v` without its component along the unit vector `n`.
+fn tangential(v: [f64; 3], n: [f64; 3]) -> [f64; 3] {
+    let d = dot(v, n);
+    std::array::from_fn(|i| v[i] - d * n[i])
+}
+
+/// Bits of a UV with −0 folded into +0, so equal UVs always share a vertex.
+fn uv_key(uv: [f32; 2]) -> [u32; 2] {
+    uv.map(|c| (c + 0.0).to_bits())
+}
+
+/// Splits `mesh` at the seams of `corner_uvs` (tile units, `corner_uvs[f][k]` for corner `k` of
+/// triangle `f`) and computes the surface derivatives. Serial: every sum runs in a fixed order,
+/// so the result is bit-identical on every run; split vertices are ordered by mesh vertex, then
+/// by UV bits.
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] naming `corner_uvs` when its length or a value is wrong, or
+/// when no triangle has a usable UV layout (all UVs collapse to points or lines).
+pub fn split_at_uv_seams(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result<UvSplit> {
+    validate_uvs(mesh, corner_uvs)?;
+    let triangles = mesh.triangles();
+    let positions = mesh.positions();
+
+    // Corners sorted by (vertex, uv): runs of equal keys become one split vertex.
+    let mut corners: Vec<(u32, [u32; 2], usize)> = (0..3 * triangles.len())
+        .map(|c| (triangles[c / 3][c % 3], uv_key(corner_uvs[c / 3][c % 3]), c))
+        .collect();
+    corners.sort_unstable();
+    let mut indices = vec![0u32; corners.len()];
+    let mut source = Vec::new();
+    let mut uvs = Vec::new();
+    for (i, &(vertex, key, corner)) in corners.iter().enumerate() {
+        if i == 0 || (corners[i - 1].0, corners[i - 1].1) != (vertex, key) {
+            source.push(vertex);
+            uvs.push(corner_uvs[corner / 3][corner % 3].map(|c| c + 0.0));
+        }
+        indices[corner] = (source.len() - 1) as u32;
+    }
+
+    let mut uv_length = 0.0f64;
+    let mut length_3d = 0.0f64;
+    let mut sums = vec![([0.0f64; 3], [0.0f64; 3], 0.0f64); source.len()];
+    for (f, tri) in triangles.iter().enumerate() {
+        let uv = corner_uvs[f].map(|c| c.map(f64::from));
+        for k in 0..3 {
+            let (a, b) = (k, (k + 1) % 3);
+            let e = sub(positions[tri[b] as usize], positions[tri[a] as usize]);
+            uv_length += (uv[b][0] - uv[a][0]).hypot(uv[b][1] - uv[a][1]);
+            length_3d += dot(e, e).sqrt();
+        }
+        let e1 = sub(positions[tri[1] as usize], positions[tri[0] as usize]);
+        let e2 = sub(positions[tri[2] as usize], positions[tri[0] as usize]);
+        let (du1, dv1) = (uv[1][0] - uv[0][0], uv[1][1] - uv[0][1]);
+        let (du2, dv2) = (uv[2][0] - uv[0][0], uv[2][1] - uv[0][1]);
+        let det = du1 * dv2 - du2 * dv1;
+        let n = cross(e1, e2);
+        let area = dot(n, n).sqrt();
+        // A face whose UVs collapse has no parameterization to contribute.
+        if det.abs() <= 1e-12 * (du1.abs() + du2.abs() + dv1.abs() + dv2.abs()).powi(2) || area == 0.0 {
+            continue;
+        }
+        let dpdu: [f64; 3] = std::array::from_fn(|i| (e1[i] * dv2 - e2[i] * dv1) / det);
+        let dpdv: [f64; 3] = std::array::from_fn(|i| (e2[i] * du1 - e1[i] * du2) / det);
+        for k in 0..3 {
+            let s = &mut sums[indices[3 * f + k] as usize];
+            for i in 0..3 {
+                // Area-weighted: large faces define the local scale more reliably than slivers.
+                s.0[i] += area * dpdu[i];
+                s.1[i] += area * dpdv[i];
+            }
+            s.2 += area;
+        }
+    }
+    let uv_scale = uv_length / length_3d;
+    if !(uv_scale.is_finite() && uv_scale > 0.0) || sums.iter().all(|s| s.2 == 0.0) {
+        return Err(PeltError::parameter(
+            "corner_uvs",
+            "no triangle has a usable UV layout (every triangle's UVs collapse to a point or a line)",
+        ));
+    }
+
+    let normals = mesh.normals();
+    let (tangents, bitangents) = (mesh.tangents(), mesh.bitangents());
+    let (dpdu, dpdv) = source
+        .iter()
+        .zip(&sums)
+        .map(|(&v, &(su, sv, w))| {
+            let v = v as usize;
+            let n = normals[v].map(f64::from);
+            let (mut dpdu, mut dpdv) = if w > 0.0 {
+                (tangential(su.map(|c| c / w), n), tangential(sv.map(|c| c / w), n))
+            } else {
+                ([0.0; 3], [0.0; 3])
+            };
+            // A vertex only on collapsed faces (or whose derivatives are normal to the surface)
+            // falls back to the mesh's own frame at the mean scale.
+            if dot(dpdu, dpdu) == 0.0 || dot(dpdv, dpdv) == 0.0 {
+                dpdu = tangents[v].map(|c| f64::from(c) / uv_scale);
+                dpdv = bitangents[v].map(|c| f64::from(c) / uv_scale);
+            }
+            (dpdu.map(|c| c as f32), dpdv.map(|c| c as f32))
+        })
+        .unzip();
+    Ok(UvSplit {
+        source,
+        uvs,
+        dpdu,
+        dpdv,
+        indices,
+        uv_scale,
+    })
+}
+
+#[cfg(test)]
+pub(crate) mod tests;

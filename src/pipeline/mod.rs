@@ -1,0 +1,348 @@
+//! The staged bake (DESIGN.md §1): mesh → lapped patches, hair parameters → hair volume, volume →
+//! PRT transfer, gathered in a [`FurAsset`]. Each stage is keyed by a hash of exactly the inputs
+//! it reads ([`key`]); a [`Pipeline`] keeps the last result of each stage, so a re-bake runs only
+//! what changed (a new vertex color runs nothing; a new comb runs the patches only; new hair
+//! parameters run the volume and the transfer) and reports per stage whether it ran and how long
+//! it took.
+
+mod key;
+#[cfg(test)]
+mod tests;
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::FurMesh;
+use crate::error::{PeltError, Result};
+use crate::hair::HairParams;
+use crate::lapped::{self, PatchParams, Patches};
+use crate::progress::ProgressCallback;
+use crate::prt::bands::{BandParams, BandReport, bake_transfer_auto};
+use crate::prt::pack::{PackedF16, PackedU8, pack_f16, pack_u8};
+use crate::prt::volume_input::VolumeInput;
+use crate::prt::{Phase, Transfer, TransferParams, bake_transfer};
+use crate::volume::{HairVolume, VolumeParams, bake_volume};
+
+use key::{KeyHasher, patch_mesh_key};
+
+/// Longest fur accepted, object units.
+pub const MAX_FUR_DEPTH: f64 = 1e6;
+
+/// Stage names, in the order they run.
+pub const STAGES: [&str; 3] = ["patches", "volume", "transfer"];
+
+/// Reports `(stage, finished fraction of that stage)`; returns `false` to cancel the bake.
+pub type StageCallback<'a> = &'a (dyn Fn(&str, f64) -> bool + Sync);
+
+/// How the transfer (PRT) is baked.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TransferChoice {
+    /// Bake settings; `params.order` is used only when `auto` is false.
+    pub params: TransferParams,
+    /// Pick the order by band selection (`bands.tolerance`) instead of `params.order`.
+    pub auto: bool,
+    /// Band selection settings (used when `auto`).
+    pub bands: BandParams,
+}
+
+impl Default for TransferChoice {
+    fn default() -> Self {
+        TransferChoice {
+            // The hair tangents are baked with the volume, so the Kajiya–Kay phase costs nothing.
+            params: TransferParams {
+                phase: Phase::KajiyaKay,
+                ..TransferParams::default()
+            },
+            auto: true,
+            bands: BandParams::default(),
+        }
+    }
+}
+
+/// Everything a bake reads besides the mesh.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct BakeParams {
+    /// Comb field and lapped patches; `patches.tile_size` is the object-space width of one tile.
+    pub patches: PatchParams,
+    /// The hair grown in a tile.
+    pub hair: HairParams,
+    /// How the hair is sampled into shells.
+    pub volume: VolumeParams,
+    /// Fur height at length multiplier 1, object units, `(0, MAX_FUR_DEPTH]`; `None` takes one
+    /// tile width (the strands' own proportions).
+    pub fur_depth: Option<f64>,
+    /// The PRT bake; `None` skips it (Kajiya–Kay lighting needs no transfer).
+    pub transfer: Option<TransferChoice>,
+}
+
+impl BakeParams {
+    /// Fur height, object units.
+    pub fn fur_depth(&self) -> f64 {
+        self.fur_depth.unwrap_or(self.patches.tile_size)
+    }
+
+    /// Checks every stage's parameters, so a bad one fails before any stage runs.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming the first field out of range.
+    pub fn validate(&self) -> Result<()> {
+        self.patches.validate()?;
+        self.hair.validate()?;
+        self.volume.validate()?;
+        let depth = self.fur_depth();
+        if !(depth > 0.0 && depth <= MAX_FUR_DEPTH) {
+            return Err(PeltError::parameter(
+                "fur_depth",
+                format!("must be in (0, {MAX_FUR_DEPTH}] object units, got {depth}"),
+            ));
+        }
+        if let Some(choice) = &self.transfer {
+            choice.params.validate()?;
+            choice.bands.validate()?;
+        }
+        Ok(())
+    }
+}
+
+/// The transfer of a volume, packed for textures.
+#[derive(Debug, Clone)]
+pub struct TransferBake {
+    /// Coefficients per voxel.
+    pub transfer: Transfer,
+    /// The band table when the order was picked by band selection.
+    pub bands: Option<BandReport>,
+    /// Float16 textures (4 coefficients each).
+    pub packed_f16: PackedF16,
+    /// 8-bit textures with their scale and bias sidecar.
+    pub packed_u8: PackedU8,
+    /// Fur depth in tile widths the transfer was baked for.
+    pub depth_in_tiles: f64,
+}
+
+/// One stage of a bake: whether it ran or was reused, its time and a one-line summary.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StageReport {
+    /// One of [`STAGES`].
+    pub stage: String,
+    /// False when the previous result was reused because its inputs had not changed.
+    pub ran: bool,
+    /// Seconds spent (0 when reused).
+    pub seconds: f64,
+    /// Figures of the result, e.g. "14 patches, mean alignment 1.4°".
+    pub summary: String,
+}
+
+/// The result of a bake: every stage's output, shared (cheap to clone).
+#[derive(Debug, Clone)]
+pub struct FurAsset {
+    /// The mesh the bake read.
+    pub mesh: Arc<FurMesh>,
+    /// Lapped patches: per-corner UVs in tile units and patch ids.
+    pub patches: Arc<Patches>,
+    /// The hair volume.
+    pub volume: Arc<HairVolume>,
+    /// The transfer, when asked for.
+    pub transfer: Option<Arc<TransferBake>>,
+    /// The parameters of the bake.
+    pub params: BakeParams,
+    /// Per stage, in order: ran or reused, seconds, summary.
+    pub report: Vec<StageReport>,
+}
+
+struct Cached<T> {
+    key: u64,
+    value: Arc<T>,
+}
+
+/// Keeps the last result of each stage so a re-bake runs only what changed.
+#[derive(Default)]
+pub struct Pipeline {
+    patches: Option<Cached<Patches>>,
+    volume: Option<Cached<HairVolume>>,
+    transfer: Option<Cached<TransferBake>>,
+}
+
+impl Pipeline {
+    /// An empty cache.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Forgets every cached stage.
+    pub fn clear(&mut self) {
+        *self = Self::default();
+    }
+
+    /// Bakes `mesh` with `params`, reusing each stage whose inputs equal the last bake's.
+    /// `progress` hears `(stage, fraction)` and may cancel; stages finished before a cancel stay
+    /// cached (they are complete), and nothing of the cancelled stage is kept.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] for a bad parameter (before any stage runs), the stages'
+    /// own errors, [`PeltError::Cancelled`] when `progress` returned `false`.
+    pub fn bake(
+        &mut self,
+        mesh: Arc<FurMesh>,
+        params: &BakeParams,
+        progress: Option<StageCallback<'_>>,
+    ) -> Result<FurAsset> {
+        params.validate()?;
+        let mut report = Vec::with_capacity(STAGES.len());
+
+        let patch_key = patch_mesh_key(KeyHasher::new("patches"), &mesh)
+            .params(&params.patches)
+            .finish();
+        let patches = run_stage(&mut self.patches, patch_key, "patches", &mut report, || {
+            let callback = stage_callback(progress, "patches");
+            let call = |f: f64| callback.as_ref().is_none_or(|c| c(f));
+            let patches = lapped::build_patches_with_progress(&mesh, &params.patches, Some(&call))?;
+            let q = &patches.quality;
+            let summary = format!(
+                "{} patches over {} faces, mean alignment {:.2}°, {:.1}% within stretch",
+                q.patch_count,
+                q.furred_faces,
+                q.mean_alignment_deg,
+                100.0 * q.stretch_within_fraction
+            );
+            Ok((patches, summary))
+        })?;
+
+        let volume_key = KeyHasher::new("volume")
+            .params(&params.hair)
+            .params(&params.volume)
+            .finish();
+        let volume = run_stage(&mut self.volume, volume_key, "volume", &mut report, || {
+            let callback = stage_callback(progress, "volume");
+            let call = |f: f64| callback.as_ref().is_none_or(|c| c(f));
+            let volume = bake_volume(&params.hair, &params.volume, Some(&call))?;
+            let s = &volume.stats;
+            let summary = format!(
+                "{} strands, {} layers of {}² ({} trimmed), fin {}×{}",
+                s.strands, s.layers, volume.resolution, s.trimmed, volume.fin_size[0], volume.fin_size[1]
+            );
+            Ok((volume, summary))
+        })?;
+
+        let depth_in_tiles = params.fur_depth() / params.patches.tile_size;
+        let transfer = match &params.transfer {
+            None => {
+                self.transfer = None;
+                None
+            }
+            Some(choice) => {
+                let transfer_key = KeyHasher::new("transfer")
+                    .key(volume_key)
+                    .params(choice)
+                    .params(&depth_in_tiles)
+                    .finish();
+                Some(run_stage(
+                    &mut self.transfer,
+                    transfer_key,
+                    "transfer",
+                    &mut report,
+                    || {
+                        let callback = stage_callback(progress, "transfer");
+                        let call = |f: f64| callback.as_ref().is_none_or(|c| c(f));
+                        let baked = bake_transfer_of(&volume, choice, depth_in_tiles, &call)?;
+                        let summary = match &baked.bands {
+                            Some(bands) => format!(
+                                "order {} by band selection ({} within {:.1}%), {} textures",
+                                baked.transfer.order,
+                                if bands.met { "met" } else { "not met" },
+                                100.0 * bands.tolerance,
+                                baked.packed_f16.textures
+                            ),
+                            None => format!(
+                                "order {}, {} textures",
+                                baked.transfer.order, baked.packed_f16.textures
+                            ),
+                        };
+                        Ok((baked, summary))
+                    },
+                )?)
+            }
+        };
+
+        Ok(FurAsset {
+            mesh,
+            patches,
+            volume,
+            transfer,
+            params: params.clone(),
+            report,
+        })
+    }
+}
+
+/// The stage's callback: `progress` with the stage name bound.
+fn stage_callback<'a>(
+    progress: Option<StageCallback<'a>>,
+    stage: &'a str,
+) -> Option<impl Fn(f64) -> bool + Sync + 'a> {
+    progress.map(|p| move |f: f64| p(stage, f))
+}
+
+/// Reuses `slot` when its key is `key`, else runs `work` and caches its result; records the
+/// stage in `report` either way.
+fn run_stage<T>(
+    slot: &mut Option<Cached<T>>,
+    key: u64,
+    stage: &str,
+    report: &mut Vec<StageReport>,
+    work: impl FnOnce() -> Result<(T, String)>,
+) -> Result<Arc<T>> {
+    if let Some(cached) = slot.as_ref().filter(|c| c.key == key) {
+        report.push(StageReport {
+            stage: stage.into(),
+            ran: false,
+            seconds: 0.0,
+            summary: "inputs unchanged: reused".into(),
+        });
+        return Ok(cached.value.clone());
+    }
+    // A failed or cancelled stage must not leave a stale result behind a new key.
+    *slot = None;
+    let start = Instant::now();
+    let (value, summary) = work()?;
+    let value = Arc::new(value);
+    report.push(StageReport {
+        stage: stage.into(),
+        ran: true,
+        seconds: start.elapsed().as_secs_f64(),
+        summary,
+    });
+    *slot = Some(Cached {
+        key,
+        value: value.clone(),
+    });
+    Ok(value)
+}
+
+/// The transfer of `volume` with the fur `depth_in_tiles` deep, packed.
+fn bake_transfer_of(
+    volume: &HairVolume,
+    choice: &TransferChoice,
+    depth_in_tiles: f64,
+    progress: ProgressCallback<'_>,
+) -> Result<TransferBake> {
+    let input = VolumeInput::new(volume, depth_in_tiles);
+    let transfer_volume = input.transfer_volume(volume);
+    let (transfer, bands) = if choice.auto {
+        let (t, r) = bake_transfer_auto(&transfer_volume, &choice.params, &choice.bands, Some(progress))?;
+        (t, Some(r))
+    } else {
+        (
+            bake_transfer(&transfer_volume, &choice.params, Some(progress))?,
+            None,
+        )
+    };
+    Ok(TransferBake {
+        packed_f16: pack_f16(&transfer)?,
+        packed_u8: pack_u8(&transfer)?,
+        transfer,
+        bands,
+        depth_in_tiles,
+    })
+}

@@ -1,0 +1,194 @@
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use super::*;
+use crate::mesh::shapes::uv_sphere;
+use crate::{FurMesh, MeshInput};
+
+/// A small sphere with color, comb and length, and the vertex count.
+fn sphere(color: [f32; 4], comb: [f32; 3], length: f32) -> Arc<FurMesh> {
+    let (positions, triangles) = uv_sphere(16, 8);
+    let n = positions.len();
+    let (color, comb, length) = (vec![color; n], vec![comb; n], vec![length; n]);
+    let input = MeshInput::new(&positions, &triangles)
+        .with_color(&color)
+        .with_comb(&comb)
+        .with_length(&length);
+    Arc::new(FurMesh::new(input).unwrap())
+}
+
+fn small_params() -> BakeParams {
+    let mut params = BakeParams::default();
+    params.patches.tile_size = 0.5;
+    params.hair.density = 300;
+    params.volume.layers = 4;
+    params.volume.resolution = 16;
+    params.volume.fin_size = [32, 8];
+    let mut transfer = TransferChoice::default();
+    transfer.params.directions = 32;
+    transfer.params.order = 2;
+    transfer.auto = false;
+    params.transfer = Some(transfer);
+    params
+}
+
+fn ran(asset: &FurAsset) -> Vec<(&str, bool)> {
+    asset.report.iter().map(|s| (s.stage.as_str(), s.ran)).collect()
+}
+
+const RED: [f32; 4] = [1.0, 0.0, 0.0, 1.0];
+const DOWN: [f32; 3] = [0.0, 0.0, -1.0];
+
+#[test]
+fn first_bake_runs_every_stage_and_matches_the_stages_run_alone() {
+    let params = small_params();
+    let mesh = sphere(RED, DOWN, 1.0);
+    let asset = Pipeline::new().bake(mesh.clone(), &params, None).unwrap();
+    assert_eq!(
+        ran(&asset),
+        [("patches", true), ("volume", true), ("transfer", true)]
+    );
+    assert_eq!(
+        *asset.patches,
+        lapped::build_patches(&mesh, &params.patches).unwrap()
+    );
+    let volume = bake_volume(&params.hair, &params.volume, None).unwrap();
+    assert_eq!(asset.volume.shells, volume.shells);
+    let transfer = asset.transfer.as_ref().unwrap();
+    assert_eq!(transfer.transfer.order, 2);
+    assert_eq!(transfer.depth_in_tiles, 1.0);
+    assert!(
+        asset
+            .report
+            .iter()
+            .all(|s| s.seconds >= 0.0 && !s.summary.is_empty())
+    );
+}
+
+#[test]
+fn a_rebake_runs_only_the_stages_whose_inputs_changed() {
+    let mut pipeline = Pipeline::new();
+    let params = small_params();
+    let first = pipeline.bake(sphere(RED, DOWN, 1.0), &params, None).unwrap();
+
+    // Same inputs, and a new color or a new (non-zero) length: nothing runs, results are shared.
+    for mesh in [
+        sphere(RED, DOWN, 1.0),
+        sphere([0.0, 1.0, 0.0, 1.0], DOWN, 1.0),
+        sphere(RED, DOWN, 2.5),
+    ] {
+        let again = pipeline.bake(mesh, &params, None).unwrap();
+        assert_eq!(
+            ran(&again),
+            [("patches", false), ("volume", false), ("transfer", false)]
+        );
+        assert!(Arc::ptr_eq(&first.patches, &again.patches));
+        assert!(Arc::ptr_eq(&first.volume, &again.volume));
+    }
+
+    // A new comb: the field and patches only.
+    let combed = pipeline
+        .bake(sphere(RED, [1.0, 0.0, 0.0], 1.0), &params, None)
+        .unwrap();
+    assert_eq!(
+        ran(&combed),
+        [("patches", true), ("volume", false), ("transfer", false)]
+    );
+    // Bald everywhere changes which faces get patches.
+    let side_bald = || sphere(RED, [1.0, 0.0, 0.0], 0.0);
+    let bald = pipeline.bake(side_bald(), &params, None).unwrap();
+    assert_eq!(ran(&bald)[0], ("patches", true));
+    assert!(bald.patches.patch.iter().all(|&p| p == lapped::NO_PATCH));
+
+    // New hair: the volume and the transfer that reads it.
+    let mut denser = params.clone();
+    denser.hair.density = 500;
+    let grown = pipeline.bake(side_bald(), &denser, None).unwrap();
+    assert_eq!(
+        ran(&grown),
+        [("patches", false), ("volume", true), ("transfer", true)]
+    );
+
+    // A new fur depth: the transfer only (the volume is in tile units).
+    let mut deeper = denser.clone();
+    deeper.fur_depth = Some(0.25);
+    let deep = pipeline.bake(side_bald(), &deeper, None).unwrap();
+    assert_eq!(
+        ran(&deep),
+        [("patches", false), ("volume", false), ("transfer", true)]
+    );
+    assert_eq!(deep.transfer.as_ref().unwrap().depth_in_tiles, 0.5);
+
+    // No transfer asked for: none in the asset and none in the report.
+    let mut plain = deeper.clone();
+    plain.transfer = None;
+    let plain_asset = pipeline.bake(side_bald(), &plain, None).unwrap();
+    assert!(plain_asset.transfer.is_none());
+    assert_eq!(plain_asset.report.len(), 2);
+}
+
+#[test]
+fn a_bad_parameter_fails_before_any_stage_and_keeps_the_cache() {
+    let mut pipeline = Pipeline::new();
+    let params = small_params();
+    pipeline.bake(sphere(RED, DOWN, 1.0), &params, None).unwrap();
+    for (bad, field) in [
+        (
+            BakeParams {
+                fur_depth: Some(f64::NAN),
+                ..params.clone()
+            },
+            "fur_depth",
+        ),
+        (
+            BakeParams {
+                fur_depth: Some(0.0),
+                ..params.clone()
+            },
+            "fur_depth",
+        ),
+        (
+            {
+                let mut p = params.clone();
+                p.volume.layers = 0;
+                p
+            },
+            "layers",
+        ),
+    ] {
+        let calls = AtomicUsize::new(0);
+        let count = |_: &str, _: f64| {
+            calls.fetch_add(1, Ordering::Relaxed);
+            true
+        };
+        let error = pipeline
+            .bake(sphere(RED, DOWN, 1.0), &bad, Some(&count))
+            .unwrap_err();
+        assert!(error.to_string().contains(field), "{error}");
+        assert_eq!(calls.load(Ordering::Relaxed), 0);
+    }
+    let again = pipeline.bake(sphere(RED, DOWN, 1.0), &params, None).unwrap();
+    assert!(again.report.iter().all(|s| !s.ran));
+}
+
+#[test]
+fn cancelling_keeps_finished_stages_and_drops_the_cancelled_one() {
+    let mut pipeline = Pipeline::new();
+    let params = small_params();
+    let stages = std::sync::Mutex::new(Vec::new());
+    let cancel_volume = |stage: &str, _: f64| {
+        stages.lock().unwrap().push(stage.to_string());
+        stage != "volume"
+    };
+    let error = pipeline
+        .bake(sphere(RED, DOWN, 1.0), &params, Some(&cancel_volume))
+        .unwrap_err();
+    assert!(matches!(error, PeltError::Cancelled), "{error}");
+    let heard = stages.into_inner().unwrap();
+    assert!(heard.contains(&"patches".to_string()) && !heard.contains(&"transfer".to_string()));
+    let resumed = pipeline.bake(sphere(RED, DOWN, 1.0), &params, None).unwrap();
+    assert_eq!(
+        ran(&resumed),
+        [("patches", false), ("volume", true), ("transfer", true)]
+    );
+}

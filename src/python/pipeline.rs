@@ -1,0 +1,225 @@
+//! `pelt.Pipeline` and `pelt.FurAsset`: the staged, cached bake of [`crate::pipeline`].
+
+use std::sync::Mutex;
+
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use super::detached;
+use super::lapped::PyPatches;
+use super::mesh::PyFurMesh;
+use super::progress::PyProgress;
+use super::prt::{parse_phase, transfer_dict};
+use super::volume::{PyHairParams, volume_dict};
+use crate::error::PeltError;
+use crate::pipeline::{BakeParams, FurAsset, Pipeline, StageCallback, TransferChoice};
+use crate::prt::TransferParams;
+use crate::volume::VolumeParams;
+use crate::volume::coverage::CoverageMode;
+
+/// A bake cache: keeps the last result of every stage, so a re-bake runs only what changed.
+/// One per furred object. Thread-safe: a bake holds the cache for its whole run.
+#[pyclass(name = "Pipeline", module = "pelt", frozen)]
+pub(super) struct PyPipeline {
+    inner: Mutex<Pipeline>,
+}
+
+/// The result of a bake: mesh, patches, hair volume, optional transfer, and the stage report.
+#[pyclass(name = "FurAsset", module = "pelt", frozen)]
+pub(crate) struct PyFurAsset {
+    pub(crate) inner: FurAsset,
+}
+
+#[pymethods]
+impl PyPipeline {
+    #[new]
+    fn new() -> Self {
+        PyPipeline {
+            inner: Mutex::new(Pipeline::new()),
+        }
+    }
+
+    /// Forgets every cached stage.
+    fn clear(&self) {
+        self.lock().clear();
+    }
+
+    /// Bakes `mesh` (GIL released), reusing stages whose inputs did not change; see the stub.
+    #[pyo3(signature = (
+        mesh, *, tile_size=1.0, seed=1, down=None, hair=None, layers=16, resolution=128,
+        coverage="exact", fin_size=(512, 128), fur_depth=None, transfer=true, order=None,
+        tolerance=0.02, directions=256, phase="kajiya-kay", progress=None
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn bake(
+        &self,
+        py: Python<'_>,
+        mesh: &PyFurMesh,
+        tile_size: f64,
+        seed: u64,
+        down: Option<(f32, f32, f32)>,
+        hair: Option<PyRef<'_, PyHairParams>>,
+        layers: usize,
+        resolution: usize,
+        coverage: &str,
+        fin_size: (usize, usize),
+        fur_depth: Option<f64>,
+        transfer: bool,
+        order: Option<usize>,
+        tolerance: f64,
+        directions: usize,
+        phase: &str,
+        progress: Option<Bound<'_, PyAny>>,
+    ) -> PyResult<PyFurAsset> {
+        let mut params = BakeParams {
+            hair: hair.map(|h| h.inner.clone()).unwrap_or_default(),
+            volume: VolumeParams {
+                layers,
+                resolution,
+                coverage: coverage.parse::<CoverageMode>()?,
+                fin_size: [fin_size.0, fin_size.1],
+                ..VolumeParams::default()
+            },
+            fur_depth,
+            ..BakeParams::default()
+        };
+        params.patches.tile_size = tile_size;
+        params.patches.seed = seed;
+        if let Some((x, y, z)) = down {
+            params.patches.field.down = [x, y, z];
+        }
+        if transfer {
+            let mut choice = TransferChoice {
+                params: TransferParams {
+                    directions,
+                    phase: parse_phase(phase)?,
+                    ..TransferParams::default()
+                },
+                auto: order.is_none(),
+                ..TransferChoice::default()
+            };
+            choice.params.order = order.unwrap_or(choice.params.order);
+            choice.bands.tolerance = tolerance;
+            params.transfer = Some(choice);
+        }
+        let reporter = PyProgress::new(progress);
+        let mesh = mesh.inner.clone();
+        let outcome = detached(py, || {
+            let report = |stage: &str, f: f64| reporter.report_stage(stage, f);
+            let callback: Option<StageCallback<'_>> = reporter.is_some().then_some(&report);
+            self.lock().bake(mesh, &params, callback)
+        });
+        let inner = reporter.finish(outcome)?;
+        Ok(PyFurAsset { inner })
+    }
+
+    fn __repr__(&self) -> String {
+        "<pelt.Pipeline>".into()
+    }
+}
+
+impl PyPipeline {
+    /// The cache; a bake that panicked left it in a valid state (each slot is replaced whole).
+    fn lock(&self) -> std::sync::MutexGuard<'_, Pipeline> {
+        self.inner.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+#[pymethods]
+impl PyFurAsset {
+    /// The mesh the bake read.
+    #[getter]
+    fn mesh(&self) -> PyFurMesh {
+        PyFurMesh {
+            inner: self.inner.mesh.clone(),
+        }
+    }
+
+    /// The lapped patches (UVs in tile units, patch ids).
+    #[getter]
+    fn patches(&self) -> PyPatches {
+        PyPatches {
+            inner: self.inner.patches.clone(),
+        }
+    }
+
+    /// The hair volume as `bake_volume` returns it (arrays copied out of the asset).
+    #[getter]
+    fn volume<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        volume_dict(py, (*self.inner.volume).clone())
+    }
+
+    /// The transfer as `bake_transfer` returns it, or `None` when the bake had none.
+    #[getter]
+    fn transfer<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(baked) = &self.inner.transfer else {
+            return Ok(None);
+        };
+        let sidecar = serde_json::to_string_pretty(&baked.packed_u8.sidecar)
+            .map_err(|e| PeltError::Internal(format!("sidecar: {e}")))?;
+        let d = transfer_dict(
+            py,
+            baked.transfer.clone(),
+            baked.bands.as_ref(),
+            baked.packed_f16.clone(),
+            baked.packed_u8.clone(),
+            sidecar,
+        )?;
+        d.set_item("depth_in_tiles", baked.depth_in_tiles)?;
+        Ok(Some(d))
+    }
+
+    /// Per stage, in order: `{"stage", "ran", "seconds", "summary"}`.
+    #[getter]
+    fn report<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let list = PyList::empty(py);
+        for stage in &self.inner.report {
+            let d = PyDict::new(py);
+            d.set_item("stage", &stage.stage)?;
+            d.set_item("ran", stage.ran)?;
+            d.set_item("seconds", stage.seconds)?;
+            d.set_item("summary", &stage.summary)?;
+            list.append(d)?;
+        }
+        Ok(list)
+    }
+
+    /// Object-space width of one texture tile.
+    #[getter]
+    fn tile_size(&self) -> f64 {
+        self.inner.params.patches.tile_size
+    }
+
+    /// Fur height at length 1, object units.
+    #[getter]
+    fn fur_depth(&self) -> f64 {
+        self.inner.params.fur_depth()
+    }
+
+    /// Shell layers kept (after the trim), including the skin.
+    #[getter]
+    fn layers(&self) -> usize {
+        self.inner.volume.layers
+    }
+
+    /// Shell texture side.
+    #[getter]
+    fn resolution(&self) -> usize {
+        self.inner.volume.resolution
+    }
+
+    fn __repr__(&self) -> String {
+        let v = &self.inner.volume;
+        format!(
+            "<pelt.FurAsset {} triangles, {} patches, {} layers of {}², transfer {}>",
+            self.inner.mesh.face_count(),
+            self.inner.patches.quality.patch_count,
+            v.layers,
+            v.resolution,
+            self.inner
+                .transfer
+                .as_ref()
+                .map_or("none".into(), |t| format!("order {}", t.transfer.order))
+        )
+    }
+}

@@ -1,0 +1,217 @@
+//! The `pelt` command line, run as a subprocess: `bake` writes what `pelt.json` lists, the same
+//! bytes for 1 and 2 threads and across runs; `export` writes a folder again; bad input ends
+//! with a message and exit status 1, never a panic; the presets equal the add-on's.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use pelt::export::Manifest;
+
+const PELT: &str = env!("CARGO_BIN_EXE_pelt");
+
+fn suzanne() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/suzanne.obj")
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cli-{name}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+/// Runs `pelt` with `args` and `PELT_THREADS=threads`.
+fn pelt(args: &[&str], threads: usize) -> Output {
+    Command::new(PELT)
+        .args(args)
+        .env("PELT_THREADS", threads.to_string())
+        .output()
+        .unwrap()
+}
+
+/// A small bake of Suzanne (few small layers, order-2 transfer) into `dir`.
+fn bake(dir: &Path, threads: usize, extra: &[&str]) -> Output {
+    let mesh = suzanne();
+    let mut args = vec![
+        "bake",
+        mesh.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+        "--comb",
+        "0,0,-1",
+        "--layers",
+        "6",
+        "--resolution",
+        "32",
+        "--order",
+        "2",
+    ];
+    args.extend_from_slice(extra);
+    pelt(&args, threads)
+}
+
+/// Every file of a folder by name.
+fn files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| {
+            let e = e.unwrap();
+            (
+                e.file_name().to_string_lossy().into_owned(),
+                std::fs::read(e.path()).unwrap(),
+            )
+        })
+        .collect()
+}
+
+fn assert_ok(output: &Output) {
+    assert!(
+        output.status.success(),
+        "pelt failed: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
+
+#[test]
+fn bake_writes_what_the_manifest_lists_identically_for_any_thread_count() {
+    let (one, two) = (out_dir("bake-1"), out_dir("bake-2"));
+    assert_ok(&bake(&one, 1, &[]));
+    assert_ok(&bake(&two, 2, &[]));
+    let manifest = Manifest::load(&one).unwrap();
+    assert_eq!(manifest.objects.len(), 1);
+    assert_eq!(manifest.objects[0].name, "suzanne");
+    let mut listed: Vec<&str> = manifest
+        .objects
+        .iter()
+        .flat_map(|o| &o.files)
+        .chain(&manifest.files)
+        .map(|f| f.path.as_str())
+        .chain(["pelt.json", "bake.json"])
+        .collect();
+    listed.sort_unstable();
+    let (a, b) = (files(&one), files(&two));
+    assert_eq!(listed, a.keys().map(String::as_str).collect::<Vec<_>>());
+    assert!(a.contains_key("suzanne_engine.glb") && a.contains_key("suzanne_geometry.glb"));
+    assert!(a.contains_key("suzanne_shells.ktx2") && a.contains_key("suzanne_density.exr"));
+    // Everything but the record of where the output went is byte-identical.
+    for (name, bytes) in &a {
+        if name != "bake.json" {
+            assert!(bytes == &b[name], "{name} differs between 1 and 2 threads");
+        }
+    }
+
+    // `export` writes the folder again from bake.json: another folder, PNG and geometry only.
+    let again = out_dir("export");
+    let output = pelt(
+        &[
+            "export",
+            one.to_str().unwrap(),
+            "--out",
+            again.to_str().unwrap(),
+            "--formats",
+            "png",
+            "--mode",
+            "geometry",
+        ],
+        2,
+    );
+    assert_ok(&output);
+    let c = files(&again);
+    assert!(!c.contains_key("suzanne_engine.glb") && !c.contains_key("suzanne_shells.ktx2"));
+    for name in [
+        "suzanne_geometry.glb",
+        "suzanne_layer_003.png",
+        "suzanne_shells_atlas.png",
+    ] {
+        assert!(c[name] == a[name], "{name} differs after export");
+    }
+    for dir in [one, two, again] {
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+}
+
+#[test]
+fn bad_input_exits_with_a_message_and_no_panic() {
+    let dir = out_dir("bad");
+    std::fs::create_dir_all(&dir).unwrap();
+    let broken = dir.join("broken.glb");
+    std::fs::write(&broken, b"glTF\x02\0\0\0\x10\0\0\0").unwrap();
+    let nan = dir.join("nan.obj");
+    std::fs::write(&nan, "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n").unwrap();
+    let out = dir.join("out");
+    let out = out.to_str().unwrap();
+    for (args, needle) in [
+        (vec!["bake", broken.to_str().unwrap(), "--out", out], "broken.glb"),
+        (vec!["bake", nan.to_str().unwrap(), "--out", out], "nan"),
+        (vec!["bake", "missing.obj", "--out", out], "missing.obj"),
+        (vec!["bake", "mesh.stl", "--out", out], "unknown mesh format"),
+        (
+            vec!["bake", nan.to_str().unwrap(), "--out", out, "--preset", "fluffy"],
+            "preset",
+        ),
+        (
+            vec!["bake", nan.to_str().unwrap(), "--out", out, "--formats", "tga"],
+            "formats",
+        ),
+        (
+            vec!["bake", nan.to_str().unwrap(), "--out", out, "--mode", "both-ways"],
+            "--mode",
+        ),
+        (vec!["export", dir.to_str().unwrap()], "bake.json"),
+    ] {
+        let output = pelt(&args, 2);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(
+            stderr.starts_with("pelt: ") && stderr.contains(needle),
+            "{args:?}: {stderr}"
+        );
+        assert!(!stderr.contains("panicked"), "{stderr}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn presets_equal_the_add_ons() {
+    let output = pelt(&["presets", "--json"], 1);
+    assert_ok(&output);
+    let ours: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    // addon/presets.py is plain data without imports, so the standard Python can load it.
+    let script = "import json, runpy, sys; \
+                  print(json.dumps(runpy.run_path(sys.argv[1])['PRESETS']))";
+    let presets = Path::new(env!("CARGO_MANIFEST_DIR")).join("addon/presets.py");
+    let python = Command::new("python3")
+        .args(["-c", script, presets.to_str().unwrap()])
+        .output()
+        .expect("python3 runs");
+    assert_ok(&python);
+    let theirs: serde_json::Value = serde_json::from_slice(&python.stdout).unwrap();
+    let theirs = theirs.as_object().unwrap();
+    let ours = ours.as_array().unwrap();
+    assert_eq!(ours.len(), theirs.len());
+    for preset in ours {
+        let name = preset["name"].as_str().unwrap();
+        let addon = &theirs[name];
+        for (key, value) in addon.as_object().unwrap() {
+            let mine = &preset[key];
+            match (value.as_array(), mine.as_array()) {
+                (Some(a), Some(b)) => {
+                    let a: Vec<f64> = a.iter().map(|v| v.as_f64().unwrap()).collect();
+                    let b: Vec<f64> = b.iter().map(|v| v.as_f64().unwrap()).collect();
+                    // Colors are f32 in Pelt.
+                    assert!(
+                        a.iter().zip(&b).all(|(x, y)| (x - y).abs() < 1e-6),
+                        "{name}.{key}"
+                    );
+                }
+                _ if value.is_number() => {
+                    assert!(
+                        (value.as_f64().unwrap() - mine.as_f64().unwrap()).abs() < 1e-12,
+                        "{name}.{key}"
+                    )
+                }
+                _ => assert_eq!(value, mine, "{name}.{key}"),
+            }
+        }
+    }
+}
