@@ -393,6 +393,97 @@ class Pipeline:
         ``progress(stage, fraction)`` returning ``False`` cancels with :class:`BakeCancelled`;
         stages finished before the cancel stay cached."""
 
+# The wgpu preview renderer.
+
+class LightingDict(TypedDict, total=False):
+    model: Literal["kajiya-kay", "prt"]
+    direction: tuple[float, float, float]
+    color: tuple[float, float, float]
+    self_shadow: float
+    ambient: tuple[float, float, float]
+    diffuse: float
+    specular: float
+    diffuse_power: float
+    specular_power: float
+    environment: npt.ArrayLike
+    light_radius: float
+
+class AdapterInfo(TypedDict):
+    name: str
+    backend: str
+    device_type: str
+
+class UploadStats(TypedDict):
+    texture_bytes: int
+    geometry_bytes: int
+    attribute_bytes: int
+    transfer_bytes: int
+
+class FrameInfo(TypedDict):
+    shells: int
+    level: int
+    blend: float
+    target_shells: float
+    radius_pixels: float | None
+    fur_pixels: float | None
+
+class Preview:
+    """The real-time preview of one baked asset: a wgpu device (hardware first, or Mesa's CPU
+    adapter) with the asset's mesh, patches, hair volume and transfer uploaded once."""
+
+    def __init__(self, asset: FurAsset, *, adapter: Literal["auto", "cpu", "gpu"] = "auto") -> None:
+        """Open a device (``"auto"``: a GPU when there is one, else the CPU adapter; ``"cpu"``,
+        ``"gpu"``: only that kind, :class:`RenderError` when there is none) and upload ``asset``
+        (GIL released)."""
+    def render(
+        self,
+        view_matrix: npt.ArrayLike,
+        projection_matrix: npt.ArrayLike,
+        width: int,
+        height: int,
+        *,
+        lighting: Literal["kajiya-kay", "prt"] | LightingDict | None = None,
+        shells: int | None = None,
+        fins: bool = True,
+        lod: bool = False,
+        linear: bool = False,
+        fur_depth: float | None = None,
+        background: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0),
+        min_shells: int = 2,
+        max_shells: int = 64,
+        shells_per_pixel: float = 1.0,
+    ) -> npt.NDArray[np.uint8] | npt.NDArray[np.float32]:
+        """One frame (GIL released): ``[height, width, 4]`` uint8 sRGB, or float32 linear with
+        ``linear=True``; straight alpha, top row first.
+
+        ``view_matrix`` maps the mesh's object space to view space and ``projection_matrix`` is
+        an OpenGL projection (clip depth -1..1), both 4×4 in the math convention (``M @ v``), as
+        ``np.array(region_3d.view_matrix @ obj.matrix_world)`` and
+        ``np.array(region_3d.window_matrix)`` give them. ``lighting``: ``None`` is PRT when the
+        asset has a transfer, else Kajiya-Kay; a dict sets fields over the model's defaults
+        (``environment`` ``[n², 3]`` SH radiance for PRT). ``shells``: how many of the volume's
+        shells to draw (``None``: all); ``lod=True`` chooses the count from the projected fur
+        depth (``shells_per_pixel`` per pixel, within ``min_shells``..``max_shells``) and
+        cross-fades LOD levels (``shells`` must be ``None`` then). ``fur_depth`` defaults to the
+        asset's. Bad input raises :class:`InvalidParameterError` naming it; the preview stays
+        usable."""
+    def update(self, *, color: npt.ArrayLike | None = None, length: npt.ArrayLike | None = None) -> None:
+        """Rewrite the per-vertex colors (``[V, 4]`` or ``[V, 3]``, linear) and/or length
+        multipliers (``[V]``, 0..1000) in place; nothing else is uploaded (see :attr:`uploads`)."""
+    def set_transfer(self, transfer: FurAsset | TransferResult) -> None:
+        """Replace the PRT transfer textures with another bake's of the same hair volume (same
+        layers and resolution, else :class:`InvalidParameterError`)."""
+    @property
+    def adapter(self) -> AdapterInfo: ...
+    @property
+    def uploads(self) -> UploadStats:
+        """Bytes sent to the GPU so far, by kind."""
+    @property
+    def transfer_order(self) -> int | None: ...
+    @property
+    def last_frame(self) -> FrameInfo | None:
+        """What the last frame drew (shell count, LOD level and blend, projected sizes)."""
+
 # Exports of baked assets (glTF 2.0 binaries, texture sets, asset folders; schema in docs/export.md).
 
 GltfMode = Literal["engine", "geometry"]

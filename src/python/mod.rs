@@ -12,6 +12,8 @@ mod mesh;
 mod pipeline;
 mod progress;
 mod prt;
+#[cfg(feature = "render")]
+mod render;
 mod volume;
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -90,6 +92,8 @@ fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(prt::sh_project_light, m)?)?;
     m.add_class::<pipeline::PyPipeline>()?;
     m.add_class::<pipeline::PyFurAsset>()?;
+    #[cfg(feature = "render")]
+    m.add_class::<render::PyPreview>()?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     Ok(())
 }

@@ -38,6 +38,15 @@ pub(super) struct CameraFrame {
 
 type M4 = [[f64; 4]; 4];
 
+/// OpenGL clip depth `[-1, 1]` to wgpu's `[0, 1]`: `z' = (z + w) / 2`, as a matrix applied after
+/// the projection.
+const GL_TO_WGPU_DEPTH: M4 = [
+    [1.0, 0.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0, 0.0],
+    [0.0, 0.0, 0.5, 0.5],
+    [0.0, 0.0, 0.0, 1.0],
+];
+
 /// Column-major f32 to `m[row][col]` in f64.
 fn rows(m: &[f32; 16]) -> M4 {
     std::array::from_fn(|r| std::array::from_fn(|c| f64::from(m[c * 4 + r])))
@@ -73,6 +82,23 @@ pub(super) fn invert(m: &M4) -> Option<M4> {
 }
 
 impl Camera {
+    /// A camera from matrices in the math convention (row-major `m[row][col]`, applied as
+    /// `M · v`, as numpy's `np.array(mathutils.Matrix)` gives them) with an OpenGL projection
+    /// (clip depth `[-1, 1]`, as Blender's `region_3d.window_matrix` and
+    /// `camera.calc_matrix_camera` give), remapped to wgpu's depth `[0, 1]`. `view` maps the
+    /// mesh's object space to view space (in Blender: `view_matrix @ object.matrix_world`).
+    /// Nothing is checked here; [`super::Renderer::render`] checks the result.
+    pub fn from_gl(view: [[f32; 4]; 4], projection: [[f32; 4]; 4], width: u32, height: u32) -> Camera {
+        let gl: M4 = projection.map(|row| row.map(f64::from));
+        let wgpu_projection = mul(&GL_TO_WGPU_DEPTH, &gl);
+        Camera {
+            view: std::array::from_fn(|i| view[i % 4][i / 4]),
+            projection: std::array::from_fn(|i| wgpu_projection[i % 4][i / 4] as f32),
+            width,
+            height,
+        }
+    }
+
     /// Checks the sizes against `max_side` (the adapter's limit) and the matrices, and derives
     /// what the shaders need.
     pub(super) fn frame(&self, max_side: u32) -> Result<CameraFrame> {

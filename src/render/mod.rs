@@ -68,6 +68,8 @@ pub enum AdapterChoice {
     PreferHardware,
     /// Only a CPU adapter (deterministic results for golden-image tests).
     Cpu,
+    /// Only a hardware GPU; an error when there is none.
+    Gpu,
 }
 
 /// What adapter the renderer runs on.
@@ -146,22 +148,30 @@ impl Renderer {
         };
         let adapter = match choice {
             AdapterChoice::Cpu => request(true).await,
+            AdapterChoice::Gpu => request(false).await,
             AdapterChoice::PreferHardware => match request(false).await {
                 Ok(adapter) => Ok(adapter),
                 Err(_) => request(true).await,
             },
         }
         .map_err(|e| {
-            PeltError::Render(format!(
-                "no {} adapter found ({e}); install Mesa's Vulkan drivers (lavapipe) for a CPU adapter",
-                if choice == AdapterChoice::Cpu {
-                    "CPU"
-                } else {
-                    "GPU or CPU"
-                }
-            ))
+            PeltError::Render(match choice {
+                AdapterChoice::Cpu => format!(
+                    "no CPU adapter found ({e}); install Mesa's Vulkan drivers (lavapipe)"
+                ),
+                AdapterChoice::Gpu => format!("no GPU adapter found ({e})"),
+                AdapterChoice::PreferHardware => format!(
+                    "no GPU or CPU adapter found ({e}); install Mesa's Vulkan drivers (lavapipe) for a CPU adapter"
+                ),
+            })
         })?;
         let info = adapter.get_info();
+        if choice == AdapterChoice::Gpu && info.device_type == wgpu::DeviceType::Cpu {
+            return Err(PeltError::Render(format!(
+                "no GPU adapter found (only the CPU adapter {})",
+                info.name
+            )));
+        }
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("pelt"),

@@ -538,3 +538,51 @@ fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
         }
     }
 }
+
+#[test]
+fn opengl_projections_map_near_and_far_to_wgpu_depth() {
+    // glFrustum-style perspective: near 0.5, far 20, 60° vertical, aspect 2.
+    let (near, far) = (0.5f64, 20.0f64);
+    let t = 1.0 / 30f64.to_radians().tan();
+    let gl = [
+        [t / 2.0, 0.0, 0.0, 0.0],
+        [0.0, t, 0.0, 0.0],
+        [
+            0.0,
+            0.0,
+            (far + near) / (near - far),
+            2.0 * far * near / (near - far),
+        ],
+        [0.0, 0.0, -1.0, 0.0],
+    ];
+    let view = [
+        [1.0, 0.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0, -3.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ];
+    let camera = Camera::from_gl(
+        view.map(|r: [f64; 4]| r.map(|v| v as f32)),
+        gl.map(|r| r.map(|v| v as f32)),
+        200,
+        100,
+    );
+    // Column-major and transposed from the rows given.
+    assert_eq!(camera.view[4 * 3 + 2], -3.0);
+    assert_eq!(camera.view[4 * 2 + 3], 0.0);
+    let frame = camera.frame(4096).unwrap();
+    // Object points straight ahead at view depth d (object z = 3 − d).
+    let depth = |d: f64| {
+        let p = [0.0f32, 0.0, (3.0 - d) as f32, 1.0];
+        let clip: [f32; 4] = std::array::from_fn(|r| (0..4).map(|k| frame.view_proj[k * 4 + r] * p[k]).sum());
+        f64::from(clip[2] / clip[3])
+    };
+    assert!(depth(near).abs() < 1e-6, "{}", depth(near));
+    assert!((depth(far) - 1.0).abs() < 1e-5, "{}", depth(far));
+    // The wgpu perspective of the same frustum: z = far / (near − far), w-term near·far / (near − far).
+    let d = 4.0;
+    let want = (far / (near - far) * -d + near * far / (near - far)) / d;
+    assert!((depth(d) - want).abs() < 1e-6);
+    // Eye found as for any wgpu camera.
+    assert!((frame.eye[2] - 3.0).abs() < 1e-6 && frame.eye[3] == 1.0);
+}

@@ -1,0 +1,391 @@
+//! `pelt.Preview`: the wgpu preview ([`crate::render`]) holding the device and one scene uploaded
+//! from a `pelt.FurAsset`. Matrices arrive in the math convention with an OpenGL projection (as
+//! Blender gives them) and are remapped by [`Camera::from_gl`]; frames render with the GIL
+//! released.
+
+use std::sync::Mutex;
+
+use half::f16;
+use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyString};
+
+use super::arrays::{flat, float_ndarray};
+use super::detached;
+use super::pipeline::PyFurAsset;
+use crate::error::PeltError;
+use crate::prt::pack::PackedF16;
+use crate::render::{
+    AdapterChoice, Camera, FrameInfo, FurScene, KajiyaKay, LightModel, Lighting, Prt, RenderSettings,
+    Renderer,
+};
+
+/// The preview renderer of one baked asset.
+#[pyclass(name = "Preview", module = "pelt", frozen)]
+pub(super) struct PyPreview {
+    renderer: Renderer,
+    /// Frames read the scene, updates write it.
+    scene: Mutex<FurScene>,
+    /// The asset's fur depth, the default of `render(fur_depth=...)`.
+    fur_depth: f32,
+    last_frame: Mutex<Option<FrameInfo>>,
+}
+
+fn parse_adapter(adapter: &str) -> PyResult<AdapterChoice> {
+    match adapter {
+        "auto" => Ok(AdapterChoice::PreferHardware),
+        "cpu" => Ok(AdapterChoice::Cpu),
+        "gpu" => Ok(AdapterChoice::Gpu),
+        other => Err(PeltError::parameter(
+            "adapter",
+            format!("must be \"auto\", \"cpu\" or \"gpu\", got {other:?}"),
+        )
+        .into()),
+    }
+}
+
+/// A 4 × 4 matrix given as rows (numpy or nested sequences).
+fn matrix(obj: &Bound<'_, PyAny>, name: &'static str) -> PyResult<[[f32; 4]; 4]> {
+    let (array, _) = float_ndarray(obj, name, "[4, 4]", |s| s == [4, 4])?;
+    let values = flat(&array)?;
+    Ok(std::array::from_fn(|r| {
+        std::array::from_fn(|c| values[4 * r + c])
+    }))
+}
+
+/// An image side, checked into `u32` (the renderer checks the range).
+fn side(value: i64, name: &str) -> PyResult<u32> {
+    u32::try_from(value).map_err(|_| {
+        PeltError::parameter(name, format!("must be a positive number of pixels, got {value}")).into()
+    })
+}
+
+fn triple(value: &Bound<'_, PyAny>, name: &str) -> PyResult<[f32; 3]> {
+    value
+        .extract::<[f32; 3]>()
+        .map_err(|_| PeltError::parameter(name, "must be three numbers").into())
+}
+
+fn number(value: &Bound<'_, PyAny>, name: &str) -> PyResult<f32> {
+    value
+        .extract::<f32>()
+        .map_err(|_| PeltError::parameter(name, "must be a number").into())
+}
+
+/// The lighting of a frame: `None` (PRT when the scene has a transfer, else Kajiya–Kay), a model
+/// name, or a dict of fields over that model's defaults.
+fn parse_lighting(obj: Option<&Bound<'_, PyAny>>, has_transfer: bool) -> PyResult<Lighting> {
+    let model_of = |name: &str| -> PyResult<LightModel> {
+        match name {
+            "kajiya-kay" => Ok(LightModel::KajiyaKay(KajiyaKay::default())),
+            "prt" => Ok(LightModel::Prt(Prt::default())),
+            other => Err(PeltError::parameter(
+                "lighting.model",
+                format!("must be \"kajiya-kay\" or \"prt\", got {other:?}"),
+            )
+            .into()),
+        }
+    };
+    let default_model = if has_transfer { "prt" } else { "kajiya-kay" };
+    let Some(obj) = obj.filter(|o| !o.is_none()) else {
+        return Ok(Lighting {
+            model: model_of(default_model)?,
+            ..Lighting::default()
+        });
+    };
+    if let Ok(name) = obj.cast::<PyString>() {
+        return Ok(Lighting {
+            model: model_of(&name.to_cow()?)?,
+            ..Lighting::default()
+        });
+    }
+    let dict = obj
+        .cast::<PyDict>()
+        .map_err(|_| PeltError::parameter("lighting", "must be None, \"kajiya-kay\", \"prt\" or a dict"))?;
+    let model = match dict.get_item("model")? {
+        Some(m) => m
+            .extract::<String>()
+            .map_err(|_| PeltError::parameter("lighting.model", "must be a string"))?,
+        None => default_model.to_string(),
+    };
+    let mut lighting = Lighting {
+        model: model_of(&model)?,
+        ..Lighting::default()
+    };
+    for (key, value) in dict.iter() {
+        let key: String = key
+            .extract()
+            .map_err(|_| PeltError::parameter("lighting", "keys must be strings"))?;
+        let name = format!("lighting.{key}");
+        match (key.as_str(), &mut lighting.model) {
+            ("model", _) => {}
+            ("direction", _) => lighting.direction = triple(&value, &name)?,
+            ("color", _) => lighting.color = triple(&value, &name)?,
+            ("self_shadow", _) => lighting.self_shadow = number(&value, &name)?,
+            ("ambient", LightModel::KajiyaKay(kk)) => kk.ambient = triple(&value, &name)?,
+            ("diffuse", LightModel::KajiyaKay(kk)) => kk.diffuse = number(&value, &name)?,
+            ("specular", LightModel::KajiyaKay(kk)) => kk.specular = number(&value, &name)?,
+            ("diffuse_power", LightModel::KajiyaKay(kk)) => kk.diffuse_power = number(&value, &name)?,
+            ("specular_power", LightModel::KajiyaKay(kk)) => kk.specular_power = number(&value, &name)?,
+            ("light_radius", LightModel::Prt(prt)) => prt.light_radius = number(&value, &name)?,
+            ("environment", LightModel::Prt(prt)) => {
+                let (array, _) = float_ndarray(&value, "lighting.environment", "[n², 3]", |s| {
+                    s.len() == 2 && s[1] == 3
+                })?;
+                prt.environment = flat(&array)?.as_chunks::<3>().0.to_vec();
+            }
+            _ => {
+                return Err(
+                    PeltError::parameter(name, format!("is not a setting of the {model} lighting")).into(),
+                );
+            }
+        }
+    }
+    Ok(lighting)
+}
+
+/// A frame's report as a dict.
+fn frame_dict<'py>(py: Python<'py>, info: &FrameInfo) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("shells", info.shells)?;
+    d.set_item("level", info.level)?;
+    d.set_item("blend", info.blend)?;
+    d.set_item("target_shells", info.target_shells)?;
+    d.set_item("radius_pixels", info.radius_pixels)?;
+    d.set_item("fur_pixels", info.fur_pixels)?;
+    Ok(d)
+}
+
+/// The packed float16 transfer of a `FurAsset` or of a `bake_transfer` dict.
+fn packed_transfer(obj: &Bound<'_, PyAny>) -> PyResult<PackedF16> {
+    if let Ok(asset) = obj.cast::<PyFurAsset>() {
+        return asset
+            .get()
+            .inner
+            .transfer
+            .as_ref()
+            .map(|t| t.packed_f16.clone())
+            .ok_or_else(|| {
+                PeltError::parameter("transfer", "the asset was baked without a transfer").into()
+            });
+    }
+    let array = obj
+        .get_item("packed_f16")
+        .map_err(|_| PeltError::parameter("transfer", "must be a FurAsset or a dict with \"packed_f16\""))?;
+    let py = obj.py();
+    let numpy = py.import("numpy")?;
+    let kwargs = PyDict::new(py);
+    kwargs.set_item("dtype", numpy.getattr("float16")?)?;
+    let array = numpy
+        .call_method("ascontiguousarray", (array,), Some(&kwargs))
+        .map_err(|e| PeltError::parameter("transfer.packed_f16", format!("must be a float16 array ({e})")))?
+        .cast_into::<PyUntypedArray>()?;
+    let shape = array.shape().to_vec();
+    if shape.len() != 5 || shape[4] != 4 || shape[2] != shape[3] {
+        return Err(PeltError::parameter(
+            "transfer.packed_f16",
+            format!("must have shape [textures, layers, R, R, 4], got {shape:?}"),
+        )
+        .into());
+    }
+    let typed = array.cast_into::<PyArrayDyn<f16>>()?;
+    let texels = typed.readonly().as_slice()?.to_vec();
+    Ok(PackedF16 {
+        textures: shape[0],
+        layers: shape[1],
+        resolution: shape[2],
+        texels,
+    })
+}
+
+#[pymethods]
+impl PyPreview {
+    /// Opens a device and uploads `asset` (with its transfer, when it has one); see the stub.
+    #[new]
+    #[pyo3(signature = (asset, *, adapter="auto"))]
+    fn new(py: Python<'_>, asset: &PyFurAsset, adapter: &str) -> PyResult<Self> {
+        let choice = parse_adapter(adapter)?;
+        let asset = asset.inner.clone();
+        detached(py, move || {
+            let renderer = Renderer::new(choice)?;
+            let mut scene = FurScene::new(&renderer, &asset.mesh, &asset.patches.uv, &asset.volume)?;
+            if let Some(transfer) = &asset.transfer {
+                scene.set_transfer(&renderer, &transfer.packed_f16)?;
+            }
+            Ok(PyPreview {
+                renderer,
+                scene: Mutex::new(scene),
+                fur_depth: asset.params.fur_depth() as f32,
+                last_frame: Mutex::new(None),
+            })
+        })
+    }
+
+    /// Renders one frame (GIL released); `[height, width, 4]` uint8 sRGB, or float32 linear with
+    /// `linear=True`, straight alpha, top row first. See the stub for the arguments.
+    #[pyo3(signature = (
+        view_matrix, projection_matrix, width, height, *, lighting=None, shells=None, fins=true,
+        lod=false, linear=false, fur_depth=None, background=(0.0, 0.0, 0.0, 0.0), min_shells=2,
+        max_shells=64, shells_per_pixel=1.0
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn render<'py>(
+        &self,
+        py: Python<'py>,
+        view_matrix: &Bound<'py, PyAny>,
+        projection_matrix: &Bound<'py, PyAny>,
+        width: i64,
+        height: i64,
+        lighting: Option<&Bound<'py, PyAny>>,
+        shells: Option<u32>,
+        fins: bool,
+        lod: bool,
+        linear: bool,
+        fur_depth: Option<f32>,
+        background: (f32, f32, f32, f32),
+        min_shells: u32,
+        max_shells: u32,
+        shells_per_pixel: f32,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let camera = Camera::from_gl(
+            matrix(view_matrix, "view_matrix")?,
+            matrix(projection_matrix, "projection_matrix")?,
+            side(width, "width")?,
+            side(height, "height")?,
+        );
+        let has_transfer = self.lock_scene().transfer_order().is_some();
+        let lighting = parse_lighting(lighting, has_transfer)?;
+        let settings = RenderSettings {
+            shell_count: shells,
+            lod,
+            shells_per_pixel,
+            min_shells,
+            max_shells,
+            fins,
+            fur_depth: fur_depth.unwrap_or(self.fur_depth),
+            background: [background.0, background.1, background.2, background.3],
+            ..RenderSettings::default()
+        };
+        let shape = [camera.height as usize, camera.width as usize, 4];
+        let (info, pixels) = detached(py, || {
+            let scene = self.lock_scene();
+            let info = self.renderer.frame_info(&scene, &camera, &settings)?;
+            let pixels = if linear {
+                Err(self
+                    .renderer
+                    .render_linear(&scene, &camera, &lighting, &settings)?
+                    .pixels)
+            } else {
+                Ok(self
+                    .renderer
+                    .render(&scene, &camera, &lighting, &settings)?
+                    .pixels)
+            };
+            Ok((info, pixels))
+        })?;
+        *self.last_frame.lock().unwrap_or_else(|e| e.into_inner()) = Some(info);
+        Ok(match pixels {
+            Ok(bytes) => PyArray1::from_vec(py, bytes).reshape(shape)?.into_any(),
+            Err(floats) => PyArray1::from_vec(py, floats).reshape(shape)?.into_any(),
+        })
+    }
+
+    /// Rewrites the per-vertex colors (`[V, 4]` or `[V, 3]`, linear) and/or lengths (`[V]`) in
+    /// place; nothing else is uploaded. See the stub.
+    #[pyo3(signature = (*, color=None, length=None))]
+    fn update(
+        &self,
+        py: Python<'_>,
+        color: Option<&Bound<'_, PyAny>>,
+        length: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let color: Option<Vec<[f32; 4]>> = match color {
+            None => None,
+            Some(c) => {
+                let (array, shape) = float_ndarray(c, "color", "[V, 4] or [V, 3]", |s| {
+                    s.len() == 2 && (s[1] == 3 || s[1] == 4)
+                })?;
+                let values = flat(&array)?;
+                Some(if shape[1] == 4 {
+                    values.as_chunks::<4>().0.to_vec()
+                } else {
+                    values
+                        .as_chunks::<3>()
+                        .0
+                        .iter()
+                        .map(|&[r, g, b]| [r, g, b, 1.0])
+                        .collect()
+                })
+            }
+        };
+        let length: Option<Vec<f32>> = match length {
+            None => None,
+            Some(l) => {
+                let (array, _) = float_ndarray(l, "length", "[V]", |s| s.len() == 1)?;
+                Some(flat(&array)?.to_vec())
+            }
+        };
+        detached(py, || {
+            self.lock_scene()
+                .update_attributes(color.as_deref(), length.as_deref())
+        })
+    }
+
+    /// Replaces the PRT transfer textures: a `FurAsset`'s or a `bake_transfer` result's. A
+    /// transfer from another bake (other layers or resolution) raises `InvalidParameterError`
+    /// and leaves the preview as it was.
+    fn set_transfer(&self, py: Python<'_>, transfer: &Bound<'_, PyAny>) -> PyResult<()> {
+        let packed = packed_transfer(transfer)?;
+        detached(py, || self.lock_scene().set_transfer(&self.renderer, &packed))
+    }
+
+    /// The adapter: `{"name", "backend", "device_type"}`.
+    #[getter]
+    fn adapter<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let a = self.renderer.adapter();
+        let d = PyDict::new(py);
+        d.set_item("name", &a.name)?;
+        d.set_item("backend", &a.backend)?;
+        d.set_item("device_type", &a.device_type)?;
+        Ok(d)
+    }
+
+    /// Bytes sent to the GPU so far: `{"texture_bytes", "geometry_bytes", "attribute_bytes",
+    /// "transfer_bytes"}`.
+    #[getter]
+    fn uploads<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let u = self.lock_scene().uploads();
+        let d = PyDict::new(py);
+        d.set_item("texture_bytes", u.texture_bytes)?;
+        d.set_item("geometry_bytes", u.geometry_bytes)?;
+        d.set_item("attribute_bytes", u.attribute_bytes)?;
+        d.set_item("transfer_bytes", u.transfer_bytes)?;
+        Ok(d)
+    }
+
+    /// SH order of the scene's transfer, or `None`.
+    #[getter]
+    fn transfer_order(&self) -> Option<usize> {
+        self.lock_scene().transfer_order()
+    }
+
+    /// What the last successful frame drew: `{"shells", "level", "blend", "target_shells",
+    /// "radius_pixels", "fur_pixels"}`, or `None` before the first.
+    #[getter]
+    fn last_frame<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let info = *self.last_frame.lock().unwrap_or_else(|e| e.into_inner());
+        info.map(|i| frame_dict(py, &i)).transpose()
+    }
+
+    fn __repr__(&self) -> String {
+        let a = self.renderer.adapter();
+        format!("<pelt.Preview on {} ({})>", a.name, a.backend)
+    }
+}
+
+impl PyPreview {
+    /// The scene; a frame that panicked left it valid (frames only read it).
+    fn lock_scene(&self) -> std::sync::MutexGuard<'_, FurScene> {
+        self.scene.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}

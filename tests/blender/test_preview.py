@@ -1,0 +1,202 @@
+"""``pelt.Preview``: the wgpu preview of a baked asset from Python, on the CPU adapter (lavapipe),
+with matrices in Blender's conventions (math order, OpenGL clip depth)."""
+
+import math
+
+import numpy as np
+import pelt
+import pytest
+
+SIDE = 64
+
+
+def uv_sphere(segments=24, rings=12):
+    """A unit sphere as ``(positions [V, 3], triangles [T, 3])``, counter-clockwise from outside."""
+    positions = [(0.0, 0.0, 1.0)]
+    for r in range(1, rings):
+        theta = math.pi * r / rings
+        for s in range(segments):
+            phi = 2 * math.pi * s / segments
+            sin = math.sin(theta)
+            positions.append((sin * math.cos(phi), sin * math.sin(phi), math.cos(theta)))
+    positions.append((0.0, 0.0, -1.0))
+    south = len(positions) - 1
+
+    def ring(r, s):
+        return 1 + (r - 1) * segments + s % segments
+
+    triangles = [(0, ring(1, s), ring(1, s + 1)) for s in range(segments)]
+    for r in range(1, rings - 1):
+        for s in range(segments):
+            a, b, c, d = ring(r, s), ring(r + 1, s), ring(r + 1, s + 1), ring(r, s + 1)
+            triangles += [(a, b, c), (a, c, d)]
+    triangles += [(south, ring(rings - 1, s + 1), ring(rings - 1, s)) for s in range(segments)]
+    return np.array(positions, np.float32), np.array(triangles, np.uint32)
+
+
+def bake(*, layers=8, transfer=True):
+    positions, triangles = uv_sphere()
+    mesh = pelt.FurMesh(positions, triangles)
+    hair = pelt.HairParams(density=1024)
+    return pelt.Pipeline().bake(
+        mesh,
+        tile_size=0.5,
+        hair=hair,
+        layers=layers,
+        resolution=32,
+        fin_size=(64, 16),
+        fur_depth=0.1,
+        transfer=transfer,
+        order=3,
+        directions=64,
+    )
+
+
+@pytest.fixture(scope="module")
+def asset():
+    return bake()
+
+
+@pytest.fixture(scope="module")
+def preview(asset):
+    return pelt.Preview(asset, adapter="cpu")
+
+
+def look_at(eye, target=(0.0, 0.0, 0.0), up=(0.0, 0.0, 1.0)):
+    """A view matrix in the math convention (as ``np.array(mathutils.Matrix)``)."""
+    eye, target, up = (np.asarray(v, np.float64) for v in (eye, target, up))
+    f = target - eye
+    f /= np.linalg.norm(f)
+    s = np.cross(f, up)
+    s /= np.linalg.norm(s)
+    u = np.cross(s, f)
+    m = np.eye(4)
+    m[0, :3], m[1, :3], m[2, :3] = s, u, -f
+    m[:3, 3] = -m[:3, :3] @ eye
+    return m
+
+
+def gl_perspective(fov_deg=40.0, near=0.5, far=20.0, aspect=1.0):
+    """An OpenGL projection (clip depth -1..1), as Blender's ``window_matrix`` is."""
+    t = 1.0 / math.tan(math.radians(fov_deg) / 2)
+    return np.array(
+        [
+            [t / aspect, 0, 0, 0],
+            [0, t, 0, 0],
+            [0, 0, (far + near) / (near - far), 2 * far * near / (near - far)],
+            [0, 0, -1, 0],
+        ]
+    )
+
+
+def gl_orthographic(half, near, far):
+    return np.array(
+        [
+            [1 / half, 0, 0, 0],
+            [0, 1 / half, 0, 0],
+            [0, 0, -2 / (far - near), -(far + near) / (far - near)],
+            [0, 0, 0, 1],
+        ]
+    )
+
+
+VIEW = look_at((0.0, -4.0, 1.0))
+PROJECTION = gl_perspective()
+
+
+def test_frames_are_numpy_images_in_both_formats(preview, asset):
+    assert preview.adapter["device_type"] == "Cpu"
+    assert preview.transfer_order == asset.transfer["order"] == 3
+    image = preview.render(VIEW, PROJECTION, SIDE, SIDE)
+    assert image.shape == (SIDE, SIDE, 4) and image.dtype == np.uint8
+    # The sphere fills the middle (opaque skin) and misses the corners.
+    assert image[SIDE // 2, SIDE // 2, 3] == 255
+    assert image[0, 0, 3] == 0 and image[-1, -1, 3] == 0
+    assert image[SIDE // 2, SIDE // 2, :3].max() > 0
+    linear = preview.render(VIEW, PROJECTION, SIDE, SIDE, linear=True)
+    assert linear.shape == (SIDE, SIDE, 4) and linear.dtype == np.float32
+    assert np.isfinite(linear).all()
+    assert np.abs(np.round(linear[..., 3] * 255) - image[..., 3]).max() <= 3
+    # Both lighting models, and the same frame twice is the same image.
+    kk = preview.render(VIEW, PROJECTION, SIDE, SIDE, lighting="kajiya-kay")
+    assert not np.array_equal(kk, image)
+    assert np.array_equal(preview.render(VIEW, PROJECTION, SIDE, SIDE), image)
+    info = preview.last_frame
+    assert info["shells"] == asset.layers - 1 and info["level"] == 0
+
+
+def test_opengl_depth_is_remapped_to_wgpu():
+    # Orthographic, near 0 and far 10, the sphere's front 2 units away: GL depth -0.6, which
+    # wgpu would clip without the remap to 0..1.
+    preview = pelt.Preview(bake(transfer=False), adapter="cpu")
+    image = preview.render(look_at((0.0, -3.0, 0.0)), gl_orthographic(1.5, 0.0, 10.0), SIDE, SIDE)
+    assert image[SIDE // 2, SIDE // 2, 3] == 255
+    covered = (image[..., 3] > 0).mean()
+    # A disk of radius 1 (plus fur) in a 3 by 3 square.
+    assert math.pi / 9 * 0.95 < covered < math.pi * 1.2**2 / 9
+
+
+def test_lod_reports_the_level_it_drew(preview):
+    near = preview.render(VIEW, PROJECTION, SIDE, SIDE, lod=True, min_shells=1)
+    info = preview.last_frame
+    far = preview.render(look_at((0.0, -16.0, 4.0)), PROJECTION, SIDE, SIDE, lod=True, min_shells=1)
+    far_info = preview.last_frame
+    assert far_info["fur_pixels"] < info["fur_pixels"]
+    assert (far_info["level"], -far_info["shells"]) >= (info["level"], -info["shells"])
+    assert near.shape == far.shape == (SIDE, SIDE, 4)
+    with pytest.raises(pelt.InvalidParameterError, match="shell_count"):
+        preview.render(VIEW, PROJECTION, SIDE, SIDE, lod=True, shells=3)
+
+
+def test_updates_rewrite_only_colors_and_lengths(asset):
+    preview = pelt.Preview(asset, adapter="cpu")
+    vertices = asset.mesh.vertex_count
+    before = preview.uploads
+    white = preview.render(VIEW, PROJECTION, SIDE, SIDE, lighting="kajiya-kay")
+    preview.update(color=np.tile(np.array([[1.0, 0.2, 0.2]], np.float32), (vertices, 1)))
+    after = preview.uploads
+    for kind in ("texture_bytes", "geometry_bytes", "transfer_bytes"):
+        assert after[kind] == before[kind]
+    assert after["attribute_bytes"] > before["attribute_bytes"]
+    reddened = preview.render(VIEW, PROJECTION, SIDE, SIDE, lighting="kajiya-kay")
+    assert reddened[..., 1].sum() < 0.8 * white[..., 1].sum()
+    # Bald everywhere renders exactly the skin.
+    skin = preview.render(VIEW, PROJECTION, SIDE, SIDE, shells=0, fins=False)
+    preview.update(length=np.zeros(vertices, np.float32))
+    assert np.array_equal(preview.render(VIEW, PROJECTION, SIDE, SIDE), skin)
+    assert preview.uploads["texture_bytes"] == before["texture_bytes"]
+
+
+def test_bad_input_names_the_problem_and_the_preview_survives(asset):
+    preview = pelt.Preview(asset, adapter="cpu")
+    good = preview.render(VIEW, PROJECTION, SIDE, SIDE)
+    vertices = asset.mesh.vertex_count
+    nan = VIEW.copy()
+    nan[1, 2] = np.nan
+    cases = [
+        (lambda: preview.update(color=np.ones((vertices - 1, 4), np.float32)), "color"),
+        (lambda: preview.update(length=np.ones((vertices, 2), np.float32)), "length"),
+        (lambda: preview.render(nan, PROJECTION, SIDE, SIDE), "camera.view"),
+        (lambda: preview.render(VIEW, np.eye(3), SIDE, SIDE), "projection_matrix"),
+        (lambda: preview.render(VIEW, PROJECTION, 0, SIDE), "camera.width"),
+        (lambda: preview.render(VIEW, PROJECTION, SIDE, -4), "height"),
+        (lambda: preview.render(VIEW, PROJECTION, SIDE, SIDE, lighting={"glow": 1.0}), "lighting.glow"),
+        (
+            lambda: preview.render(VIEW, PROJECTION, SIDE, SIDE, lighting={"direction": (0, 0, 0)}),
+            "direction",
+        ),
+        (lambda: preview.render(VIEW, PROJECTION, SIDE, SIDE, fur_depth=float("nan")), "fur_depth"),
+        # A transfer baked for another hair volume (other layers).
+        (lambda: preview.set_transfer(bake(layers=6)), "transfer.layers"),
+        (lambda: pelt.Preview(asset, adapter="quantum"), "adapter"),
+    ]
+    for call, name in cases:
+        with pytest.raises(pelt.InvalidParameterError, match=name.replace(".", r"\.")):
+            call()
+    # PRT without transfer textures.
+    plain = pelt.Preview(bake(transfer=False), adapter="cpu")
+    with pytest.raises(pelt.InvalidParameterError, match=r"lighting\.model"):
+        plain.render(VIEW, PROJECTION, SIDE, SIDE, lighting="prt")
+    # Nothing changed: the next valid frame is the same image.
+    assert np.array_equal(preview.render(VIEW, PROJECTION, SIDE, SIDE), good)
+    assert preview.transfer_order == 3
