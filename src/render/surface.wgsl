@@ -60,11 +60,3 @@ fn blended(t: Texels) -> vec4<f32> {
 fn uv_gradients(uv: vec2<f32>) -> vec4<f32> {
     return vec4<f32>(dpdx(uv), dpdy(uv));
 }
-
-// The hair tangent of the tangent map carried from the tile frame (x along u, y along v, z up)
-// to the surface. The map has one level, so sampling it at level 0 costs no derivatives.
-fn hair_tangent(uv: vec2<f32>, layer: u32, dpdu: vec3<f32>, dpdv: vec3<f32>, up: vec3<f32>,
-                n: vec3<f32>) -> vec3<f32> {
-    let d = textureSampleLevel(tangent_texture, tile_sampler, uv, layer, 0.0).xyz * 2.0 - 1.0;
-    return unit_or(d.x * dpdu + d.y * dpdv + d.z * up, n);
-}
