@@ -7,9 +7,9 @@ order and attaches ``bpy.types.Object.pelt``; ``unregister()`` undoes it in reve
 
 import bpy
 
-from . import bake, comb, comb_tools, export, ops, paint, panels, preferences, props
+from . import bake, comb, comb_tools, export, ops, paint, panels, preferences, preview, props
 
-_MODULES = (preferences, props, ops, paint, comb, comb_tools, bake, export, panels)
+_MODULES = (preferences, props, ops, paint, comb, comb_tools, bake, preview, export, panels)
 
 
 def register() -> None:
@@ -23,6 +23,7 @@ def register() -> None:
 
 def unregister() -> None:
     export.unregister_menus()
+    preview.stop_live_preview()
     del bpy.types.Object.pelt
     preferences.CACHE.clear()
     for module in reversed(_MODULES):

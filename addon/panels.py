@@ -155,6 +155,17 @@ class VIEW3D_PT_pelt_lighting(_SubPanel, bpy.types.Panel):
             column.prop(settings, "prt_order")
 
 
+class VIEW3D_PT_pelt_preview(_SubPanel, bpy.types.Panel):
+    bl_label = "Preview"
+    bl_idname = "VIEW3D_PT_pelt_preview"
+    bl_options = set()
+
+    def draw_settings(self, layout, settings):
+        row = layout.row(align=True)
+        row.operator("pelt.live_preview", icon="HIDE_OFF")
+        row.operator("pelt.render_preview", icon="RENDER_STILL")
+
+
 class VIEW3D_PT_pelt_export(_SubPanel, bpy.types.Panel):
     bl_label = "Export"
     bl_idname = "VIEW3D_PT_pelt_export"
@@ -171,5 +182,6 @@ CLASSES = (
     VIEW3D_PT_pelt_shells,
     VIEW3D_PT_pelt_display,
     VIEW3D_PT_pelt_lighting,
+    VIEW3D_PT_pelt_preview,
     VIEW3D_PT_pelt_export,
 )

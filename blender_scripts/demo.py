@@ -15,6 +15,8 @@ and writes under ``out/demo/``:
   layer atlas in float16 and in 8 bits with the per-coefficient scale and bias of the sidecar;
 - ``relit.png``: the volume seen from the side (layers bottom to top) lit through the transfer by
   a light from +x, +y, −x and −y at 30° elevation, left to right;
+- ``preview.png``: Pelt's real-time renderer (wgpu, PRT lighting from the World and the sun) from
+  the scene camera, as "Render Preview" writes it into the image ``Pelt Preview``;
 - ``cycles.png``: one Cycles frame of the fur as Blender itself renders it (the Geometry Nodes
   shells and fins with Pelt's materials), from the front;
 - ``stats.json``: Pelt's statistics of the mesh, the bake's stage report and timings.
@@ -190,6 +192,14 @@ def main() -> None:
     render_cycles(scene, (args.out / "cycles.png").resolve(), args.cycles_size, args.cycles_samples)
     timings["cycles_frame_s"] = time.perf_counter() - start
 
+    scene.render.resolution_x = scene.render.resolution_y = args.cycles_size
+    scene.render.resolution_percentage = 100
+    timed(timings, "render_preview_s", bpy.ops.pelt.render_preview)
+    preview = next(im for im in bpy.data.images if im.get("pelt_role") == "preview")
+    preview.filepath_raw = str((args.out / "preview.png").resolve())
+    preview.file_format = "PNG"
+    preview.save()
+
     blend = args.out / "demo.blend"
     bpy.ops.wm.save_as_mainfile(filepath=str(blend.resolve()))
     report = {"pelt": pelt.__version__, "threads": pelt.thread_count(), "object": obj.name, "stats": stats}
@@ -216,6 +226,7 @@ def main() -> None:
     )
     chosen = next(row for row in transfer["bands"] if row["order"] == transfer["order"])
     print(f"  transfer: order {transfer['order']} by band selection (error {chosen['error']:.2%})")
+    print(f"  rendered the wgpu preview (PRT) in {timings['render_preview_s']:.2f} s: preview.png")
     print(f"  rendered the Geometry Nodes fur with Cycles in {timings['cycles_frame_s']:.1f} s: cycles.png")
     print(f"  wrote {blend} and the images, transfer_*.exr/png, relit.png, stats.json in {args.out}")
 

@@ -97,7 +97,8 @@ fn uv_key(uv: [f32; 2]) -> [u32; 2] {
 ///
 /// # Errors
 /// [`PeltError::InvalidParameter`] naming `corner_uvs` when its length or a value is wrong, or
-/// when no triangle has a usable UV layout (all UVs collapse to points or lines).
+/// when no triangle has a usable UV layout (all UVs collapse to points or lines) on a mesh that
+/// is not bald everywhere.
 pub fn split_at_uv_seams(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result<UvSplit> {
     validate_uvs(mesh, corner_uvs)?;
     let triangles = mesh.triangles();
@@ -153,12 +154,19 @@ pub fn split_at_uv_seams(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result
             s.2 += area;
         }
     }
-    let uv_scale = uv_length / length_3d;
+    let mut uv_scale = uv_length / length_3d;
     if !(uv_scale.is_finite() && uv_scale > 0.0) || sums.iter().all(|s| s.2 == 0.0) {
-        return Err(PeltError::parameter(
-            "corner_uvs",
-            "no triangle has a usable UV layout (every triangle's UVs collapse to a point or a line)",
-        ));
+        // A mesh bald everywhere has no patches and needs no texture frame: the skin is drawn
+        // alone, so the mesh's own frame at unit scale serves.
+        if bald_everywhere(mesh) {
+            uv_scale = 1.0;
+            sums.iter_mut().for_each(|s| *s = ([0.0; 3], [0.0; 3], 0.0));
+        } else {
+            return Err(PeltError::parameter(
+                "corner_uvs",
+                "no triangle has a usable UV layout (every triangle's UVs collapse to a point or a line)",
+            ));
+        }
     }
 
     let normals = mesh.normals();
@@ -191,6 +199,12 @@ pub fn split_at_uv_seams(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result
         indices,
         uv_scale,
     })
+}
+
+/// Whether every vertex has hair length 0.
+fn bald_everywhere(mesh: &FurMesh) -> bool {
+    mesh.length()
+        .is_some_and(|length| length.iter().all(|&l| l == 0.0))
 }
 
 #[cfg(test)]

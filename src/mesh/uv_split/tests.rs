@@ -142,3 +142,28 @@ fn bad_uvs_are_named() {
         "corner_uvs"
     );
 }
+
+#[test]
+fn a_mesh_bald_everywhere_needs_no_uv_layout() {
+    let positions = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 2.0, 0.0], [0.0, 2.0, 0.0]];
+    let triangles = [[0, 1, 2], [0, 2, 3]];
+    let bald = [0.0; 4];
+    let mesh = FurMesh::new(MeshInput::new(&positions, &triangles).with_length(&bald)).unwrap();
+    // Bald faces get no patch, so all their UVs are zero.
+    let flat = [[[0.0, 0.0]; 3]; 2];
+    let split = split_at_uv_seams(&mesh, &flat).unwrap();
+    assert_eq!(split.source.len(), 4);
+    assert_eq!(split.uv_scale, 1.0);
+    // The mesh's own frame: unit vectors in the square's plane.
+    for (u, v) in split.dpdu.iter().zip(&split.dpdv) {
+        let dot = u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+        assert!(dot.abs() < 1e-6 && u[2] == 0.0 && v[2] == 0.0, "{u:?} {v:?}");
+    }
+    // One furred vertex is enough for the collapsed layout to be an error again.
+    let one = [0.0, 0.0, 1.0, 0.0];
+    let furred = FurMesh::new(MeshInput::new(&positions, &triangles).with_length(&one)).unwrap();
+    assert_eq!(
+        parameter_name(split_at_uv_seams(&furred, &flat).unwrap_err()),
+        "corner_uvs"
+    );
+}

@@ -1,0 +1,219 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""See the fur: "Render Preview" renders the scene camera's view of the active object with Pelt's
+wgpu renderer into the image ``Pelt Preview`` (headless too); "Live Preview" draws the same
+renderer over the 3D viewport, re-rendered when the view changes.
+
+One ``pelt.Preview`` (device + uploaded scene) is kept per object and rebuilt only when a bake
+ran a stage; otherwise only the painted colors and lengths are re-sent. Lighting comes from the
+World and the lights (``lighting.py``), turned into the object's own frame, where the renderer
+works.
+"""
+
+import math
+
+import bpy
+import numpy as np
+import pelt
+
+from . import bake, bridge, lighting, preferences
+from .ownership import find_owned, tag
+
+PREVIEW_IMAGE = "Pelt Preview"
+PREVIEW_ROLE = "preview"
+
+# session_uid -> pelt.Preview
+_PREVIEWS: dict = {}
+
+
+def _directions(count: int) -> np.ndarray:
+    """``count`` spherical Fibonacci directions ``[count, 3]``."""
+    i = np.arange(count) + 0.5
+    z = 1.0 - 2.0 * i / count
+    phi = i * math.pi * (3.0 - math.sqrt(5.0))
+    r = np.sqrt(1.0 - z * z)
+    return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
+
+
+def rotate_sh(coefficients: np.ndarray, rotation: np.ndarray) -> np.ndarray:
+    """SH coefficients ``[n², 3]`` of ``f`` re-expressed for ``g(d) = f(rotation @ d)``.
+
+    The basis at a direction is ``pelt.sh_project_light(d, order)`` (a delta light's projection),
+    so the rotation is the least-squares fit of ``g`` on ``4 n²`` directions: exact, because a
+    rotation keeps every band (no Python loop per vertex; a few hundred basis evaluations)."""
+    order = math.isqrt(coefficients.shape[0])
+    directions = _directions(4 * order * order)
+    basis = np.array([pelt.sh_project_light(tuple(d), order) for d in directions], np.float64)
+    turned = np.array([pelt.sh_project_light(tuple(rotation @ d), order) for d in directions], np.float64)
+    solved, *_ = np.linalg.lstsq(basis, turned @ coefficients.astype(np.float64), rcond=None)
+    return solved.astype(np.float32)
+
+
+def object_lighting(scene, obj, model: str, order: int | None) -> dict:
+    """The ``lighting`` dict of ``pelt.Preview.render`` for ``obj``: the key light (Kajiya-Kay)
+    or the World and lights as SH (PRT), both in the object's frame."""
+    world = obj.matrix_world
+    rotation = np.array(world.to_3x3().normalized(), np.float64)
+    target = tuple(world.translation)
+    if model == "prt" and order:
+        environment = lighting.world_sh(scene, order, target)
+        # g(d_object) = f(R d_object): the world's radiance seen from the object's frame.
+        return {"model": "prt", "environment": rotate_sh(environment, rotation)}
+    direction, color = lighting.key_light(scene, target)
+    local = rotation.T @ np.asarray(direction, np.float64)
+    return {"model": "kajiya-kay", "direction": tuple(local), "color": tuple(float(c) for c in color)}
+
+
+def preview_of(obj) -> tuple[pelt.Preview, pelt.FurAsset]:
+    """The object's preview, rebuilt when its bake ran a stage (else colors and lengths updated)."""
+    job = bake.start_job(obj).start()
+    job.wait()
+    if job.error is not None:
+        raise job.error
+    asset = job.asset
+    preview = _PREVIEWS.get(obj.session_uid)
+    if preview is None or any(stage["ran"] for stage in asset.report):
+        prefs = preferences.get()
+        preview = pelt.Preview(asset, adapter=prefs.adapter if prefs is not None else "auto")
+        _PREVIEWS[obj.session_uid] = preview
+    else:
+        mesh = asset.mesh
+        preview.update(color=mesh.color, length=mesh.length)
+    return preview, asset
+
+
+def render_options(obj, asset) -> dict:
+    settings = obj.pelt
+    return {
+        "fins": settings.fins,
+        "lod": settings.lod,
+        "min_shells": min(settings.min_shells, settings.max_shells),
+        "max_shells": settings.max_shells,
+    }
+
+
+def render_camera(context, obj) -> np.ndarray:
+    """The scene camera's view of ``obj`` at the render resolution: ``[H, W, 4]`` uint8."""
+    scene = context.scene
+    camera = scene.camera
+    if camera is None:
+        raise pelt.RenderError("the scene has no camera")
+    render = scene.render
+    width = max(1, render.resolution_x * render.resolution_percentage // 100)
+    height = max(1, render.resolution_y * render.resolution_percentage // 100)
+    preview, asset = preview_of(obj)
+    projection = camera.calc_matrix_camera(
+        context.evaluated_depsgraph_get(), x=width, y=height, scale_x=render.pixel_aspect_x,
+        scale_y=render.pixel_aspect_y,
+    )  # fmt: skip
+    view = camera.matrix_world.inverted() @ obj.matrix_world
+    model = "prt" if obj.pelt.lighting == "PRT" and asset.transfer is not None else "kajiya-kay"
+    return preview.render(
+        np.array(view, np.float32),
+        np.array(projection, np.float32),
+        width,
+        height,
+        lighting=object_lighting(scene, obj, model, preview.transfer_order),
+        **render_options(obj, asset),
+    )
+
+
+class PELT_OT_render_preview(bpy.types.Operator):
+    """Render the scene camera's view of the active object's fur with Pelt's real-time renderer
+    into the image "Pelt Preview\""""
+
+    bl_idname = "pelt.render_preview"
+    bl_label = "Render Preview"
+    bl_options = {"REGISTER"}
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.active_object
+        return obj is not None and obj.type == "MESH"
+
+    def execute(self, context):
+        obj = context.active_object
+        try:
+            pixels = render_camera(context, obj)
+        except pelt.PeltError as error:
+            self.report({"ERROR"}, f"Pelt: {obj.name}: {error}")
+            return {"CANCELLED"}
+        image = find_owned(bpy.data.images, obj.name, PREVIEW_ROLE)
+        fresh = image is None
+        image = bridge.write_image(bpy.data.images, PREVIEW_IMAGE, pixels, color=True, image=image)
+        if fresh:
+            tag(image, obj.name, PREVIEW_ROLE)
+        self.report({"INFO"}, f"Pelt: rendered {image.name} ({pixels.shape[1]}×{pixels.shape[0]})")
+        return {"FINISHED"}
+
+
+class _LiveState:
+    """The draw handler and what it last drew, so it renders only when the view changed."""
+
+    handler = None
+    key = None
+    texture = None
+
+
+def _draw_live():
+    context = bpy.context
+    obj = context.active_object
+    region, region_3d = context.region, context.region_data
+    if obj is None or obj.type != "MESH" or region_3d is None or not obj.pelt.enabled:
+        return
+    import gpu
+    from gpu_extras.presets import draw_texture_2d
+
+    width, height = region.width, region.height
+    view = region_3d.view_matrix @ obj.matrix_world
+    key = (tuple(map(tuple, view)), tuple(map(tuple, region_3d.window_matrix)), width, height)
+    if key != _LiveState.key:
+        try:
+            preview, asset = preview_of(obj)
+            model = "prt" if obj.pelt.lighting == "PRT" and asset.transfer is not None else "kajiya-kay"
+            pixels = preview.render(
+                np.array(view, np.float32),
+                np.array(region_3d.window_matrix, np.float32),
+                width,
+                height,
+                lighting=object_lighting(context.scene, obj, model, preview.transfer_order),
+                **render_options(obj, asset),
+            )
+        except pelt.PeltError:
+            return
+        # Blender's textures run bottom-up; the buffer takes the numpy array as it is.
+        floats = np.ascontiguousarray(pixels[::-1], np.float32).ravel() / 255.0
+        data = gpu.types.Buffer("FLOAT", floats.size, floats)
+        _LiveState.texture = gpu.types.GPUTexture((width, height), format="RGBA8", data=data)
+        _LiveState.key = key
+    gpu.state.blend_set("ALPHA")
+    draw_texture_2d(_LiveState.texture, (0, 0), width, height)
+    gpu.state.blend_set("NONE")
+
+
+class PELT_OT_live_preview(bpy.types.Operator):
+    """Draw Pelt's real-time fur over the 3D viewport (toggle)"""
+
+    bl_idname = "pelt.live_preview"
+    bl_label = "Live Preview"
+
+    def execute(self, context):
+        if _LiveState.handler is None:
+            _LiveState.handler = bpy.types.SpaceView3D.draw_handler_add(
+                _draw_live, (), "WINDOW", "POST_PIXEL"
+            )
+        else:
+            stop_live_preview()
+        for area in context.screen.areas if context.screen else ():
+            if area.type == "VIEW_3D":
+                area.tag_redraw()
+        return {"FINISHED"}
+
+
+def stop_live_preview() -> None:
+    if _LiveState.handler is not None:
+        bpy.types.SpaceView3D.draw_handler_remove(_LiveState.handler, "WINDOW")
+    _LiveState.handler = _LiveState.key = _LiveState.texture = None
+    _PREVIEWS.clear()
+
+
+CLASSES = (PELT_OT_render_preview, PELT_OT_live_preview)

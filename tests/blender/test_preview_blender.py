@@ -1,0 +1,92 @@
+"""Render Preview from Blender: the scene camera's view of the fur, rendered by Pelt's wgpu
+renderer on the CPU adapter into the image "Pelt Preview" (headless)."""
+
+import math
+
+import bpy
+import numpy as np
+import pytest
+from conftest import add_suzanne, datablock_snapshot
+
+
+def furred_suzanne_with_camera(*, prt=False):
+    obj = add_suzanne()
+    settings = obj.pelt
+    settings.enabled = True
+    settings.layers = 8
+    settings.resolution = "64"
+    settings.density = 3000
+    settings.tile_size = 0.3
+    settings.fur_depth = 0.15
+    settings.lighting = "PRT" if prt else "KAJIYA_KAY"
+    settings.prt_auto_order = False
+    settings.prt_order = 2
+    scene = bpy.context.scene
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.location = (0.0, -5.0, 0.0)
+    camera.rotation_euler = (math.pi / 2, 0.0, 0.0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 96, 80, 100
+    return obj
+
+
+def preview_pixels() -> np.ndarray:
+    image = next(im for im in bpy.data.images if im.get("pelt_role") == "preview")
+    assert image.name == "Pelt Preview"
+    pixels = np.empty(image.size[0] * image.size[1] * 4, np.float32)
+    image.pixels.foreach_get(pixels)
+    return pixels.reshape(image.size[1], image.size[0], 4)
+
+
+@pytest.mark.parametrize("prt", [False, True])
+def test_render_preview_fills_pelt_preview_with_the_furred_object(addon, prt):
+    obj = furred_suzanne_with_camera(prt=prt)
+    assert bpy.ops.pelt.render_preview() == {"FINISHED"}
+    pixels = preview_pixels()
+    assert pixels.shape == (80, 96, 4)
+    covered = pixels[..., 3] > 0.5
+    # Suzanne, 2.7 units wide at 5 units with the default 50 mm lens (~39.6° across 96 px), is
+    # centred: the middle is covered, the corners are background.
+    assert covered[40, 48] and not covered[0, 0] and not covered[-1, -1]
+    assert 0.1 < covered.mean() < 0.9
+    assert np.isfinite(pixels).all()
+    # A second render (nothing changed) reuses the device and draws the same picture.
+    assert bpy.ops.pelt.render_preview() == {"FINISHED"}
+    assert np.array_equal(preview_pixels(), pixels)
+    # Bald everywhere: the fur's fringe disappears, the covered area shrinks.
+    length = obj.data.attributes.new("pelt_length", "FLOAT", "POINT")
+    length.data.foreach_set("value", np.zeros(len(obj.data.vertices), np.float32))
+    assert bpy.ops.pelt.render_preview() == {"FINISHED"}
+    assert (preview_pixels()[..., 3] > 0.5).sum() < covered.sum()
+
+
+def test_render_preview_without_a_camera_changes_nothing(addon):
+    furred_suzanne_with_camera()
+    bpy.context.scene.camera = None
+    before = datablock_snapshot()
+    with pytest.raises(RuntimeError, match="no camera"):
+        bpy.ops.pelt.render_preview()
+    assert datablock_snapshot() == before
+
+
+def test_object_lighting_turns_the_world_into_the_objects_frame(addon):
+    from addon import preview
+
+    obj = add_suzanne()
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    bpy.context.scene.collection.objects.link(sun)
+    sun.rotation_euler = (0.0, math.pi / 2, 0.0)  # the sun's +Z toward world +X
+    obj.rotation_euler = (0.0, 0.0, math.pi / 2)  # object +X is world +Y, object -Y is world +X
+    bpy.context.view_layer.update()
+    light = preview.object_lighting(bpy.context.scene, obj, "kajiya-kay", None)
+    assert np.allclose(light["direction"], (0.0, -1.0, 0.0), atol=1e-6)
+    # The same rotation applied to SH: a delta light's projection along world +X becomes the
+    # projection along object -Y.
+    import pelt
+
+    world = np.outer(pelt.sh_project_light((1.0, 0.0, 0.0), 3), [1.0, 1.0, 1.0])
+    rotation = np.array(obj.matrix_world.to_3x3(), np.float64)
+    local = preview.rotate_sh(world, rotation)
+    expected = np.outer(pelt.sh_project_light((0.0, -1.0, 0.0), 3), [1.0, 1.0, 1.0])
+    assert np.allclose(local, expected, atol=1e-4)
