@@ -21,6 +21,8 @@ use crate::color::{srgb8_encoder, srgb8_to_linear_table};
 use crate::error::{PeltError, Result};
 use crate::threads::pool;
 
+mod even;
+
 /// Largest side of a texture given to the mipmapper: keeps the integer filter weights exactly
 /// representable while they are summed in f64, and is beyond what GPUs sample (Vulkan
 /// guarantees 4096; common limits are 16384 or 32768).
@@ -177,8 +179,22 @@ pub(crate) fn chain_rgba8(
     alpha: MipAlpha,
     count: usize,
 ) -> Vec<Vec<u8>> {
-    let (table, encoder) = (srgb8_to_linear_table(), srgb8_encoder());
-    let decode = |p: &[u8]| -> [f64; 4] {
+    if width % 2 == 0 && height % 2 == 0 && count > 1 {
+        // Both sides even: the fast 2 × 2 path for this level, the general filter below it.
+        let first = even::halve_even_rgba8(base, width, height, layers, srgb, alpha);
+        let (w, h) = (width / 2, height / 2);
+        let rest = chain_rgba8(w, h, layers, &first, srgb, alpha, count - 1);
+        return std::iter::once(first).chain(rest).collect();
+    }
+    let (decode, encode) = (rgba8_decoder(srgb), rgba8_encoder(srgb));
+    chain(width, height, layers, base, alpha, count, decode, encode)
+}
+
+/// RGBA8 texel to the general filter's values: linear color (decoded from sRGB with `srgb`),
+/// alpha in byte units.
+fn rgba8_decoder(srgb: bool) -> impl Fn(&[u8]) -> [f64; 4] + Sync {
+    let table = srgb8_to_linear_table();
+    move |p: &[u8]| -> [f64; 4] {
         if srgb {
             [
                 f64::from(table[p[0] as usize]),
@@ -189,8 +205,13 @@ pub(crate) fn chain_rgba8(
         } else {
             [p[0], p[1], p[2], p[3]].map(f64::from)
         }
-    };
-    let encode = |v: [f64; 4]| -> [u8; 4] {
+    }
+}
+
+/// The inverse of [`rgba8_decoder`], rounding to the nearest byte.
+fn rgba8_encoder(srgb: bool) -> impl Fn([f64; 4]) -> [u8; 4] + Sync {
+    let encoder = srgb8_encoder();
+    move |v: [f64; 4]| -> [u8; 4] {
         let color = |c: f64| {
             if srgb {
                 encoder.encode(c as f32)
@@ -199,8 +220,7 @@ pub(crate) fn chain_rgba8(
             }
         };
         [color(v[0]), color(v[1]), color(v[2]), round_u8(v[3])]
-    };
-    chain(width, height, layers, base, alpha, count, decode, encode)
+    }
 }
 
 pub(crate) fn chain_rgba16f(

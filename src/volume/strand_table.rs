@@ -40,22 +40,22 @@ impl StrandTable {
     /// points or a height that is not positive and finite are left out (they cross no layer).
     pub fn new(strands: &[Strand]) -> Self {
         let stride = strands.first().map_or(2, |s| s.points.len().max(2));
-        let mut order: Vec<(f64, usize)> = strands
+        // Rows of 1/256 of the tile: finer than any shell texture's cache-relevant span. The key
+        // is computed once per strand, not per comparison (two `fmod`s each).
+        let mut keyed: Vec<(u32, f64, usize, f64)> = strands
             .iter()
             .enumerate()
             .filter(|(_, s)| s.points.len() == stride && s.radii.len() == stride)
-            .map(|(i, s)| (s.height(), i))
-            .filter(|&(h, _)| h > 0.0 && h.is_finite())
+            .map(|(i, s)| {
+                let r = s.root;
+                let row = (r[1].rem_euclid(1.0) * 256.0) as u32;
+                (row, r[0].rem_euclid(1.0), i, s.height())
+            })
+            .filter(|&(.., h)| h > 0.0 && h.is_finite())
             .collect();
-        // Rows of 1/256 of the tile: finer than any shell texture's cache-relevant span.
-        let key = |i: usize| {
-            let r = strands[i].root;
-            ((r[1].rem_euclid(1.0) * 256.0) as u32, r[0].rem_euclid(1.0))
-        };
-        order.sort_by(|a, b| {
-            let (ka, kb) = (key(a.1), key(b.1));
-            ka.0.cmp(&kb.0).then(ka.1.total_cmp(&kb.1)).then(a.1.cmp(&b.1))
-        });
+        // The input index breaks ties, so the order is total and an unstable sort is exact.
+        keyed.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
+        let order: Vec<(f64, usize)> = keyed.iter().map(|&(_, _, i, h)| (h, i)).collect();
         let mut points = Vec::with_capacity(order.len() * stride);
         let mut colors = Vec::with_capacity(order.len());
         for &(_, i) in &order {
