@@ -11,6 +11,8 @@
 //! (`prt-shell-fur` §2.1 chose the approximation because the exact area needs `asin` and `sqrt`).
 
 use std::f64::consts::FRAC_PI_4;
+use std::hint::black_box;
+use std::sync::OnceLock;
 
 /// Reusable buffers for [`visit_exact`], so a loop over many disks allocates once.
 #[derive(Debug, Default)]
@@ -29,6 +31,31 @@ pub struct FootprintScratch {
 fn half_chord_integral(x: f64, r: f64) -> f64 {
     let h = (r * r - x * x).max(0.0).sqrt();
     0.5 * (x * h + r * r * (x / r).clamp(-1.0, 1.0).asin())
+}
+
+/// `asin(−1)` and `asin(1)` as this platform's `asin` gives them (computed at run time, so that
+/// they are the very values the calls they stand for would return).
+fn asin_of_unit() -> [f64; 2] {
+    static VALUES: OnceLock<[f64; 2]> = OnceLock::new();
+    *VALUES.get_or_init(|| [black_box(-1.0f64).asin(), black_box(1.0f64).asin()])
+}
+
+/// [`half_chord_integral`] with the same operations and result, skipping the arc sine where its
+/// value is known: at `x = ±r` (half the grid corners of a footprint lie on its bounding box,
+/// clamped there) the argument is exactly ±1 and the chord `h` exactly 0, and at `x = 0` (the
+/// rows on the bounding box, where `s = 0`) the argument and the result are `x` itself.
+#[inline]
+fn half_chord_integral_fast(x: f64, r: f64, asin_unit: [f64; 2]) -> f64 {
+    if x == r || x == -r {
+        // h = sqrt(max(r² − x², 0)) = 0, since x² and r² are the same product.
+        let a = asin_unit[usize::from(x > 0.0)];
+        return 0.5 * (x * 0.0 + r * r * a);
+    }
+    if x == 0.0 {
+        // asin(±0) = ±0, r²·(±0) + x·h = ±0 with the sign of x, halved.
+        return 0.5 * x;
+    }
+    half_chord_integral(x, r)
 }
 
 /// Calls `visit(column, row, share)` for every texel `[ix, ix+1] × [iy, iy+1]` with
@@ -52,16 +79,17 @@ pub fn visit_exact(
         return;
     }
     let i_r = FRAC_PI_4 * r * r; // I(r); I is odd, so I(−r) = −I(r).
+    let asin_unit = asin_of_unit();
     scratch.columns.clear();
     scratch.columns.extend((ix0..=ix1 + 1).map(|ix| {
         let x = (ix as f64 - cx).clamp(-r, r);
-        (x, half_chord_integral(x, r))
+        (x, half_chord_integral_fast(x, r, asin_unit))
     }));
     scratch.rows.clear();
     scratch.rows.extend((iy0..=iy1 + 1).map(|iy| {
         let y = (iy as f64 - cy).clamp(-r, r);
         let s = (r * r - y * y).max(0.0).sqrt();
-        (y, s, half_chord_integral(s, r))
+        (y, s, half_chord_integral_fast(s, r, asin_unit))
     }));
     let columns = &scratch.columns;
     // Q(x, y): the disk's area within X <= x, Y <= y (relative to the centre, both in [−r, r]).
