@@ -17,7 +17,7 @@ use crate::threads::pool;
 use super::coverage::CoverageMode;
 use super::fin::{fin_row, slab_candidates};
 use super::lod::lod_chain;
-use super::shells::{LayerOut, LayerScratch, sample_layer};
+use super::shells::{LayerOut, ScratchPool, sample_layer};
 use super::strand_table::StrandTable;
 use crate::export::MipAlpha;
 use crate::export::full_mip_count;
@@ -234,6 +234,9 @@ pub(crate) fn bake_validated(
     let [fin_w, fin_h] = volume.fin_size;
     let progress = Progress::new(layers + fin_h, callback);
 
+    // Rayon starts a fresh scratch for every piece of the layer range it hands out (about five
+    // per thread); sharing them keeps the large per-texel sums to one per thread.
+    let scratches = ScratchPool::default();
     let mut shells = vec![0u8; layers * texels * 4];
     let mut coverage = vec![0.0f32; layers * texels];
     let mut tangents = vec![0u8; layers * texels * 4];
@@ -242,7 +245,7 @@ pub(crate) fn bake_validated(
         .zip(coverage.par_chunks_mut(texels))
         .zip(tangents.par_chunks_mut(texels * 4))
         .enumerate()
-        .try_for_each_init(LayerScratch::default, |scratch, (layer, ((rgba, cov), tan))| {
+        .try_for_each_init(|| scratches.take(), |scratch, (layer, ((rgba, cov), tan))| {
             progress.check()?;
             let heights = layer_heights(layer, requested, volume.vertical_filter);
             let out = LayerOut {

@@ -9,6 +9,8 @@
 //! weighted by coverage; the hair tangent is what per-pixel Kajiya–Kay lighting needs (Lengyel
 //! lists it as future work in §2.4).
 
+use std::sync::Mutex;
+
 use crate::color::{srgb8_encoder, unit_to_u8};
 
 use super::coverage::{CoverageMode, visit_disk_texels};
@@ -30,6 +32,54 @@ pub struct LayerScratch {
     sums: Vec<Sums>,
     dirty: Vec<bool>,
     footprint: FootprintScratch,
+}
+
+/// Scratch buffers handed to the workers of one bake and taken back when they finish a share of
+/// the layers, so the next share reuses them instead of allocating and filling new sums.
+#[derive(Debug, Default)]
+pub struct ScratchPool {
+    free: Mutex<Vec<LayerScratch>>,
+}
+
+impl ScratchPool {
+    /// A scratch from the pool, or a new one; it returns to the pool when dropped.
+    pub fn take(&self) -> PooledScratch<'_> {
+        // A poisoned lock only means another worker panicked; its buffers are still sound (they
+        // are reset before use), but starting afresh is as good.
+        let scratch = self.free.lock().ok().and_then(|mut free| free.pop());
+        PooledScratch {
+            scratch: scratch.unwrap_or_default(),
+            pool: self,
+        }
+    }
+}
+
+/// A [`LayerScratch`] borrowed from a [`ScratchPool`].
+#[derive(Debug)]
+pub struct PooledScratch<'a> {
+    scratch: LayerScratch,
+    pool: &'a ScratchPool,
+}
+
+impl std::ops::Deref for PooledScratch<'_> {
+    type Target = LayerScratch;
+    fn deref(&self) -> &LayerScratch {
+        &self.scratch
+    }
+}
+
+impl std::ops::DerefMut for PooledScratch<'_> {
+    fn deref_mut(&mut self) -> &mut LayerScratch {
+        &mut self.scratch
+    }
+}
+
+impl Drop for PooledScratch<'_> {
+    fn drop(&mut self) {
+        if let Ok(mut free) = self.pool.free.lock() {
+            free.push(std::mem::take(&mut self.scratch));
+        }
+    }
 }
 
 /// The sums of a texel no hair touched.
