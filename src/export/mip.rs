@@ -17,7 +17,7 @@
 use half::f16;
 use rayon::prelude::*;
 
-use crate::color::{srgb8_encoder, srgb8_to_linear_table};
+use crate::color::{Srgb8Encoder, srgb8_encoder, srgb8_to_linear_table};
 use crate::error::{PeltError, Result};
 use crate::threads::pool;
 
@@ -194,33 +194,41 @@ pub(crate) fn chain_rgba8(
 /// alpha in byte units.
 fn rgba8_decoder(srgb: bool) -> impl Fn(&[u8]) -> [f64; 4] + Sync {
     let table = srgb8_to_linear_table();
-    move |p: &[u8]| -> [f64; 4] {
-        if srgb {
-            [
-                f64::from(table[p[0] as usize]),
-                f64::from(table[p[1] as usize]),
-                f64::from(table[p[2] as usize]),
-                f64::from(p[3]),
-            ]
-        } else {
-            [p[0], p[1], p[2], p[3]].map(f64::from)
-        }
-    }
+    move |p: &[u8]| decode_rgba8(p, srgb, table)
 }
 
 /// The inverse of [`rgba8_decoder`], rounding to the nearest byte.
 fn rgba8_encoder(srgb: bool) -> impl Fn([f64; 4]) -> [u8; 4] + Sync {
     let encoder = srgb8_encoder();
-    move |v: [f64; 4]| -> [u8; 4] {
-        let color = |c: f64| {
-            if srgb {
-                encoder.encode(c as f32)
-            } else {
-                round_u8(c)
-            }
-        };
-        [color(v[0]), color(v[1]), color(v[2]), round_u8(v[3])]
+    move |v: [f64; 4]| encode_rgba8(v, srgb, encoder)
+}
+
+/// The body of [`rgba8_decoder`], inlined into the filters' inner loops.
+#[inline(always)]
+fn decode_rgba8(p: &[u8], srgb: bool, table: &[f32; 256]) -> [f64; 4] {
+    if srgb {
+        [
+            f64::from(table[p[0] as usize]),
+            f64::from(table[p[1] as usize]),
+            f64::from(table[p[2] as usize]),
+            f64::from(p[3]),
+        ]
+    } else {
+        [p[0], p[1], p[2], p[3]].map(f64::from)
     }
+}
+
+/// The body of [`rgba8_encoder`].
+#[inline(always)]
+fn encode_rgba8(v: [f64; 4], srgb: bool, encoder: &Srgb8Encoder) -> [u8; 4] {
+    let color = |c: f64| {
+        if srgb {
+            encoder.encode(c as f32)
+        } else {
+            round_u8(c)
+        }
+    };
+    [color(v[0]), color(v[1]), color(v[2]), round_u8(v[3])]
 }
 
 pub(crate) fn chain_rgba16f(

@@ -73,25 +73,81 @@ pub fn visit_exact(
     (ix0, ix1): (i64, i64),
     (iy0, iy1): (i64, i64),
     scratch: &mut FootprintScratch,
-    mut visit: impl FnMut(usize, usize, f64),
+    visit: impl FnMut(usize, usize, f64),
 ) {
     if r.is_nan() || r <= 0.0 || ix1 < ix0 || iy1 < iy0 {
         return;
     }
+    let (columns, rows) = ((ix1 - ix0 + 2) as usize, (iy1 - iy0 + 2) as usize);
+    if columns <= SMALL && rows <= SMALL {
+        // Hairs a few texels wide, nearly all of them: buffers on the stack.
+        let mut xs = [(0.0, 0.0); SMALL];
+        let mut ys = [(0.0, 0.0, 0.0); SMALL];
+        let (mut below, mut above) = ([0.0; SMALL], [0.0; SMALL]);
+        let buffers = Buffers {
+            columns: &mut xs[..columns],
+            rows: &mut ys[..rows],
+            below: &mut below[..columns],
+            above: &mut above[..columns],
+        };
+        visit_corners(cx, cy, r, (ix0, iy0), buffers, visit);
+        return;
+    }
+    scratch.columns.resize(columns, (0.0, 0.0));
+    scratch.rows.resize(rows, (0.0, 0.0, 0.0));
+    scratch.below.resize(columns, 0.0);
+    scratch.above.resize(columns, 0.0);
+    let buffers = Buffers {
+        columns: &mut scratch.columns,
+        rows: &mut scratch.rows,
+        below: &mut scratch.below,
+        above: &mut scratch.above,
+    };
+    visit_corners(cx, cy, r, (ix0, iy0), buffers, visit);
+}
+
+/// Corner axes up to this long use buffers on the stack.
+const SMALL: usize = 8;
+
+/// The per-footprint buffers of [`visit_corners`], as long as its corner columns and rows.
+struct Buffers<'a> {
+    /// Per corner column: `(x, I(x))`.
+    columns: &'a mut [(f64, f64)],
+    /// Per corner row: `(y, s, I(s))`.
+    rows: &'a mut [(f64, f64, f64)],
+    /// Corner areas `Q` of the previous corner row.
+    below: &'a mut [f64],
+    /// Corner areas `Q` of the current corner row.
+    above: &'a mut [f64],
+}
+
+/// The body of [`visit_exact`]: the footprint's first texel is `(ix0, iy0)`, its size that of
+/// the buffers (corner columns and rows, one more than texels).
+fn visit_corners(
+    cx: f64,
+    cy: f64,
+    r: f64,
+    (ix0, iy0): (i64, i64),
+    buffers: Buffers<'_>,
+    mut visit: impl FnMut(usize, usize, f64),
+) {
+    let Buffers {
+        columns,
+        rows,
+        mut below,
+        mut above,
+    } = buffers;
     let i_r = FRAC_PI_4 * r * r; // I(r); I is odd, so I(−r) = −I(r).
     let asin_unit = asin_of_unit();
-    scratch.columns.clear();
-    scratch.columns.extend((ix0..=ix1 + 1).map(|ix| {
+    for (ix, column) in (ix0..).zip(columns.iter_mut()) {
         let x = (ix as f64 - cx).clamp(-r, r);
-        (x, half_chord_integral_fast(x, r, asin_unit))
-    }));
-    scratch.rows.clear();
-    scratch.rows.extend((iy0..=iy1 + 1).map(|iy| {
+        *column = (x, half_chord_integral_fast(x, r, asin_unit));
+    }
+    for (iy, row) in (iy0..).zip(rows.iter_mut()) {
         let y = (iy as f64 - cy).clamp(-r, r);
         let s = (r * r - y * y).max(0.0).sqrt();
-        (y, s, half_chord_integral_fast(s, r, asin_unit))
-    }));
-    let columns = &scratch.columns;
+        *row = (y, s, half_chord_integral_fast(s, r, asin_unit));
+    }
     // Q(x, y): the disk's area within X <= x, Y <= y (relative to the centre, both in [−r, r]).
     // The vertical chord at X spans [−h, h]; its part below y is 2h where h <= y (|X| >= s, upper
     // half-plane only), y + h where |X| < s, and nothing where h <= −y.
@@ -111,22 +167,21 @@ pub fn visit_exact(
         let right = if x > s { i_x - i_s } else { 0.0 };
         2.0 * left + middle + 2.0 * right
     };
-    scratch.below.clear();
-    scratch
-        .below
-        .extend(columns.iter().map(|c| corner(c, &scratch.rows[0])));
-    for (row, top) in scratch.rows[1..].iter().enumerate() {
-        scratch.above.clear();
-        scratch.above.extend(columns.iter().map(|c| corner(c, top)));
+    for (q, c) in below.iter_mut().zip(columns.iter()) {
+        *q = corner(c, &rows[0]);
+    }
+    for (row, top) in rows[1..].iter().enumerate() {
+        for (q, c) in above.iter_mut().zip(columns.iter()) {
+            *q = corner(c, top);
+        }
         for column in 0..columns.len() - 1 {
-            let area = scratch.above[column + 1] - scratch.above[column] - scratch.below[column + 1]
-                + scratch.below[column];
+            let area = above[column + 1] - above[column] - below[column + 1] + below[column];
             // Rounding can leave ±ulp(r²) on texels the disk misses or fills.
             let share = area.clamp(0.0, 1.0);
             if share > 0.0 {
                 visit(column, row, share);
             }
         }
-        std::mem::swap(&mut scratch.below, &mut scratch.above);
+        std::mem::swap(&mut below, &mut above);
     }
 }

@@ -12,7 +12,8 @@
 
 use rayon::prelude::*;
 
-use super::{MipAlpha, rgba8_decoder, rgba8_encoder};
+use super::{MipAlpha, decode_rgba8, encode_rgba8};
+use crate::color::{srgb8_encoder, srgb8_to_linear_table};
 
 /// One level down for `layers` RGBA8 images of even `width` and `height` (layer-major), rows in
 /// parallel; the same bytes as the general filter.
@@ -35,7 +36,7 @@ pub(super) fn halve_even_rgba8(
     // The general filter's tap weight (overlap (height/2)·(width/2)) and their sum.
     let w = (h2 as u64 * w2 as u64) as f64;
     let norm = (width * height) as f64;
-    let (decode, encode) = (rgba8_decoder(srgb), rgba8_encoder(srgb));
+    let (table, encoder) = (srgb8_to_linear_table(), srgb8_encoder());
     let mut out = vec![0u8; layers * h2 * w2 * 4];
     out.par_chunks_mut(w2 * 4).enumerate().for_each(|(r, row)| {
         let (layer, y) = (r / h2, r % h2);
@@ -48,11 +49,13 @@ pub(super) fn halve_even_rgba8(
                 dst.copy_from_slice(t0);
                 continue;
             }
-            // The general filter's order: rows, then columns.
+            // The general filter's operations in its order (rows, then columns); its colors
+            // divided by the weight sum are not needed where alpha replaces them.
             let mut plain = [0.0f64; 4];
             let mut weighted = [0.0f64; 3];
             let mut alpha_weight = 0.0f64;
-            for v in [t0, t1, b0, b1].map(&decode) {
+            for p in [t0, t1, b0, b1] {
+                let v = decode_rgba8(p, srgb, table);
                 for k in 0..4 {
                     plain[k] += w * v[k];
                 }
@@ -62,13 +65,17 @@ pub(super) fn halve_even_rgba8(
                     weighted[k] += wa * v[k];
                 }
             }
-            let mut value = plain.map(|s| s / norm);
-            if alpha == MipAlpha::Straight && alpha_weight > 0.0 {
-                for k in 0..3 {
-                    value[k] = weighted[k] / alpha_weight;
-                }
-            }
-            dst.copy_from_slice(&encode(value));
+            let value = if alpha == MipAlpha::Straight && alpha_weight > 0.0 {
+                [
+                    weighted[0] / alpha_weight,
+                    weighted[1] / alpha_weight,
+                    weighted[2] / alpha_weight,
+                    plain[3] / norm,
+                ]
+            } else {
+                plain.map(|s| s / norm)
+            };
+            dst.copy_from_slice(&encode_rgba8(value, srgb, encoder));
         }
     });
     out
