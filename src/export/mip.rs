@@ -351,7 +351,12 @@ fn halve<T: Copy + Default + Send + Sync>(
     out
 }
 
-/// Nearest byte, halves rounding up (the values here are never negative).
+/// Nearest byte, halves rounding up (the values here are never negative): `v.round()` clamped to
+/// `[0, 255]`, without the library call `round` is on baseline x86-64. The truncation's remainder
+/// `v − t` is exact, and below 0 both clamp to 0.
+#[inline]
 fn round_u8(v: f64) -> u8 {
-    v.round().clamp(0.0, 255.0) as u8
+    let t = v as i64;
+    let nearest = if v - t as f64 >= 0.5 { t.saturating_add(1) } else { t };
+    nearest.clamp(0, 255) as u8
 }

@@ -27,14 +27,15 @@ pub(crate) fn floor_f64(x: f64) -> f64 {
     }
 }
 
-/// `x.rem_euclid(1.0)` for finite `x`, up to the sign of a zero result (which no caller can
-/// see: the value is only scaled and offset by non-zero amounts).
+/// `x.rem_euclid(1.0)`, bit for bit.
 ///
 /// Both round the exact `x − ⌊x⌋` once: `fmod` is exact, and the subtraction of an integer from
-/// `x` is exact unless `x` is negative, where both add 1 to the exact `x − trunc(x)`.
+/// `x` is exact unless `x` is negative, where both add 1 to the exact `x − trunc(x)`. Only a zero
+/// result needs care: `fmod` gives it the sign of `x`.
 #[inline]
 pub(crate) fn fract_wrap(x: f64) -> f64 {
-    x - floor_f64(x)
+    let f = x - floor_f64(x);
+    if f == 0.0 { 0.0f64.copysign(x) } else { f }
 }
 
 /// `i.rem_euclid(n)` for `n > 0`, without a division for the `i` in `[−n, 2n)` that the indices
@@ -91,10 +92,12 @@ mod tests {
         for x in values {
             assert_eq!(floor_i64(x), x.floor() as i64, "{x}");
             assert_eq!(floor_f64(x), x.floor(), "{x}");
-            // `==` also equates the zeros of either sign.
-            assert_eq!(fract_wrap(x), x.rem_euclid(1.0), "{x}");
+            assert_eq!(fract_wrap(x).to_bits(), x.rem_euclid(1.0).to_bits(), "{x}");
         }
         assert_eq!(floor_i64(f64::NAN), 0);
+        for x in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            assert!(fract_wrap(x).is_nan() && x.rem_euclid(1.0).is_nan());
+        }
         assert_eq!(floor_i64(f64::INFINITY), i64::MAX);
         assert_eq!(floor_i64(f64::NEG_INFINITY), i64::MIN);
         for n in [1i64, 2, 7, 1024] {

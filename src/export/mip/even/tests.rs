@@ -86,3 +86,33 @@ fn every_uniform_block_of_every_texel_value_is_kept() {
         assert_eq!(halve_even_rgba8(&src, w, 2, 1, srgb, MipAlpha::Straight), expected);
     }
 }
+
+#[test]
+fn byte_rounding_matches_the_library_round() {
+    use crate::export::mip::round_u8;
+    let mut values = vec![
+        0.0,
+        -0.0,
+        0.5,
+        0.499_999_999_999_999_94,
+        1.5,
+        2.5,
+        254.5,
+        254.499_999_999_999_97,
+        255.5,
+        300.0,
+        -0.5,
+        -0.7,
+        -3.0,
+        1e300,
+        -1e300,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NAN,
+    ];
+    values.extend((0..=4 * 256).map(|i| f64::from(i) / 4.0));
+    values.extend((0..10_000).map(|i| f64::from(i) * 0.025_63));
+    for v in values {
+        assert_eq!(round_u8(v), v.round().clamp(0.0, 255.0) as u8, "{v}");
+    }
+}
