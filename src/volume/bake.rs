@@ -256,6 +256,8 @@ pub(crate) fn bake_validated(
             sample_layer(&table, &heights, res, volume.coverage, layer == 0, scratch, out);
             progress.advance(1)
         })?;
+    // The sums are as large as a layer's outputs: free them before the LOD chain and mipmaps.
+    drop(scratches);
 
     let mut fin = vec![0u8; fin_w * fin_h * 4];
     let candidates = slab_candidates(&table, volume.fin_slab);
