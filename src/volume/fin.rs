@@ -11,6 +11,8 @@
 //! Image rows run top to bottom: row 0 is the top of the fur (height 1), the last row the skin.
 //! The x axis is the tile's and wraps, so the texture repeats along the fin.
 
+use rayon::prelude::*;
+
 use super::grid::{floor_i64, fract_wrap, wrap_near};
 use super::strand_table::StrandTable;
 use crate::color::{srgb8_encoder, unit_to_u8};
@@ -107,7 +109,9 @@ pub fn fin_row(
 
 /// Table indices of the strands whose lateral extent meets the slab `y ∈ [0, slab)` (mod 1).
 pub fn slab_candidates(strands: &StrandTable, slab: f64) -> Vec<usize> {
+    // In parallel when called from Pelt's pool (as the bake does); the order stays ascending.
     (0..strands.len())
+        .into_par_iter()
         .filter(|&k| {
             let [lo, hi] = strands.y_range(k);
             // Shift the range so it starts in [0, 1); it meets the slab there or one tile on.
