@@ -63,19 +63,18 @@ impl StrandTable {
         });
         let order: Vec<(f64, usize)> = keyed.iter().map(|&(_, _, i, h)| (h, i)).collect();
         let mut points = vec![[0.0f32; 3]; order.len() * stride];
+        let mut colors = vec![[[0.0f32; 3]; 2]; order.len()];
         points
             .par_chunks_mut(stride)
+            .zip(colors.par_iter_mut())
             .zip(&order)
-            .for_each(|(dst, &(_, i))| {
+            .for_each(|((dst, color), &(_, i))| {
                 let s = &strands[i];
                 for ((d, p), &r) in dst.iter_mut().zip(&s.points).zip(&s.radii) {
                     *d = [p[0] as f32, p[1] as f32, r as f32];
                 }
+                *color = [s.root_color, s.tip_color];
             });
-        let colors = order
-            .iter()
-            .map(|&(_, i)| [strands[i].root_color, strands[i].tip_color])
-            .collect();
         StrandTable {
             stride,
             heights: order,

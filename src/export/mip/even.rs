@@ -4,9 +4,10 @@
 //!
 //! The general filter of [`super`] walks up to 3 × 3 taps with per-axis weights through generic
 //! decode and encode closures; for even sides every texel has the same four taps of the same
-//! weight, so this path unrolls them and reads the sRGB table directly. It performs the general
-//! filter's floating-point operations in the same order with the same weights, so its bytes are
-//! those of the general filter (the tests compare the two on every texel). Hair shells are mostly
+//! weight, so this path unrolls them and reads the sRGB table directly. It performs those of the
+//! general filter's floating-point operations that reach the result, in the same order with the
+//! same weights, and the alpha average (exact in the general filter) in integers, so its bytes
+//! are those of the general filter (the tests compare the two on every texel). Hair shells are mostly
 //! runs of identical texels (the empty texels of a layer all hold its fill color); a block of four
 //! identical texels is copied, which is exact as well: see [`halve_even_rgba8`].
 
@@ -49,33 +50,39 @@ pub(super) fn halve_even_rgba8(
                 dst.copy_from_slice(t0);
                 continue;
             }
-            // The general filter's operations in its order (rows, then columns); its colors
-            // divided by the weight sum are not needed where alpha replaces them.
-            let mut plain = [0.0f64; 4];
-            let mut weighted = [0.0f64; 3];
-            let mut alpha_weight = 0.0f64;
-            for p in [t0, t1, b0, b1] {
-                let v = decode_rgba8(p, srgb, table);
-                for k in 0..4 {
-                    plain[k] += w * v[k];
+            let taps = [t0, t1, b0, b1];
+            // Alpha: the general filter sums w·a exactly (integers below 2^40) and divides by
+            // norm = 4w, which is exact too, so it rounds a quarter of the byte sum.
+            let alpha_sum: u32 = taps.iter().map(|p| u32::from(p[3])).sum();
+            let alpha_byte = ((alpha_sum + 2) >> 2) as u8;
+            let color = if alpha == MipAlpha::Straight && alpha_sum > 0 {
+                // The general filter's alpha-weighted sums in its order (rows, then columns);
+                // a transparent tap adds exact zeros, so it is skipped.
+                let mut weighted = [0.0f64; 3];
+                let mut alpha_weight = 0.0f64;
+                for p in taps.iter().filter(|p| p[3] > 0) {
+                    let v = decode_rgba8(p, srgb, table);
+                    let wa = w * v[3];
+                    alpha_weight += wa;
+                    for k in 0..3 {
+                        weighted[k] += wa * v[k];
+                    }
                 }
-                let wa = w * v[3];
-                alpha_weight += wa;
-                for k in 0..3 {
-                    weighted[k] += wa * v[k];
-                }
-            }
-            let value = if alpha == MipAlpha::Straight && alpha_weight > 0.0 {
-                [
-                    weighted[0] / alpha_weight,
-                    weighted[1] / alpha_weight,
-                    weighted[2] / alpha_weight,
-                    plain[3] / norm,
-                ]
+                weighted.map(|s| s / alpha_weight)
             } else {
+                let mut plain = [0.0f64; 3];
+                for p in taps {
+                    let v = decode_rgba8(p, srgb, table);
+                    for k in 0..3 {
+                        plain[k] += w * v[k];
+                    }
+                }
                 plain.map(|s| s / norm)
             };
-            dst.copy_from_slice(&encode_rgba8(value, srgb, encoder));
+            let value = [color[0], color[1], color[2], 0.0];
+            let mut bytes = encode_rgba8(value, srgb, encoder);
+            bytes[3] = alpha_byte;
+            dst.copy_from_slice(&bytes);
         }
     });
     out
