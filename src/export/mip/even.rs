@@ -46,7 +46,10 @@ pub(super) fn halve_even_rgba8(
         let blocks = top.chunks_exact(8).zip(bottom.chunks_exact(8));
         for (dst, (t, b)) in row.chunks_exact_mut(4).zip(blocks) {
             let (t0, t1, b0, b1) = (&t[..4], &t[4..], &b[..4], &b[4..]);
-            if t0 == t1 && t0 == b0 && t0 == b1 {
+            // One test (and one branch) for four equal texels.
+            let word = |p: &[u8]| u32::from_ne_bytes([p[0], p[1], p[2], p[3]]);
+            let first = word(t0);
+            if (first ^ word(t1)) | (first ^ word(b0)) | (first ^ word(b1)) == 0 {
                 dst.copy_from_slice(t0);
                 continue;
             }
@@ -56,11 +59,10 @@ pub(super) fn halve_even_rgba8(
             let alpha_sum: u32 = taps.iter().map(|p| u32::from(p[3])).sum();
             let alpha_byte = ((alpha_sum + 2) >> 2) as u8;
             let color = if alpha == MipAlpha::Straight && alpha_sum > 0 {
-                // The general filter's alpha-weighted sums in its order (rows, then columns);
-                // a transparent tap adds exact zeros, so it is skipped.
+                // The general filter's alpha-weighted sums in its order (rows, then columns).
                 let mut weighted = [0.0f64; 3];
                 let mut alpha_weight = 0.0f64;
-                for p in taps.iter().filter(|p| p[3] > 0) {
+                for p in taps {
                     let v = decode_rgba8(p, srgb, table);
                     let wa = w * v[3];
                     alpha_weight += wa;
