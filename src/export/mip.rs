@@ -17,9 +17,11 @@
 use half::f16;
 use rayon::prelude::*;
 
-use crate::color::{srgb8_encoder, srgb8_to_linear_table};
+use crate::color::{Srgb8Encoder, srgb8_encoder, srgb8_to_linear_table};
 use crate::error::{PeltError, Result};
 use crate::threads::pool;
+
+mod even;
 
 /// Largest side of a texture given to the mipmapper: keeps the integer filter weights exactly
 /// representable while they are summed in f64, and is beyond what GPUs sample (Vulkan
@@ -177,30 +179,56 @@ pub(crate) fn chain_rgba8(
     alpha: MipAlpha,
     count: usize,
 ) -> Vec<Vec<u8>> {
-    let (table, encoder) = (srgb8_to_linear_table(), srgb8_encoder());
-    let decode = |p: &[u8]| -> [f64; 4] {
+    if width % 2 == 0 && height % 2 == 0 && count > 1 {
+        // Both sides even: the fast 2 × 2 path for this level, the general filter below it.
+        let first = even::halve_even_rgba8(base, width, height, layers, srgb, alpha);
+        let (w, h) = (width / 2, height / 2);
+        let rest = chain_rgba8(w, h, layers, &first, srgb, alpha, count - 1);
+        return std::iter::once(first).chain(rest).collect();
+    }
+    let (decode, encode) = (rgba8_decoder(srgb), rgba8_encoder(srgb));
+    chain(width, height, layers, base, alpha, count, decode, encode)
+}
+
+/// RGBA8 texel to the general filter's values: linear color (decoded from sRGB with `srgb`),
+/// alpha in byte units.
+fn rgba8_decoder(srgb: bool) -> impl Fn(&[u8]) -> [f64; 4] + Sync {
+    let table = srgb8_to_linear_table();
+    move |p: &[u8]| decode_rgba8(p, srgb, table)
+}
+
+/// The inverse of [`rgba8_decoder`], rounding to the nearest byte.
+fn rgba8_encoder(srgb: bool) -> impl Fn([f64; 4]) -> [u8; 4] + Sync {
+    let encoder = srgb8_encoder();
+    move |v: [f64; 4]| encode_rgba8(v, srgb, encoder)
+}
+
+/// The body of [`rgba8_decoder`], inlined into the filters' inner loops.
+#[inline(always)]
+fn decode_rgba8(p: &[u8], srgb: bool, table: &[f32; 256]) -> [f64; 4] {
+    if srgb {
+        [
+            f64::from(table[p[0] as usize]),
+            f64::from(table[p[1] as usize]),
+            f64::from(table[p[2] as usize]),
+            f64::from(p[3]),
+        ]
+    } else {
+        [p[0], p[1], p[2], p[3]].map(f64::from)
+    }
+}
+
+/// The body of [`rgba8_encoder`].
+#[inline(always)]
+fn encode_rgba8(v: [f64; 4], srgb: bool, encoder: &Srgb8Encoder) -> [u8; 4] {
+    let color = |c: f64| {
         if srgb {
-            [
-                f64::from(table[p[0] as usize]),
-                f64::from(table[p[1] as usize]),
-                f64::from(table[p[2] as usize]),
-                f64::from(p[3]),
-            ]
+            encoder.encode(c as f32)
         } else {
-            [p[0], p[1], p[2], p[3]].map(f64::from)
+            round_u8(c)
         }
     };
-    let encode = |v: [f64; 4]| -> [u8; 4] {
-        let color = |c: f64| {
-            if srgb {
-                encoder.encode(c as f32)
-            } else {
-                round_u8(c)
-            }
-        };
-        [color(v[0]), color(v[1]), color(v[2]), round_u8(v[3])]
-    };
-    chain(width, height, layers, base, alpha, count, decode, encode)
+    [color(v[0]), color(v[1]), color(v[2]), round_u8(v[3])]
 }
 
 pub(crate) fn chain_rgba16f(
@@ -323,7 +351,12 @@ fn halve<T: Copy + Default + Send + Sync>(
     out
 }
 
-/// Nearest byte, halves rounding up (the values here are never negative).
+/// Nearest byte, halves rounding up (the values here are never negative): `v.round()` clamped to
+/// `[0, 255]`, without the library call `round` is on baseline x86-64. The truncation's remainder
+/// `v − t` is exact, and below 0 both clamp to 0.
+#[inline]
 fn round_u8(v: f64) -> u8 {
-    v.round().clamp(0.0, 255.0) as u8
+    let t = v as i64;
+    let nearest = if v - t as f64 >= 0.5 { t.saturating_add(1) } else { t };
+    nearest.clamp(0, 255) as u8
 }

@@ -17,7 +17,7 @@ use crate::threads::pool;
 use super::coverage::CoverageMode;
 use super::fin::{fin_row, slab_candidates};
 use super::lod::lod_chain;
-use super::shells::{LayerOut, LayerScratch, sample_layer};
+use super::shells::{LayerOut, ScratchPool, sample_layer};
 use super::strand_table::StrandTable;
 use crate::export::MipAlpha;
 use crate::export::full_mip_count;
@@ -234,15 +234,20 @@ pub(crate) fn bake_validated(
     let [fin_w, fin_h] = volume.fin_size;
     let progress = Progress::new(layers + fin_h, callback);
 
+    // Rayon starts a fresh scratch for every piece of the layer range it hands out (about five
+    // per thread); sharing them keeps the large per-texel sums to one per thread.
+    let scratches = ScratchPool::default();
     let mut shells = vec![0u8; layers * texels * 4];
     let mut coverage = vec![0.0f32; layers * texels];
     let mut tangents = vec![0u8; layers * texels * 4];
+    let mut mean_coverage = vec![0.0f64; layers];
     shells
         .par_chunks_mut(texels * 4)
         .zip(coverage.par_chunks_mut(texels))
         .zip(tangents.par_chunks_mut(texels * 4))
+        .zip(mean_coverage.par_iter_mut())
         .enumerate()
-        .try_for_each_init(LayerScratch::default, |scratch, (layer, ((rgba, cov), tan))| {
+        .try_for_each_init(|| scratches.take(), |scratch, (layer, (((rgba, cov), tan), mean))| {
             progress.check()?;
             let heights = layer_heights(layer, requested, volume.vertical_filter);
             let out = LayerOut {
@@ -251,8 +256,12 @@ pub(crate) fn bake_validated(
                 tangent: tan,
             };
             sample_layer(&table, &heights, res, volume.coverage, layer == 0, scratch, out);
+            // While the layer's coverage is in cache.
+            *mean = cov.iter().map(|&c| f64::from(c)).sum::<f64>() / texels as f64;
             progress.advance(1)
         })?;
+    // The sums are as large as a layer's outputs: free them before the LOD chain and mipmaps.
+    drop(scratches);
 
     let mut fin = vec![0u8; fin_w * fin_h * 4];
     let candidates = slab_candidates(&table, volume.fin_slab);
@@ -283,10 +292,6 @@ pub(crate) fn bake_validated(
     } else {
         Vec::new()
     };
-    let mean_coverage = coverage
-        .chunks_exact(texels)
-        .map(|layer| layer.iter().map(|&c| f64::from(c)).sum::<f64>() / texels as f64)
-        .collect();
     Ok(HairVolume {
         resolution: res,
         layers,

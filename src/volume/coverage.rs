@@ -16,6 +16,7 @@ use std::f64::consts::PI;
 use std::str::FromStr;
 
 use super::footprint::{FootprintScratch, visit_exact};
+use super::grid::{floor_i64, fract_wrap, wrap_near};
 use crate::error::{PeltError, Result};
 
 thread_local! {
@@ -300,12 +301,28 @@ pub(crate) fn visit_disk_texels(
 ) {
     // In texel units the texel area is 1, so areas are already shares of a texel.
     let res = resolution as f64;
-    let (px, py, pr) = (cx.rem_euclid(1.0) * res, cy.rem_euclid(1.0) * res, r * res);
-    // Within [-res/2, 3·res/2] since the centre is in [0, res] and pr < res / 2: fits an i64.
-    let span = |c: f64| ((c - pr).floor() as i64, (c + pr).floor() as i64);
+    let (px, py, pr) = (fract_wrap(cx) * res, fract_wrap(cy) * res, r * res);
+    // Within [-res/2, 3·res/2] since the centre is in [0, res] and pr < res / 2: fits an i64,
+    // and every index of the span is within one tile of [0, res).
+    let span = |c: f64| (floor_i64(c - pr), floor_i64(c + pr));
     let ((ix0, ix1), (iy0, iy1)) = (span(px), span(py));
-    let wrap = |i: i64| i.rem_euclid(resolution as i64) as usize;
+    let n = resolution as i64;
+    let wrap = |i: i64| wrap_near(i, n);
     if mode == CoverageMode::Exact {
+        if ix0 >= 0 && ix1 < n && iy0 >= 0 && iy1 < n {
+            // Most disks lie inside the tile: plain offsets from the footprint's first texel.
+            let origin = iy0 as usize * resolution + ix0 as usize;
+            visit_exact(
+                px,
+                py,
+                pr,
+                (ix0, ix1),
+                (iy0, iy1),
+                scratch,
+                |column, row, share| visit(origin + row * resolution + column, share),
+            );
+            return;
+        }
         visit_exact(
             px,
             py,

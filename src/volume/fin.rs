@@ -11,16 +11,26 @@
 //! Image rows run top to bottom: row 0 is the top of the fur (height 1), the last row the skin.
 //! The x axis is the tile's and wraps, so the texture repeats along the fin.
 
+use rayon::prelude::*;
+
+use super::grid::{floor_i64, fract_wrap, wrap_near};
 use super::strand_table::StrandTable;
 use crate::color::{srgb8_encoder, unit_to_u8};
 
 /// One strand's cut through a row.
 struct Piece {
-    depth: f64,
-    index: usize,
+    /// Distance behind the slab's front, as [`depth_key`].
+    depth: i64,
     x: f64,
     radius: f64,
     color: [f32; 3],
+}
+
+/// An integer that orders depths as [`f64::total_cmp`] does (the sign-magnitude bits of an f64
+/// turned into two's complement), so that sorting compares integers.
+fn depth_key(depth: f64) -> i64 {
+    let bits = depth.to_bits() as i64;
+    bits ^ (((bits >> 63) as u64) >> 1) as i64
 }
 
 /// Renders row `row` of a `width × height` fin texture into `rgba` (straight RGBA8, color
@@ -37,37 +47,39 @@ pub fn fin_row(
     rgba: &mut [u8],
 ) {
     let z = 1.0 - (row as f64 + 0.5) / height as f64;
-    let mut pieces: Vec<Piece> = candidates
+    let pieces: Vec<Piece> = candidates
         .iter()
         .filter(|&&k| strands.reaches(k, z))
         .filter_map(|&k| {
             let cut = strands.cut(k, z);
-            let depth = cut.y.rem_euclid(1.0);
+            let depth = fract_wrap(cut.y);
             (depth < slab).then(|| {
                 let [root, tip] = strands.colors(k);
                 Piece {
-                    depth,
-                    index: k,
-                    x: cut.x.rem_euclid(1.0) * width as f64,
+                    depth: depth_key(depth),
+                    x: fract_wrap(cut.x) * width as f64,
                     radius: cut.radius * width as f64,
                     color: std::array::from_fn(|c| root[c] + (tip[c] - root[c]) * cut.along),
                 }
             })
         })
         .collect();
-    // Nearest first; the strand index breaks ties so the order never depends on the sort.
-    pieces.sort_by(|a, b| a.depth.total_cmp(&b.depth).then(a.index.cmp(&b.index)));
+    // Nearest first; the strand index breaks ties, so the order is total and never depends on
+    // the sort. Pieces are in strand order, so their position stands for the index, and the
+    // sort moves pairs of integers instead of whole pieces.
+    let mut order: Vec<(i64, usize)> = pieces.iter().enumerate().map(|(i, p)| (p.depth, i)).collect();
+    order.sort_unstable();
 
     let mut transmit = vec![1.0f32; width];
     let mut premul = vec![[0.0f32; 3]; width];
-    for p in &pieces {
+    for p in order.iter().map(|&(_, i)| &pieces[i]) {
         let (lo, hi) = (p.x - p.radius, p.x + p.radius);
-        for ix in lo.floor() as i64..=hi.floor() as i64 {
+        for ix in floor_i64(lo)..=floor_i64(hi) {
             let cover = (hi.min(ix as f64 + 1.0) - lo.max(ix as f64)).clamp(0.0, 1.0) as f32;
             if cover <= 0.0 {
                 continue;
             }
-            let t = ix.rem_euclid(width as i64) as usize;
+            let t = wrap_near(ix, width as i64);
             let visible = transmit[t] * cover;
             for (sum, &c) in premul[t].iter_mut().zip(&p.color) {
                 *sum += visible * c;
@@ -82,6 +94,7 @@ pub fn fin_row(
     } else {
         [0.0; 3]
     };
+    let srgb = srgb8_encoder();
     for (t, px) in rgba.chunks_exact_mut(4).enumerate() {
         let alpha = 1.0 - transmit[t];
         let rgb = if alpha > 0.0 {
@@ -89,14 +102,16 @@ pub fn fin_row(
         } else {
             fill
         };
-        px[..3].copy_from_slice(&rgb.map(|c| srgb8_encoder().encode(c)));
+        px[..3].copy_from_slice(&rgb.map(|c| srgb.encode(c)));
         px[3] = unit_to_u8(alpha);
     }
 }
 
 /// Table indices of the strands whose lateral extent meets the slab `y ∈ [0, slab)` (mod 1).
 pub fn slab_candidates(strands: &StrandTable, slab: f64) -> Vec<usize> {
+    // In parallel when called from Pelt's pool (as the bake does); the order stays ascending.
     (0..strands.len())
+        .into_par_iter()
         .filter(|&k| {
             let [lo, hi] = strands.y_range(k);
             // Shift the range so it starts in [0, 1); it meets the slab there or one tile on.

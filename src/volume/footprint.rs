@@ -11,6 +11,8 @@
 //! (`prt-shell-fur` §2.1 chose the approximation because the exact area needs `asin` and `sqrt`).
 
 use std::f64::consts::FRAC_PI_4;
+use std::hint::black_box;
+use std::sync::OnceLock;
 
 /// Reusable buffers for [`visit_exact`], so a loop over many disks allocates once.
 #[derive(Debug, Default)]
@@ -31,6 +33,31 @@ fn half_chord_integral(x: f64, r: f64) -> f64 {
     0.5 * (x * h + r * r * (x / r).clamp(-1.0, 1.0).asin())
 }
 
+/// `asin(−1)` and `asin(1)` as this platform's `asin` gives them (computed at run time, so that
+/// they are the very values the calls they stand for would return).
+fn asin_of_unit() -> [f64; 2] {
+    static VALUES: OnceLock<[f64; 2]> = OnceLock::new();
+    *VALUES.get_or_init(|| [black_box(-1.0f64).asin(), black_box(1.0f64).asin()])
+}
+
+/// [`half_chord_integral`] with the same operations and result, skipping the arc sine where its
+/// value is known: at `x = ±r` (half the grid corners of a footprint lie on its bounding box,
+/// clamped there) the argument is exactly ±1 and the chord `h` exactly 0, and at `x = 0` (the
+/// rows on the bounding box, where `s = 0`) the argument and the result are `x` itself.
+#[inline]
+fn half_chord_integral_fast(x: f64, r: f64, asin_unit: [f64; 2]) -> f64 {
+    if x == r || x == -r {
+        // h = sqrt(max(r² − x², 0)) = 0, since x² and r² are the same product.
+        let a = asin_unit[usize::from(x > 0.0)];
+        return 0.5 * (x * 0.0 + r * r * a);
+    }
+    if x == 0.0 {
+        // asin(±0) = ±0, r²·(±0) + x·h = ±0 with the sign of x, halved.
+        return 0.5 * x;
+    }
+    half_chord_integral(x, r)
+}
+
 /// Calls `visit(column, row, share)` for every texel `[ix, ix+1] × [iy, iy+1]` with
 /// `ix0 <= ix <= ix1`, `iy0 <= iy <= iy1` that the disk of centre `(cx, cy)` and radius `r`
 /// (texel units, `r > 0`) covers, with the covered area (a share of the unit texel, in `[0, 1]`).
@@ -46,24 +73,81 @@ pub fn visit_exact(
     (ix0, ix1): (i64, i64),
     (iy0, iy1): (i64, i64),
     scratch: &mut FootprintScratch,
-    mut visit: impl FnMut(usize, usize, f64),
+    visit: impl FnMut(usize, usize, f64),
 ) {
     if r.is_nan() || r <= 0.0 || ix1 < ix0 || iy1 < iy0 {
         return;
     }
+    let (columns, rows) = ((ix1 - ix0 + 2) as usize, (iy1 - iy0 + 2) as usize);
+    if columns <= SMALL && rows <= SMALL {
+        // Hairs a few texels wide, nearly all of them: buffers on the stack.
+        let mut xs = [(0.0, 0.0); SMALL];
+        let mut ys = [(0.0, 0.0, 0.0); SMALL];
+        let (mut below, mut above) = ([0.0; SMALL], [0.0; SMALL]);
+        let buffers = Buffers {
+            columns: &mut xs[..columns],
+            rows: &mut ys[..rows],
+            below: &mut below[..columns],
+            above: &mut above[..columns],
+        };
+        visit_corners(cx, cy, r, (ix0, iy0), buffers, visit);
+        return;
+    }
+    scratch.columns.resize(columns, (0.0, 0.0));
+    scratch.rows.resize(rows, (0.0, 0.0, 0.0));
+    scratch.below.resize(columns, 0.0);
+    scratch.above.resize(columns, 0.0);
+    let buffers = Buffers {
+        columns: &mut scratch.columns,
+        rows: &mut scratch.rows,
+        below: &mut scratch.below,
+        above: &mut scratch.above,
+    };
+    visit_corners(cx, cy, r, (ix0, iy0), buffers, visit);
+}
+
+/// Corner axes up to this long use buffers on the stack.
+const SMALL: usize = 8;
+
+/// The per-footprint buffers of [`visit_corners`], as long as its corner columns and rows.
+struct Buffers<'a> {
+    /// Per corner column: `(x, I(x))`.
+    columns: &'a mut [(f64, f64)],
+    /// Per corner row: `(y, s, I(s))`.
+    rows: &'a mut [(f64, f64, f64)],
+    /// Corner areas `Q` of the previous corner row.
+    below: &'a mut [f64],
+    /// Corner areas `Q` of the current corner row.
+    above: &'a mut [f64],
+}
+
+/// The body of [`visit_exact`]: the footprint's first texel is `(ix0, iy0)`, its size that of
+/// the buffers (corner columns and rows, one more than texels).
+fn visit_corners(
+    cx: f64,
+    cy: f64,
+    r: f64,
+    (ix0, iy0): (i64, i64),
+    buffers: Buffers<'_>,
+    mut visit: impl FnMut(usize, usize, f64),
+) {
+    let Buffers {
+        columns,
+        rows,
+        mut below,
+        mut above,
+    } = buffers;
     let i_r = FRAC_PI_4 * r * r; // I(r); I is odd, so I(−r) = −I(r).
-    scratch.columns.clear();
-    scratch.columns.extend((ix0..=ix1 + 1).map(|ix| {
+    let asin_unit = asin_of_unit();
+    for (ix, column) in (ix0..).zip(columns.iter_mut()) {
         let x = (ix as f64 - cx).clamp(-r, r);
-        (x, half_chord_integral(x, r))
-    }));
-    scratch.rows.clear();
-    scratch.rows.extend((iy0..=iy1 + 1).map(|iy| {
+        *column = (x, half_chord_integral_fast(x, r, asin_unit));
+    }
+    for (iy, row) in (iy0..).zip(rows.iter_mut()) {
         let y = (iy as f64 - cy).clamp(-r, r);
         let s = (r * r - y * y).max(0.0).sqrt();
-        (y, s, half_chord_integral(s, r))
-    }));
-    let columns = &scratch.columns;
+        *row = (y, s, half_chord_integral_fast(s, r, asin_unit));
+    }
     // Q(x, y): the disk's area within X <= x, Y <= y (relative to the centre, both in [−r, r]).
     // The vertical chord at X spans [−h, h]; its part below y is 2h where h <= y (|X| >= s, upper
     // half-plane only), y + h where |X| < s, and nothing where h <= −y.
@@ -83,22 +167,21 @@ pub fn visit_exact(
         let right = if x > s { i_x - i_s } else { 0.0 };
         2.0 * left + middle + 2.0 * right
     };
-    scratch.below.clear();
-    scratch
-        .below
-        .extend(columns.iter().map(|c| corner(c, &scratch.rows[0])));
-    for (row, top) in scratch.rows[1..].iter().enumerate() {
-        scratch.above.clear();
-        scratch.above.extend(columns.iter().map(|c| corner(c, top)));
+    for (q, c) in below.iter_mut().zip(columns.iter()) {
+        *q = corner(c, &rows[0]);
+    }
+    for (row, top) in rows[1..].iter().enumerate() {
+        for (q, c) in above.iter_mut().zip(columns.iter()) {
+            *q = corner(c, top);
+        }
         for column in 0..columns.len() - 1 {
-            let area = scratch.above[column + 1] - scratch.above[column] - scratch.below[column + 1]
-                + scratch.below[column];
+            let area = above[column + 1] - above[column] - below[column + 1] + below[column];
             // Rounding can leave ±ulp(r²) on texels the disk misses or fills.
             let share = area.clamp(0.0, 1.0);
             if share > 0.0 {
                 visit(column, row, share);
             }
         }
-        std::mem::swap(&mut scratch.below, &mut scratch.above);
+        std::mem::swap(&mut below, &mut above);
     }
 }

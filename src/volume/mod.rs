@@ -8,6 +8,7 @@
 //!
 //! - [`coverage`]: the area a hair's circular cross-section covers in each texel (exact, the
 //!   paper's approximation, supersampled), and [`footprint`], the fast exact path over a disk;
+//! - `grid`: floors and toroidal wrapping without library calls;
 //! - [`strand_table`]: the strands flattened and sorted by height for sampling;
 //! - [`shells`]: one layer's coverage, color and hair tangent;
 //! - [`fin`]: the fin texture, a slab of hair seen from the side;
@@ -18,6 +19,7 @@ pub mod bake;
 pub mod coverage;
 pub mod fin;
 pub mod footprint;
+mod grid;
 pub mod lod;
 pub mod shells;
 pub mod strand_table;

@@ -9,10 +9,13 @@
 //! weighted by coverage; the hair tangent is what per-pixel Kajiya–Kay lighting needs (Lengyel
 //! lists it as future work in §2.4).
 
+use std::sync::Mutex;
+
 use crate::color::{srgb8_encoder, unit_to_u8};
 
 use super::coverage::{CoverageMode, visit_disk_texels};
 use super::footprint::FootprintScratch;
+use super::grid::{floor_i64, fract_wrap, wrap_near};
 use super::strand_table::StrandTable;
 
 /// Per-texel sums of one layer, one 32-byte record per texel so a hair's visit touches one cache
@@ -29,6 +32,54 @@ pub struct LayerScratch {
     sums: Vec<Sums>,
     dirty: Vec<bool>,
     footprint: FootprintScratch,
+}
+
+/// Scratch buffers handed to the workers of one bake and taken back when they finish a share of
+/// the layers, so the next share reuses them instead of allocating and filling new sums.
+#[derive(Debug, Default)]
+pub struct ScratchPool {
+    free: Mutex<Vec<LayerScratch>>,
+}
+
+impl ScratchPool {
+    /// A scratch from the pool, or a new one; it returns to the pool when dropped.
+    pub fn take(&self) -> PooledScratch<'_> {
+        // A poisoned lock only means another worker panicked; its buffers are still sound (they
+        // are reset before use), but starting afresh is as good.
+        let scratch = self.free.lock().ok().and_then(|mut free| free.pop());
+        PooledScratch {
+            scratch: scratch.unwrap_or_default(),
+            pool: self,
+        }
+    }
+}
+
+/// A [`LayerScratch`] borrowed from a [`ScratchPool`].
+#[derive(Debug)]
+pub struct PooledScratch<'a> {
+    scratch: LayerScratch,
+    pool: &'a ScratchPool,
+}
+
+impl std::ops::Deref for PooledScratch<'_> {
+    type Target = LayerScratch;
+    fn deref(&self) -> &LayerScratch {
+        &self.scratch
+    }
+}
+
+impl std::ops::DerefMut for PooledScratch<'_> {
+    fn deref_mut(&mut self) -> &mut LayerScratch {
+        &mut self.scratch
+    }
+}
+
+impl Drop for PooledScratch<'_> {
+    fn drop(&mut self) {
+        if let Ok(mut free) = self.pool.free.lock() {
+            free.push(std::mem::take(&mut self.scratch));
+        }
+    }
 }
 
 /// The sums of a texel no hair touched.
@@ -76,12 +127,11 @@ pub fn sample_layer(
             let d = cut.direction;
             let footprint = &mut scratch.footprint;
             let mut hair_total = 0.0f64;
-            // The rows the disk can touch (wrapped), with one row of margin on each side against
-            // rounding differences with the footprint's own wrapped span.
-            let res = resolution as f64;
-            let (lo, hi) = ((cut.y - cut.radius) * res, (cut.y + cut.radius) * res);
-            for row in lo.floor() as i64 - 1..=hi.floor() as i64 + 1 {
-                dirty[row.rem_euclid(resolution as i64) as usize] = true;
+            // The rows the disk can touch, from the wrapped centre as the footprint finds them,
+            // with a row of margin on each side.
+            let (py, pr) = (fract_wrap(cut.y) * resolution as f64, cut.radius * resolution as f64);
+            for row in floor_i64(py - pr) - 1..=floor_i64(py + pr) + 1 {
+                dirty[wrap_near(row, resolution as i64)] = true;
             }
             visit_disk_texels(
                 resolution,
@@ -112,18 +162,14 @@ pub fn sample_layer(
         }
     }
     finish_layer(sums, dirty, resolution, &totals, skin, out);
-    for (row, flag) in dirty.iter_mut().enumerate() {
-        if std::mem::take(flag) {
-            sums[row * resolution..(row + 1) * resolution].fill(EMPTY);
-        }
-    }
 }
 
 /// Turns the sums into straight color and unit tangents; empty texels get the layer's mean color
-/// and tangent (from `totals`: Σ w, Σ w·color, Σ w·direction).
+/// and tangent (from `totals`: Σ w, Σ w·color, Σ w·direction). Resets the dirty rows for the
+/// next layer while they are in cache.
 fn finish_layer(
-    sums: &[Sums],
-    dirty: &[bool],
+    sums: &mut [Sums],
+    dirty: &mut [bool],
     resolution: usize,
     totals: &[f64; 7],
     skin: bool,
@@ -161,7 +207,7 @@ fn finish_layer(
         .zip(out.rgba.chunks_exact_mut(4 * resolution))
         .zip(out.tangent.chunks_exact_mut(4 * resolution));
     for (row, ((coverage, rgba), tangent)) in rows.enumerate() {
-        if !dirty[row] {
+        if !std::mem::take(&mut dirty[row]) {
             coverage.fill(0.0);
             rgba.chunks_exact_mut(4)
                 .for_each(|px| px.copy_from_slice(&empty_px));
@@ -170,9 +216,10 @@ fn finish_layer(
                 .for_each(|tx| tx.copy_from_slice(&empty_tx));
             continue;
         }
-        let row_sums = &sums[row * resolution..(row + 1) * resolution];
+        let row_sums = &mut sums[row * resolution..(row + 1) * resolution];
         let pixels = rgba.chunks_exact_mut(4).zip(tangent.chunks_exact_mut(4));
-        for ((t, cov), (px, tx)) in row_sums.iter().zip(coverage.iter_mut()).zip(pixels) {
+        for ((sum, cov), (px, tx)) in row_sums.iter_mut().zip(coverage.iter_mut()).zip(pixels) {
+            let t = std::mem::replace(sum, EMPTY);
             *cov = t[0];
             if t[0] <= 0.0 {
                 // Most texels of the upper layers: no hair, constant bytes.
