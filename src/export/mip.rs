@@ -179,7 +179,7 @@ pub(crate) fn chain_rgba8(
     alpha: MipAlpha,
     count: usize,
 ) -> Vec<Vec<u8>> {
-    if width % 2 == 0 && height % 2 == 0 && count > 1 {
+    if width.is_multiple_of(2) && height.is_multiple_of(2) && count > 1 {
         // Both sides even: the fast 2 × 2 path for this level, the general filter below it.
         let first = even::halve_even_rgba8(base, width, height, layers, srgb, alpha);
         let (w, h) = (width / 2, height / 2);
@@ -357,6 +357,10 @@ fn halve<T: Copy + Default + Send + Sync>(
 #[inline]
 fn round_u8(v: f64) -> u8 {
     let t = v as i64;
-    let nearest = if v - t as f64 >= 0.5 { t.saturating_add(1) } else { t };
+    let nearest = if v - t as f64 >= 0.5 {
+        t.saturating_add(1)
+    } else {
+        t
+    };
     nearest.clamp(0, 255) as u8
 }

@@ -247,19 +247,22 @@ pub(crate) fn bake_validated(
         .zip(tangents.par_chunks_mut(texels * 4))
         .zip(mean_coverage.par_iter_mut())
         .enumerate()
-        .try_for_each_init(|| scratches.take(), |scratch, (layer, (((rgba, cov), tan), mean))| {
-            progress.check()?;
-            let heights = layer_heights(layer, requested, volume.vertical_filter);
-            let out = LayerOut {
-                coverage: cov,
-                rgba,
-                tangent: tan,
-            };
-            sample_layer(&table, &heights, res, volume.coverage, layer == 0, scratch, out);
-            // While the layer's coverage is in cache.
-            *mean = cov.iter().map(|&c| f64::from(c)).sum::<f64>() / texels as f64;
-            progress.advance(1)
-        })?;
+        .try_for_each_init(
+            || scratches.take(),
+            |scratch, (layer, (((rgba, cov), tan), mean))| {
+                progress.check()?;
+                let heights = layer_heights(layer, requested, volume.vertical_filter);
+                let out = LayerOut {
+                    coverage: cov,
+                    rgba,
+                    tangent: tan,
+                };
+                sample_layer(&table, &heights, res, volume.coverage, layer == 0, scratch, out);
+                // While the layer's coverage is in cache.
+                *mean = cov.iter().map(|&c| f64::from(c)).sum::<f64>() / texels as f64;
+                progress.advance(1)
+            },
+        )?;
     // The sums are as large as a layer's outputs: free them before the LOD chain and mipmaps.
     drop(scratches);
 

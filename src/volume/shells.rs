@@ -129,7 +129,10 @@ pub fn sample_layer(
             let mut hair_total = 0.0f64;
             // The rows the disk can touch, from the wrapped centre as the footprint finds them,
             // with a row of margin on each side.
-            let (py, pr) = (fract_wrap(cut.y) * resolution as f64, cut.radius * resolution as f64);
+            let (py, pr) = (
+                fract_wrap(cut.y) * resolution as f64,
+                cut.radius * resolution as f64,
+            );
             for row in floor_i64(py - pr) - 1..=floor_i64(py + pr) + 1 {
                 dirty[wrap_near(row, resolution as i64)] = true;
             }

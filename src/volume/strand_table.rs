@@ -58,9 +58,7 @@ impl StrandTable {
             .filter(|&(.., h)| h > 0.0 && h.is_finite())
             .collect();
         // The input index breaks ties, so the order is total and an unstable sort is exact.
-        keyed.par_sort_unstable_by(|a, b| {
-            a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2))
-        });
+        keyed.par_sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
         let order: Vec<(f64, usize)> = keyed.iter().map(|&(_, _, i, h)| (h, i)).collect();
         let mut points = vec![[0.0f32; 3]; order.len() * stride];
         let mut colors = vec![[[0.0f32; 3]; 2]; order.len()];

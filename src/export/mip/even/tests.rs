@@ -6,7 +6,9 @@ use crate::rng::Rng;
 /// transparent and fully opaque texels, and arbitrary ones.
 fn shell_like(seed: u64, width: usize, height: usize, layers: usize) -> Vec<u8> {
     let mut rng = Rng::new(seed);
-    let mut data: Vec<u8> = (0..width * height * layers * 4).map(|_| rng.next_u64() as u8).collect();
+    let mut data: Vec<u8> = (0..width * height * layers * 4)
+        .map(|_| rng.next_u64() as u8)
+        .collect();
     for texel in data.chunks_exact_mut(4) {
         match rng.next_u64() % 4 {
             0 => texel[3] = 0,
@@ -18,7 +20,7 @@ fn shell_like(seed: u64, width: usize, height: usize, layers: usize) -> Vec<u8> 
     for layer in 0..layers {
         for y in (0..height).step_by(2) {
             for x in (0..width).step_by(2) {
-                if rng.next_u64() % 3 != 0 {
+                if !rng.next_u64().is_multiple_of(3) {
                     continue;
                 }
                 let at = |dx: usize, dy: usize| ((layer * height + y + dy) * width + x + dx) * 4;
@@ -83,7 +85,10 @@ fn every_uniform_block_of_every_texel_value_is_kept() {
         );
         let expected: Vec<u8> = row.chunks_exact(8).flat_map(|b| b[..4].to_vec()).collect();
         assert_eq!(general, expected, "general filter, srgb {srgb}");
-        assert_eq!(halve_even_rgba8(&src, w, 2, 1, srgb, MipAlpha::Straight), expected);
+        assert_eq!(
+            halve_even_rgba8(&src, w, 2, 1, srgb, MipAlpha::Straight),
+            expected
+        );
     }
 }
 
