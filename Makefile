@@ -22,6 +22,9 @@ ADDON_SOURCES := $(shell find addon -type f -not -path '*/__pycache__/*' 2>/dev/
 WHEEL_STAMP := build/wheels/.stamp
 INSTALL_STAMP := $(VENV)/.pelt-installed
 ZIP := dist/pelt-$(VERSION)-linux_x64.zip
+# Pelt's node trees built once, which the add-on appends on a first bake (addon/templates.py).
+TEMPLATES := addon/assets/node_templates.blend
+TEMPLATE_SOURCES := $(addprefix addon/,node_graph.py materials.py geonodes.py templates.py)
 
 # Mesa prints a warning without a runtime folder; the tests and the renderer do not need a real one.
 export XDG_RUNTIME_DIR ?= /tmp/pelt-runtime-$(shell id -u)
@@ -35,7 +38,7 @@ demo: setup
 
 test: setup $(ZIP) check-rust check-gltf check-python
 
-setup: system-deps $(INSTALL_STAMP)
+setup: system-deps $(INSTALL_STAMP) $(TEMPLATES)
 	@mkdir -p -m 700 $(XDG_RUNTIME_DIR)
 
 # Mesa's Vulkan (lavapipe) and GL drivers: a real GPU device on machines without a GPU; Node.js
@@ -68,7 +71,11 @@ $(INSTALL_STAMP): $(WHEEL_STAMP)
 	$(PY) -m pip install -q --force-reinstall --no-deps build/wheels/pelt-*.whl
 	touch $@
 
-$(ZIP): $(WHEEL_STAMP) $(ADDON_SOURCES) scripts/package_extension.py
+$(TEMPLATES): $(INSTALL_STAMP) $(TEMPLATE_SOURCES) blender_scripts/build_node_templates.py
+	@mkdir -p -m 700 $(XDG_RUNTIME_DIR)
+	$(PY) blender_scripts/build_node_templates.py $@
+
+$(ZIP): $(WHEEL_STAMP) $(ADDON_SOURCES) $(TEMPLATES) scripts/package_extension.py
 	$(PY) scripts/package_extension.py build/wheels/pelt-*.whl --out dist
 
 package: setup $(ZIP)
@@ -101,5 +108,5 @@ bench: setup
 	$(PY) scripts/bench_report.py out/bench.json out/bench_blender.json > docs/benchmarks.md
 
 clean:
-	rm -rf build dist out $(VENV)
+	rm -rf build dist out $(VENV) addon/assets
 	cargo clean

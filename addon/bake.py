@@ -178,7 +178,7 @@ def build_material(obj, images, info, asset):
         fins=obj.pelt.fins,
         tile_size=asset.tile_size,
     )
-    fur.build_fur(obj, images, info["layout"], settings)
+    fur.build_fur(obj, images, info["layout"], settings, fin_height=info["fin_height"])
     return []
 
 

@@ -5,21 +5,40 @@ and set up a scene to render it. Only datablocks tagged as Pelt's for the object
 
 import bpy
 
-from . import geonodes, materials
+from . import geonodes, materials, templates
 from .fur_layout import FurSettings
 from .ownership import all_owned
 
 
-def build_fur(obj, images: dict, layout: dict, settings: FurSettings, *, render_method: str = "DITHERED"):
+def build_fur(
+    obj,
+    images: dict,
+    layout: dict,
+    settings: FurSettings,
+    *,
+    render_method: str = "DITHERED",
+    fin_height: int | None = None,
+):
     """Builds (or rebuilds) the materials ``Pelt Fur <obj>`` and ``Pelt Fin <obj>`` and the
     modifier ``Pelt Fur``; returns the modifier. ``images`` holds the ``"shells"`` atlas and the
-    ``"fin"`` image, ``layout`` the atlas layout of ``pelt.pack_atlas``. Raises ``pelt.PeltError``
+    ``"fin"`` image (``fin_height`` texels tall, when the caller knows), ``layout`` the atlas
+    layout of ``pelt.pack_atlas``. Raises ``pelt.PeltError``
     when an input is invalid; the checks all run before anything is created."""
     geonodes.check_target(obj, settings)
     materials.check_inputs(images, layout, render_method)
-    fur = materials.build_fur_material(obj, images, layout, render_method=render_method)
-    fin = materials.build_fin_material(obj, images, render_method=render_method)
-    return geonodes.build_fur_modifier(obj, settings, fur_material=fur, fin_material=fin)
+    with templates.batch(obj.name, template_builders()):
+        fur = materials.build_fur_material(obj, images, layout, render_method=render_method)
+        fin = materials.build_fin_material(obj, images, render_method=render_method, fin_height=fin_height)
+        return geonodes.build_fur_modifier(obj, settings, fur_material=fur, fin_material=fin)
+
+
+def template_builders() -> dict:
+    """The builders of Pelt's shipped node trees by role (``templates.write``)."""
+    return {
+        materials.FUR_ROLE: materials.new_fur_material,
+        materials.FIN_ROLE: materials.new_fin_material,
+        geonodes.NODES_ROLE: geonodes.new_node_group,
+    }
 
 
 def remove_fur(obj, *, images: bool = False) -> list[str]:

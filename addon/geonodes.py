@@ -28,10 +28,11 @@ Fins and Tile Size show in the modifier panel.
 import bpy
 import pelt
 
+from . import templates
 from .fur_layout import FurSettings
 from .materials import FIN_NORMAL_ATTRIBUTE, FIN_ROLE, FIN_UV_ATTRIBUTE, FUR_ROLE, LAYER_ATTRIBUTE
 from .node_graph import NodeGraph, output
-from .ownership import BUILT, find_owned, is_owned, mark_built, owned_or_new, up_to_date
+from .ownership import find_owned, is_owned
 
 NODES_ROLE = "fur_nodes"
 MODIFIER_NAME = "Pelt Fur"
@@ -46,8 +47,10 @@ INPUTS = (
 )
 
 
-# Bumped whenever the tree built here changes, so files baked before rebuild it.
-BUILD_VERSION = 1
+# The Set Material nodes, set per object (``templates.set_values``).
+SKIN_MATERIAL_NODE = "Pelt Skin Material"
+SHELL_MATERIAL_NODE = "Pelt Shell Material"
+FIN_MATERIAL_NODE = "Pelt Fin Material"
 
 
 def node_group_name(obj) -> str:
@@ -55,7 +58,7 @@ def node_group_name(obj) -> str:
 
 
 def build_fur_modifier(obj, settings: FurSettings, *, fur_material=None, fin_material=None):
-    """Creates or rebuilds Pelt's Geometry Nodes fur on ``obj`` (a mesh object) with the inputs of
+    """Creates or updates Pelt's Geometry Nodes fur on ``obj`` (a mesh object) with the inputs of
     ``settings``; returns the modifier. The materials default to Pelt's own ``Pelt Fur`` / ``Pelt
     Fin`` materials of ``obj`` (``materials.build_fur_material`` / ``build_fin_material``); without
     them the faces keep no material. Raises ``pelt.PeltError`` (changing nothing) when ``obj`` is
@@ -63,26 +66,16 @@ def build_fur_modifier(obj, settings: FurSettings, *, fur_material=None, fin_mat
     check_target(obj, settings)
     fur_material = fur_material or find_owned(bpy.data.materials, obj.name, FUR_ROLE)
     fin_material = fin_material or find_owned(bpy.data.materials, obj.name, FIN_ROLE)
-
-    group = owned_or_new(
-        bpy.data.node_groups,
-        obj.name,
-        NODES_ROLE,
-        node_group_name(obj),
-        lambda name: bpy.data.node_groups.new(name, "GeometryNodeTree"),
-    )
-    names = (getattr(fur_material, "name", ""), getattr(fin_material, "name", ""))
-    signature = f"{BUILD_VERSION}|{names[0]}|{names[1]}"
-    # The tree depends on the materials only (the settings are the modifier's inputs), so a
-    # re-bake keeps it.
-    if not up_to_date(group, signature):
-        group.pop(BUILT, None)
-        _build_tree(group, fur_material, fin_material)
-        mark_built(group, signature)
+    # The tree is the same for every object (the settings are the modifier's inputs), so a
+    # re-bake keeps it and a first bake copies the shipped one.
+    group = templates.owned_tree(obj.name, NODES_ROLE, node_group_name(obj), new_node_group)
+    shell_materials = {SKIN_MATERIAL_NODE: fur_material, SHELL_MATERIAL_NODE: fur_material}
+    templates.set_values(group, {**shell_materials, FIN_MATERIAL_NODE: fin_material})
     modifier = find_modifier(obj)
     if modifier is None:
         modifier = obj.modifiers.new(MODIFIER_NAME, "NODES")
-    modifier.node_group = group
+    if modifier.node_group != group:
+        modifier.node_group = group
     for item in group.interface.items_tree:
         field = next((row[2] for row in INPUTS if row[0] == item.name), None)
         if item.item_type == "SOCKET" and item.in_out == "INPUT" and field is not None:
@@ -113,13 +106,14 @@ def find_modifier(obj):
     )
 
 
-def _build_tree(group, fur_material, fin_material) -> None:
-    group.interface.clear()
-    group.nodes.clear()
+def new_node_group(name: str):
+    """A new node group ``name`` growing the fur (module docs); its Set Material nodes are the
+    named ones that ``build_fur_modifier`` sets."""
+    group = bpy.data.node_groups.new(name, "GeometryNodeTree")
     group.is_modifier = True
     group.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
-    for name, socket_type, field, tooltip, minimum in INPUTS:
-        item = group.interface.new_socket(name, in_out="INPUT", socket_type=socket_type)
+    for socket_name, socket_type, field, tooltip, minimum in INPUTS:
+        item = group.interface.new_socket(socket_name, in_out="INPUT", socket_type=socket_type)
         item.description = tooltip
         item.default_value = getattr(FurSettings(), field)
         if minimum is not None:
@@ -132,11 +126,11 @@ def _build_tree(group, fur_material, fin_material) -> None:
     base, top, length = _capture_growth(g, base, inputs["Depth"])
 
     skin = _store(g, base, LAYER_ATTRIBUTE, "FLOAT", "POINT", 0.0)
-    skin = g.node("GeometryNodeSetMaterial", {"Geometry": skin, "Material": fur_material}).outputs[0]
+    skin = g.node("GeometryNodeSetMaterial", {"Geometry": skin}, name=SKIN_MATERIAL_NODE).outputs[0]
     shells = _shells(g, base, top, length, inputs["Layers"], inputs["Shells"])
-    shells = g.node("GeometryNodeSetMaterial", {"Geometry": shells, "Material": fur_material}).outputs[0]
+    shells = g.node("GeometryNodeSetMaterial", {"Geometry": shells}, name=SHELL_MATERIAL_NODE).outputs[0]
     fins = _fins(g, base, top, length, inputs["Tile Size"])
-    fins = g.node("GeometryNodeSetMaterial", {"Geometry": fins, "Material": fin_material}).outputs[0]
+    fins = g.node("GeometryNodeSetMaterial", {"Geometry": fins}, name=FIN_MATERIAL_NODE).outputs[0]
     fins = g.node("GeometryNodeSwitch", {"Switch": inputs["Fins"], "True": fins}, input_type="GEOMETRY")
 
     join = g.node("GeometryNodeJoinGeometry")
@@ -144,6 +138,7 @@ def _build_tree(group, fur_material, fin_material) -> None:
     for part in (output(fins, "Output"), shells, skin):
         group.links.new(part, join.inputs["Geometry"])
     g.node("NodeGroupOutput", {"Geometry": join.outputs["Geometry"]})
+    return group
 
 
 def _named(g: NodeGraph, name: str, data_type: str):

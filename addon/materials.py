@@ -27,8 +27,8 @@ surfaces a ray crosses (``fur.prepare_scene``).
 import bpy
 import pelt
 
+from . import templates
 from .node_graph import NodeGraph, output
-from .ownership import BUILT, mark_built, owned_or_new, up_to_date
 
 FUR_ROLE = "fur_material"
 FIN_ROLE = "fin_material"
@@ -38,8 +38,13 @@ FIN_NORMAL_ATTRIBUTE = "pelt_fin_normal"
 COLOR_ATTRIBUTE = "pelt_color"
 UV_MAP = "PeltUV"
 RENDER_METHODS = ("DITHERED", "BLENDED")
-# Bumped whenever the node trees built here change, so files baked before rebuild them.
-BUILD_VERSION = 1
+# The nodes that hold what differs per object (``templates.set_values``).
+ATLAS_NODE = "Pelt Atlas"
+COLUMNS_NODE = "Pelt Atlas Columns"
+ROWS_NODE = "Pelt Atlas Rows"
+INSET_NODE = "Pelt Atlas Inset"
+FIN_NODE = "Pelt Fin Texture"
+FIN_INSET_NODE = "Pelt Fin Inset"
 
 
 def fur_material_name(obj) -> str:
@@ -51,30 +56,40 @@ def fin_material_name(obj) -> str:
 
 
 def build_fur_material(obj, images: dict, layout: dict, *, render_method: str = "DITHERED"):
-    """Creates or rebuilds Pelt's skin-and-shell material for ``obj`` from ``images["shells"]``
+    """Creates or updates Pelt's skin-and-shell material for ``obj`` from ``images["shells"]``
     (the shell atlas image) and ``layout`` (the atlas layout of ``pelt.pack_atlas``: ``columns``,
     ``rows``, ``tile``); returns it. Raises ``pelt.InvalidParameterError`` (changing nothing) when
     an input is missing or malformed."""
     atlas = _image(images, "shells")
     columns, rows, tile = (_positive_int(layout, key) for key in ("columns", "rows", "tile"))
     _check_render_method(render_method)
-    signature = f"{BUILD_VERSION}|{atlas.name}|{columns}|{rows}|{tile}"
-    material, g = _material(obj, FUR_ROLE, fur_material_name(obj), render_method, signature)
-    if g is None:
-        return material
+    material = _material(obj, FUR_ROLE, fur_material_name(obj), render_method, new_fur_material)
+    templates.set_values(
+        material.node_tree,
+        {ATLAS_NODE: atlas, COLUMNS_NODE: float(columns), ROWS_NODE: float(rows), INSET_NODE: 0.5 / tile},
+    )
+    return material
 
+
+def new_fur_material(name: str):
+    """A new material ``name`` with the skin-and-shell tree; the atlas and its layout are the
+    named nodes that ``build_fur_material`` sets."""
+    material, g = _new_material(name)
     u, v, _ = g.separate(g.node("ShaderNodeUVMap", uv_map=UV_MAP).outputs["UV"])
+    columns, rows, inset = (g.value(node, 1.0) for node in (COLUMNS_NODE, ROWS_NODE, INSET_NODE))
     layer_node = g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=LAYER_ATTRIBUTE)
     layer = g.math("ROUND", layer_node.outputs["Fac"])
-    column = g.math("FLOORED_MODULO", layer, float(columns))
-    row = g.math("FLOOR", g.math("DIVIDE", layer, float(columns)))
-    inset = 0.5 / tile
-    atlas_u = g.math("DIVIDE", g.math("ADD", column, _inside(g, u, inset)), float(columns))
-    atlas_v = g.math("SUBTRACT", 1.0, g.math("DIVIDE", g.math("ADD", row, _inside(g, v, inset)), float(rows)))
+    column = g.math("FLOORED_MODULO", layer, columns)
+    row = g.math("FLOOR", g.math("DIVIDE", layer, columns))
+    bounds = (inset, g.math("SUBTRACT", 1.0, inset))
+    atlas_u = g.math("DIVIDE", g.math("ADD", column, _inside(g, g.math("FRACT", u), *bounds)), columns)
+    atlas_v = g.math(
+        "SUBTRACT", 1.0, g.math("DIVIDE", g.math("ADD", row, _inside(g, g.math("FRACT", v), *bounds)), rows)
+    )
     texel = g.node(
         "ShaderNodeTexImage",
         {"Vector": g.combine(atlas_u, atlas_v)},
-        image=atlas,
+        name=ATLAS_NODE,
         interpolation="Closest",
         extension="EXTEND",
     )
@@ -82,30 +97,35 @@ def build_fur_material(obj, images: dict, layout: dict, *, render_method: str = 
     coverage = g.math("MULTIPLY", texel.outputs["Alpha"], color.outputs["Alpha"])
     alpha = g.math("MAXIMUM", coverage, g.math("LESS_THAN", layer, 0.5))
     _shade(g, _tinted(g, texel, color), alpha)
-    mark_built(material, signature)
     return material
 
 
-def build_fin_material(obj, images: dict, *, render_method: str = "DITHERED"):
-    """Creates or rebuilds Pelt's fin material for ``obj`` from ``images["fin"]`` (the fin
-    texture: row 0, the top of the Pelt image, is the tip of the hair); returns it. Raises
-    ``pelt.InvalidParameterError`` (changing nothing) when the image is missing."""
+def build_fin_material(obj, images: dict, *, render_method: str = "DITHERED", fin_height: int | None = None):
+    """Creates or updates Pelt's fin material for ``obj`` from ``images["fin"]`` (the fin
+    texture: row 0, the top of the Pelt image, is the tip of the hair); returns it. ``fin_height``
+    is the fin texture's height in texels when the caller knows it (reading ``image.size`` makes
+    Blender decode a packed image). Raises ``pelt.InvalidParameterError`` (changing nothing) when
+    the image is missing."""
     fin = _image(images, "fin")
     _check_render_method(render_method)
-    height = max(int(fin.size[1]), 1)
-    signature = f"{BUILD_VERSION}|{fin.name}|{height}"
-    material, g = _material(obj, FIN_ROLE, fin_material_name(obj), render_method, signature)
-    if g is None:
-        return material
+    height = max(int(fin_height if fin_height is not None else fin.size[1]), 1)
+    material = _material(obj, FIN_ROLE, fin_material_name(obj), render_method, new_fin_material)
+    templates.set_values(material.node_tree, {FIN_NODE: fin, FIN_INSET_NODE: 0.5 / height})
+    return material
 
+
+def new_fin_material(name: str):
+    """A new material ``name`` with the fin tree; the fin texture and its inset are the named
+    nodes that ``build_fin_material`` sets."""
+    material, g = _new_material(name)
     uv_node = g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=FIN_UV_ATTRIBUTE)
     u, v, _ = g.separate(uv_node.outputs["Vector"])
-    inset = 0.5 / height
-    v = g.math("MAXIMUM", g.math("MINIMUM", v, 1.0 - inset), inset)
+    inset = g.value(FIN_INSET_NODE, 0.0)
+    v = _inside(g, v, inset, g.math("SUBTRACT", 1.0, inset))
     texel = g.node(
         "ShaderNodeTexImage",
         {"Vector": g.combine(u, v)},
-        image=fin,
+        name=FIN_NODE,
         interpolation="Linear",
         extension="REPEAT",
     )
@@ -126,7 +146,6 @@ def build_fin_material(obj, images: dict, *, render_method: str = "DITHERED"):
     color = _color_attribute(g)
     alpha = g.math("MULTIPLY", g.math("MULTIPLY", texel.outputs["Alpha"], color.outputs["Alpha"]), fade)
     _shade(g, _tinted(g, texel, color), alpha)
-    mark_built(material, signature)
     return material
 
 
@@ -165,23 +184,27 @@ def _check_render_method(render_method: str) -> None:
         )
 
 
-def _material(obj, role: str, name: str, render_method: str, signature: str):
-    """Pelt's ``role`` material of ``obj`` with the fur's render settings, and a graph on its
-    emptied node tree to build into, or None when the tree was built from the same inputs."""
-    material = owned_or_new(bpy.data.materials, obj.name, role, name, bpy.data.materials.new)
-    material.surface_render_method = render_method
+def _material(obj, role: str, name: str, render_method: str, new):
+    """Pelt's ``role`` material of ``obj`` with an up-to-date tree (``templates.owned_tree``) and
+    the fur's render settings."""
+    material = templates.owned_tree(obj.name, role, name, new)
+    if material.surface_render_method != render_method:
+        material.surface_render_method = render_method
     material.use_transparent_shadow = True
     material.use_backface_culling = False
-    if up_to_date(material, signature):
-        return material, None
+    return material
+
+
+def _new_material(name: str):
+    """A new material ``name`` with an empty node tree, and a graph to build into it."""
+    material = bpy.data.materials.new(name)
     material.node_tree.nodes.clear()
-    material.pop(BUILT, None)  # marked again once the tree is whole
     return material, NodeGraph(material.node_tree)
 
 
-def _inside(g: NodeGraph, coordinate, inset: float):
-    """``fract(coordinate)`` kept within ``[inset, 1 - inset]``."""
-    return g.math("MAXIMUM", g.math("MINIMUM", g.math("FRACT", coordinate), 1.0 - inset), inset)
+def _inside(g: NodeGraph, coordinate, low, high):
+    """``coordinate`` kept within ``[low, high]``."""
+    return g.math("MAXIMUM", g.math("MINIMUM", coordinate, high), low)
 
 
 def _color_attribute(g: NodeGraph):

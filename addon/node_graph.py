@@ -35,6 +35,12 @@ class NodeGraph:
         else:
             target.default_value = value
 
+    def value(self, name: str, default: float):
+        """A Value node called ``name`` (a parameter set later by name); returns its output."""
+        node = self.node("ShaderNodeValue", name=name, label=name)
+        node.outputs[0].default_value = default
+        return node.outputs[0]
+
     def math(self, operation: str, *values):
         """A scalar math node; returns its output socket."""
         inputs = {("Value", i): v for i, v in enumerate(values)}

@@ -44,6 +44,7 @@ def prepare_images(asset: pelt.FurAsset) -> tuple[dict, dict]:
         "layers": volume["layers"],
         "layer_spacing": volume["layer_spacing"],
         "resolution": volume["resolution"],
+        "fin_height": int(volume["fin"].shape[0]),
     }
     transfer = asset.transfer
     if transfer is not None:
@@ -95,13 +96,15 @@ def write_images(obj, images: dict, undo: _Undo) -> dict:
     """Creates or refills Pelt's images for ``obj``; returns ``{role: image}``. Images of roles no
     longer produced (a lower transfer order) are removed."""
     written = {}
+    # Packed into the .blend (an unsaved file): all encoded up front, side by side.
+    packed = not bpy.data.filepath
+    encoded = dict(zip(images, bridge.encode_pngs(list(images.values())), strict=True)) if packed else {}
     for role, (rgba, color) in images.items():
         image = find_owned(bpy.data.images, obj.name, role)
         fresh = image is None
         name = image.name if image is not None else _image_name(role, obj)
-        image = bridge.write_image(
-            bpy.data.images, name, rgba, color=color, image=image, path=_image_path(name)
-        )
+        path, png = _image_path(name), encoded.get(role)
+        image = bridge.write_image(bpy.data.images, name, rgba, color=color, image=image, path=path, png=png)
         if fresh:
             tag(image, obj.name, role)
             undo.created.append(image)

@@ -40,6 +40,7 @@ def test_zip_installs_bakes_suzanne_and_uninstalls():
     assert result["baked_stages"] == ["patches", "volume", "transfer"]
     assert result["uv"]
     assert {"shells", "tangents", "fin", "transfer_0"} <= set(result["images"])
+    assert result["templates_current"] == ["fin_material", "fur_material", "fur_nodes"]
     assert result["installed_dir_existed"]
     assert result["uninstall"] == ["FINISHED"]
     assert not result["enabled_after"] and not result["property_after"] and not result["operator_after"]
