@@ -16,11 +16,8 @@ use crate::color::{srgb8_encoder, unit_to_u8};
 use super::coverage::{CoverageMode, visit_disk_texels};
 use super::footprint::FootprintScratch;
 use super::grid::{floor_i64, fract_wrap, wrap_near};
+use super::splat::{BandQueues, Banded, Direct, EMPTY, Hair, Sink, Sums};
 use super::strand_table::StrandTable;
-
-/// Per-texel sums of one layer, one 32-byte record per texel so a hair's visit touches one cache
-/// line: `[Σ w, Π (1 − w), Σ w·color (3), Σ w·direction (3)]` with `w = share · weight`.
-type Sums = [f32; 8];
 
 /// Buffers of one worker, reused across the layers it samples.
 ///
@@ -32,6 +29,7 @@ pub struct LayerScratch {
     sums: Vec<Sums>,
     dirty: Vec<bool>,
     footprint: FootprintScratch,
+    queues: BandQueues,
 }
 
 /// Scratch buffers handed to the workers of one bake and taken back when they finish a share of
@@ -82,9 +80,6 @@ impl Drop for PooledScratch<'_> {
     }
 }
 
-/// The sums of a texel no hair touched.
-const EMPTY: Sums = [0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
-
 /// Where one layer's results go: slices of the volume's arrays for this layer.
 pub struct LayerOut<'a> {
     /// Coverage per texel (summed shares, may exceed 1 where hairs overlap): the density.
@@ -116,52 +111,88 @@ pub fn sample_layer(
         scratch.sums = vec![EMPTY; texels];
         scratch.dirty = vec![false; resolution];
     }
-    let (sums, dirty) = (&mut scratch.sums, &mut scratch.dirty);
-    // Layer totals for the fill values, per hair (f64, in strand order: thread-count independent).
-    let mut totals = [0.0f64; 7];
-    for &(z, weight) in heights {
-        for k in (0..strands.len()).filter(|&k| strands.reaches(k, z)) {
-            let cut = strands.cut(k, z);
-            let [root, tip] = strands.colors(k);
-            let color: [f32; 3] = std::array::from_fn(|c| root[c] + (tip[c] - root[c]) * cut.along);
-            let d = cut.direction;
-            let footprint = &mut scratch.footprint;
-            let mut hair_total = 0.0f64;
-            // The rows the disk can touch, from the wrapped centre as the footprint finds them,
-            // with a row of margin on each side.
-            let (py, pr) = (fract_wrap(cut.y) * resolution as f64, cut.radius * resolution as f64);
-            for row in floor_i64(py - pr) - 1..=floor_i64(py + pr) + 1 {
-                dirty[wrap_near(row, resolution as i64)] = true;
-            }
-            visit_disk_texels(
-                resolution,
-                cut.x,
-                cut.y,
-                cut.radius,
-                mode,
-                footprint,
-                |texel, share| {
-                    let w = (share * weight) as f32;
-                    hair_total += f64::from(w);
-                    let t = &mut sums[texel];
-                    t[0] += w;
-                    t[1] *= 1.0 - w;
-                    t[2] += w * color[0];
-                    t[3] += w * color[1];
-                    t[4] += w * color[2];
-                    t[5] += w * d[0];
-                    t[6] += w * d[1];
-                    t[7] += w * d[2];
+    let LayerScratch {
+        sums,
+        dirty,
+        footprint,
+        queues,
+    } = scratch;
+    let hairs = Hairs {
+        strands,
+        heights,
+        resolution,
+        mode,
+    };
+    let totals = match Banded::new(sums, queues, resolution) {
+        Some(mut banded) => hairs.splat(footprint, dirty, &mut banded),
+        None => {
+            let mut direct = Direct {
+                sums,
+                hair: Hair {
+                    color: [0.0; 3],
+                    direction: [0.0; 3],
                 },
-            );
-            totals[0] += hair_total;
-            for c in 0..3 {
-                totals[1 + c] += hair_total * f64::from(color[c]);
-                totals[4 + c] += hair_total * f64::from(d[c]);
+            };
+            hairs.splat(footprint, dirty, &mut direct)
+        }
+    };
+    finish_layer(sums, dirty, resolution, &totals, skin, out);
+}
+
+/// The hairs crossing one layer's sample heights.
+struct Hairs<'a> {
+    strands: &'a StrandTable,
+    heights: &'a [(f64, f64)],
+    resolution: usize,
+    mode: CoverageMode,
+}
+
+impl Hairs<'_> {
+    /// Adds every hair's shares to `sink`, marks the rows they touch in `dirty`, and returns the
+    /// layer totals for the fill values: Σ w, Σ w·color, Σ w·direction, per hair in f64 and in
+    /// strand order (thread-count independent).
+    fn splat(&self, footprint: &mut FootprintScratch, dirty: &mut [bool], sink: &mut impl Sink) -> [f64; 7] {
+        let (strands, resolution) = (self.strands, self.resolution);
+        let n = resolution as i64;
+        let mut totals = [0.0f64; 7];
+        for &(z, weight) in self.heights {
+            for k in (0..strands.len()).filter(|&k| strands.reaches(k, z)) {
+                let cut = strands.cut(k, z);
+                let [root, tip] = strands.colors(k);
+                let color: [f32; 3] = std::array::from_fn(|c| root[c] + (tip[c] - root[c]) * cut.along);
+                let d = cut.direction;
+                let mut hair_total = 0.0f64;
+                // The rows the disk can touch, from the wrapped centre as the footprint finds
+                // them, with a row of margin on each side.
+                let (py, pr) = (fract_wrap(cut.y) * resolution as f64, cut.radius * resolution as f64);
+                for row in floor_i64(py - pr) - 1..=floor_i64(py + pr) + 1 {
+                    dirty[wrap_near(row, n)] = true;
+                }
+                sink.start(Hair { color, direction: d });
+                visit_disk_texels(
+                    resolution,
+                    cut.x,
+                    cut.y,
+                    cut.radius,
+                    self.mode,
+                    footprint,
+                    |texel, row, share| {
+                        let w = (share * weight) as f32;
+                        hair_total += f64::from(w);
+                        sink.add(texel, row, w);
+                    },
+                );
+                sink.finish();
+                totals[0] += hair_total;
+                for c in 0..3 {
+                    totals[1 + c] += hair_total * f64::from(color[c]);
+                    totals[4 + c] += hair_total * f64::from(d[c]);
+                }
             }
         }
+        sink.flush();
+        totals
     }
-    finish_layer(sums, dirty, resolution, &totals, skin, out);
 }
 
 /// Turns the sums into straight color and unit tangents; empty texels get the layer's mean color
