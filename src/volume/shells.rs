@@ -9,9 +9,10 @@
 //! weighted by coverage; the hair tangent is what per-pixel Kajiya–Kay lighting needs (Lengyel
 //! lists it as future work in §2.4).
 
+use std::ops::Range;
 use std::sync::Mutex;
 
-use crate::color::{srgb8_encoder, unit_to_u8};
+use crate::color::{Srgb8Encoder, srgb8_encoder, unit_to_u8};
 
 use super::coverage::{CoverageMode, visit_disk_texels};
 use super::footprint::FootprintScratch;
@@ -123,8 +124,9 @@ pub fn sample_layer(
         resolution,
         mode,
     };
-    let totals = match Banded::new(sums, queues, resolution) {
-        Some(mut banded) => hairs.splat(footprint, dirty, &mut banded),
+    let mut out = out;
+    match Banded::new(sums, queues, resolution) {
+        Some(mut banded) => hairs.sample(footprint, dirty, &mut banded, skin, &mut out),
         None => {
             let mut direct = Direct {
                 sums,
@@ -132,11 +134,11 @@ pub fn sample_layer(
                     color: [0.0; 3],
                     direction: [0.0; 3],
                 },
+                resolution,
             };
-            hairs.splat(footprint, dirty, &mut direct)
+            hairs.sample(footprint, dirty, &mut direct, skin, &mut out);
         }
-    };
-    finish_layer(sums, dirty, resolution, &totals, skin, out);
+    }
 }
 
 /// The hairs crossing one layer's sample heights.
@@ -148,6 +150,20 @@ struct Hairs<'a> {
 }
 
 impl Hairs<'_> {
+    /// Splats the hairs through `sink` and finishes the layer into `out`, band by band.
+    fn sample(
+        &self,
+        footprint: &mut FootprintScratch,
+        dirty: &mut [bool],
+        sink: &mut impl Sink,
+        skin: bool,
+        out: &mut LayerOut<'_>,
+    ) {
+        let totals = self.splat(footprint, dirty, sink);
+        let finisher = Finisher::new(&totals, skin, self.resolution);
+        sink.drain(&mut |sums, rows| finisher.rows(rows, sums, dirty, out));
+    }
+
     /// Adds every hair's shares to `sink`, marks the rows they touch in `dirty`, and returns the
     /// layer totals for the fill values: Σ w, Σ w·color, Σ w·direction, per hair in f64 and in
     /// strand order (thread-count independent).
@@ -190,84 +206,102 @@ impl Hairs<'_> {
                 }
             }
         }
-        sink.flush();
         totals
     }
 }
 
 /// Turns the sums into straight color and unit tangents; empty texels get the layer's mean color
-/// and tangent (from `totals`: Σ w, Σ w·color, Σ w·direction). Resets the dirty rows for the
-/// next layer while they are in cache.
-fn finish_layer(
-    sums: &mut [Sums],
-    dirty: &mut [bool],
+/// and tangent.
+struct Finisher {
     resolution: usize,
-    totals: &[f64; 7],
     skin: bool,
-    out: LayerOut<'_>,
-) {
-    let fill_color: [f32; 3] = if totals[0] > 0.0 {
-        std::array::from_fn(|c| (totals[1 + c] / totals[0]) as f32)
-    } else {
-        [0.0; 3]
-    };
-    let fill_tangent = unit_or(
-        [totals[4] as f32, totals[5] as f32, totals[6] as f32],
-        [0.0, 0.0, 1.0],
-    );
-    let srgb = srgb8_encoder();
-    let empty_alpha = if skin { 255 } else { 0 };
-    let pack = |dir: [f32; 3], alpha: u8| -> [u8; 4] {
-        [
-            unit_to_u8(0.5 * dir[0] + 0.5),
-            unit_to_u8(0.5 * dir[1] + 0.5),
-            unit_to_u8(0.5 * dir[2] + 0.5),
-            alpha,
-        ]
-    };
-    let empty_px = [
-        srgb.encode(fill_color[0]),
-        srgb.encode(fill_color[1]),
-        srgb.encode(fill_color[2]),
-        empty_alpha,
-    ];
-    let empty_tx = pack(fill_tangent, empty_alpha);
-    let rows = out
-        .coverage
-        .chunks_exact_mut(resolution)
-        .zip(out.rgba.chunks_exact_mut(4 * resolution))
-        .zip(out.tangent.chunks_exact_mut(4 * resolution));
-    for (row, ((coverage, rgba), tangent)) in rows.enumerate() {
-        if !std::mem::take(&mut dirty[row]) {
-            coverage.fill(0.0);
-            rgba.chunks_exact_mut(4)
-                .for_each(|px| px.copy_from_slice(&empty_px));
-            tangent
-                .chunks_exact_mut(4)
-                .for_each(|tx| tx.copy_from_slice(&empty_tx));
-            continue;
+    fill_tangent: [f32; 3],
+    /// The bytes of a texel no hair reached.
+    empty_px: [u8; 4],
+    empty_tx: [u8; 4],
+    srgb: &'static Srgb8Encoder,
+}
+
+/// A unit direction packed `0.5 · d + 0.5` in RGB, with `alpha`.
+fn pack(dir: [f32; 3], alpha: u8) -> [u8; 4] {
+    [
+        unit_to_u8(0.5 * dir[0] + 0.5),
+        unit_to_u8(0.5 * dir[1] + 0.5),
+        unit_to_u8(0.5 * dir[2] + 0.5),
+        alpha,
+    ]
+}
+
+impl Finisher {
+    /// The fill values from the layer totals Σ w, Σ w·color, Σ w·direction.
+    fn new(totals: &[f64; 7], skin: bool, resolution: usize) -> Self {
+        let fill_color: [f32; 3] = if totals[0] > 0.0 {
+            std::array::from_fn(|c| (totals[1 + c] / totals[0]) as f32)
+        } else {
+            [0.0; 3]
+        };
+        let fill_tangent = unit_or(
+            [totals[4] as f32, totals[5] as f32, totals[6] as f32],
+            [0.0, 0.0, 1.0],
+        );
+        let srgb = srgb8_encoder();
+        let empty_alpha = if skin { 255 } else { 0 };
+        let empty_px = [
+            srgb.encode(fill_color[0]),
+            srgb.encode(fill_color[1]),
+            srgb.encode(fill_color[2]),
+            empty_alpha,
+        ];
+        Finisher {
+            resolution,
+            skin,
+            fill_tangent,
+            empty_px,
+            empty_tx: pack(fill_tangent, empty_alpha),
+            srgb,
         }
-        let row_sums = &mut sums[row * resolution..(row + 1) * resolution];
-        let pixels = rgba.chunks_exact_mut(4).zip(tangent.chunks_exact_mut(4));
-        for ((sum, cov), (px, tx)) in row_sums.iter_mut().zip(coverage.iter_mut()).zip(pixels) {
-            let t = std::mem::replace(sum, EMPTY);
-            *cov = t[0];
-            if t[0] <= 0.0 {
-                // Most texels of the upper layers: no hair, constant bytes.
-                px.copy_from_slice(&empty_px);
-                tx.copy_from_slice(&empty_tx);
+    }
+
+    /// Finishes the rows `rows` of the layer from its `sums` into `out`, and resets their sums
+    /// and `dirty` flags for the next layer while they are in cache.
+    fn rows(&self, rows: Range<usize>, sums: &mut [Sums], dirty: &mut [bool], out: &mut LayerOut<'_>) {
+        let (res, srgb) = (self.resolution, self.srgb);
+        let (empty_px, empty_tx) = (self.empty_px, self.empty_tx);
+        for row in rows {
+            let coverage = &mut out.coverage[row * res..(row + 1) * res];
+            let rgba = &mut out.rgba[4 * row * res..4 * (row + 1) * res];
+            let tangent = &mut out.tangent[4 * row * res..4 * (row + 1) * res];
+            if !std::mem::take(&mut dirty[row]) {
+                coverage.fill(0.0);
+                rgba.chunks_exact_mut(4)
+                    .for_each(|px| px.copy_from_slice(&empty_px));
+                tangent
+                    .chunks_exact_mut(4)
+                    .for_each(|tx| tx.copy_from_slice(&empty_tx));
                 continue;
             }
-            let inv = 1.0 / t[0];
-            let dir = unit_or([t[5], t[6], t[7]], fill_tangent);
-            let alpha = if skin { 255 } else { unit_to_u8(1.0 - t[1]) };
-            px.copy_from_slice(&[
-                srgb.encode(t[2] * inv),
-                srgb.encode(t[3] * inv),
-                srgb.encode(t[4] * inv),
-                alpha,
-            ]);
-            tx.copy_from_slice(&pack(dir, alpha));
+            let row_sums = &mut sums[row * res..(row + 1) * res];
+            let pixels = rgba.chunks_exact_mut(4).zip(tangent.chunks_exact_mut(4));
+            for ((sum, cov), (px, tx)) in row_sums.iter_mut().zip(coverage.iter_mut()).zip(pixels) {
+                let t = std::mem::replace(sum, EMPTY);
+                *cov = t[0];
+                if t[0] <= 0.0 {
+                    // Most texels of the upper layers: no hair, constant bytes.
+                    px.copy_from_slice(&empty_px);
+                    tx.copy_from_slice(&empty_tx);
+                    continue;
+                }
+                let inv = 1.0 / t[0];
+                let dir = unit_or([t[5], t[6], t[7]], self.fill_tangent);
+                let alpha = if self.skin { 255 } else { unit_to_u8(1.0 - t[1]) };
+                px.copy_from_slice(&[
+                    srgb.encode(t[2] * inv),
+                    srgb.encode(t[3] * inv),
+                    srgb.encode(t[4] * inv),
+                    alpha,
+                ]);
+                tx.copy_from_slice(&pack(dir, alpha));
+            }
         }
     }
 }

@@ -10,6 +10,8 @@
 //! order, so every texel receives its shares in the same order as when they are added at once
 //! ([`Direct`]), and the f32 sums come out bit for bit the same.
 
+use std::ops::Range;
+
 /// Per-texel sums of one layer, one 32-byte record per texel so a hair's visit touches one cache
 /// line: `[Σ w, Π (1 − w), Σ w·color (3), Σ w·direction (3)]` with `w = share · weight`.
 pub(super) type Sums = [f32; 8];
@@ -52,14 +54,16 @@ pub(super) trait Sink {
     fn add(&mut self, texel: usize, row: usize, w: f32);
     /// The current hair is done.
     fn finish(&mut self);
-    /// Every share is in the sums.
-    fn flush(&mut self);
+    /// Adds every share still queued and hands the sums to `rows` in bands of whole rows, each
+    /// band complete and still in cache, in order.
+    fn drain(&mut self, rows: &mut dyn FnMut(&mut [Sums], Range<usize>));
 }
 
 /// Adds every share at once: for layers whose sums fit in cache.
 pub(super) struct Direct<'a> {
     pub sums: &'a mut [Sums],
     pub hair: Hair,
+    pub resolution: usize,
 }
 
 impl Sink for Direct<'_> {
@@ -75,7 +79,9 @@ impl Sink for Direct<'_> {
 
     fn finish(&mut self) {}
 
-    fn flush(&mut self) {}
+    fn drain(&mut self, rows: &mut dyn FnMut(&mut [Sums], Range<usize>)) {
+        rows(self.sums, 0..self.resolution);
+    }
 }
 
 /// One queued share.
@@ -100,6 +106,7 @@ pub(super) struct Banded<'a> {
     queues: &'a mut BandQueues,
     /// Rows per band, as a power of two.
     shift: u32,
+    resolution: usize,
 }
 
 impl<'a> Banded<'a> {
@@ -118,6 +125,7 @@ impl<'a> Banded<'a> {
             sums,
             queues,
             shift,
+            resolution,
         })
     }
 }
@@ -142,21 +150,30 @@ impl Sink for Banded<'_> {
 
     fn finish(&mut self) {
         if self.queues.queued >= QUEUE_LIMIT || self.queues.hairs.len() >= HAIR_LIMIT {
-            self.flush();
+            self.add_queued(&mut |_, _| {});
         }
     }
 
-    fn flush(&mut self) {
+    fn drain(&mut self, rows: &mut dyn FnMut(&mut [Sums], Range<usize>)) {
+        self.add_queued(rows);
+    }
+}
+
+impl Banded<'_> {
+    /// Adds the queued shares band by band, handing each band's rows to `rows` once added.
+    fn add_queued(&mut self, rows: &mut dyn FnMut(&mut [Sums], Range<usize>)) {
         let BandQueues {
             bands,
             hairs,
             queued,
         } = &mut *self.queues;
-        for band in bands.iter_mut() {
+        for (b, band) in bands.iter_mut().enumerate() {
             for share in band.iter() {
                 add(&mut self.sums[share.texel as usize], share.w, &hairs[share.hair as usize]);
             }
             band.clear();
+            let first = b << self.shift;
+            rows(self.sums, first..(first + (1 << self.shift)).min(self.resolution));
         }
         hairs.clear();
         *queued = 0;
@@ -203,6 +220,7 @@ mod tests {
         let mut direct = Direct {
             sums: &mut direct_sums,
             hair: hairs[0].0,
+            resolution,
         };
         run(&mut |hair, shares| {
             direct.start(*hair);
@@ -211,7 +229,7 @@ mod tests {
             }
             direct.finish();
         });
-        direct.flush();
+        direct.drain(&mut |_, _| {});
         let mut queues = BandQueues::default();
         for _layer in 0..2 {
             let mut banded_sums = vec![EMPTY; texels];
@@ -225,7 +243,13 @@ mod tests {
                 }
                 banded.finish();
             });
-            banded.flush();
+            // The bands come complete and in order.
+            let mut next = 0;
+            banded.drain(&mut |_, rows| {
+                assert_eq!(rows.start, next);
+                next = rows.end;
+            });
+            assert_eq!(next, resolution);
             let bits = |sums: &[Sums]| -> Vec<u32> { sums.iter().flatten().map(|v| v.to_bits()).collect() };
             assert!(bits(&banded_sums) == bits(&direct_sums));
         }
