@@ -16,7 +16,6 @@ use crate::color::{Srgb8Encoder, srgb8_encoder, unit_to_u8};
 
 use super::coverage::{CoverageMode, visit_disk_texels};
 use super::footprint::FootprintScratch;
-use super::grid::{floor_i64, fract_wrap, wrap_near};
 use super::splat::{BandQueues, Banded, Direct, EMPTY, Hair, Sink, Sums};
 use super::strand_table::StrandTable;
 
@@ -169,7 +168,6 @@ impl Hairs<'_> {
     /// strand order (thread-count independent).
     fn splat(&self, footprint: &mut FootprintScratch, dirty: &mut [bool], sink: &mut impl Sink) -> [f64; 7] {
         let (strands, resolution) = (self.strands, self.resolution);
-        let n = resolution as i64;
         let mut totals = [0.0f64; 7];
         for &(z, weight) in self.heights {
             for k in (0..strands.len()).filter(|&k| strands.reaches(k, z)) {
@@ -178,12 +176,6 @@ impl Hairs<'_> {
                 let color: [f32; 3] = std::array::from_fn(|c| root[c] + (tip[c] - root[c]) * cut.along);
                 let d = cut.direction;
                 let mut hair_total = 0.0f64;
-                // The rows the disk can touch, from the wrapped centre as the footprint finds
-                // them, with a row of margin on each side.
-                let (py, pr) = (fract_wrap(cut.y) * resolution as f64, cut.radius * resolution as f64);
-                for row in floor_i64(py - pr) - 1..=floor_i64(py + pr) + 1 {
-                    dirty[wrap_near(row, n)] = true;
-                }
                 sink.start(Hair { color, direction: d });
                 visit_disk_texels(
                     resolution,
@@ -195,6 +187,7 @@ impl Hairs<'_> {
                     |texel, row, share| {
                         let w = (share * weight) as f32;
                         hair_total += f64::from(w);
+                        dirty[row] = true;
                         sink.add(texel, row, w);
                     },
                 );
