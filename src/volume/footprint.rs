@@ -167,12 +167,32 @@ fn visit_corners(
         let right = if x > s { i_x - i_s } else { 0.0 };
         2.0 * left + middle + 2.0 * right
     };
-    for (q, c) in below.iter_mut().zip(columns.iter()) {
-        *q = corner(c, &rows[0]);
+    // The first corner row usually lies on the bounding box, y = −r, where s = I(s) = 0 and
+    // every corner value above is an exact +0 (the terms cancel exactly or vanish); the last
+    // usually lies at y = r, where the three cases reduce to the sums written out below, with
+    // the same roundings. Rounding can keep either row off the box; then it is done in full.
+    if rows[0].0 == -r {
+        below.fill(0.0);
+    } else {
+        for (q, c) in below.iter_mut().zip(columns.iter()) {
+            *q = corner(c, &rows[0]);
+        }
     }
     for (row, top) in rows[1..].iter().enumerate() {
-        for (q, c) in above.iter_mut().zip(columns.iter()) {
-            *q = corner(c, top);
+        if top.0 == r {
+            for (q, &(x, i_x)) in above.iter_mut().zip(columns.iter()) {
+                *q = if x < 0.0 {
+                    2.0 * (i_x + i_r)
+                } else if x > 0.0 {
+                    2.0 * i_r + 2.0 * i_x
+                } else {
+                    2.0 * i_r
+                };
+            }
+        } else {
+            for (q, c) in above.iter_mut().zip(columns.iter()) {
+                *q = corner(c, top);
+            }
         }
         for column in 0..columns.len() - 1 {
             let area = above[column + 1] - above[column] - below[column + 1] + below[column];
