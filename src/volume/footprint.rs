@@ -152,18 +152,17 @@ fn visit_corners(
     // The vertical chord at X spans [−h, h]; its part below y is 2h where h <= y (|X| >= s, upper
     // half-plane only), y + h where |X| < s, and nothing where h <= −y.
     let corner = |&(x, i_x): &(f64, f64), &(y, s, i_s): &(f64, f64, f64)| -> f64 {
-        let (mid, i_mid) = if x < -s {
-            (-s, -i_s)
-        } else if x > s {
-            (s, i_s)
-        } else {
-            (x, i_x)
-        };
+        if x < -s {
+            // Left of the chord band (every corner of the footprint's first column): the middle
+            // term y·(−s + s) − I(s) + I(s) is an exact +0, which leaves these.
+            return if y < 0.0 { 0.0 } else { 2.0 * (i_x + i_r) };
+        }
+        let (mid, i_mid) = if x > s { (s, i_s) } else { (x, i_x) };
         let middle = y * (mid + s) + i_mid + i_s;
         if y < 0.0 {
             return middle;
         }
-        let left = if x < -s { i_x } else { -i_s } + i_r;
+        let left = -i_s + i_r;
         let right = if x > s { i_x - i_s } else { 0.0 };
         2.0 * left + middle + 2.0 * right
     };
