@@ -96,7 +96,8 @@ pub struct LayerOut<'a> {
 /// `heights` are `(z, weight)` pairs (weights summing to 1); `skin` makes the layer opaque.
 /// Texels no hair reaches keep alpha 0 but get the layer's mean color and tangent, so that
 /// filtering (mipmaps, bilinear lookups at hair borders) does not pull in black. The strands
-/// must have passed the bake's checks (finite, radius below half a tile).
+/// must have passed the bake's checks (finite, radius below half a tile). Returns the layer's
+/// mean coverage (its coverage summed texel by texel in f64, over the texel count).
 pub fn sample_layer(
     strands: &StrandTable,
     heights: &[(f64, f64)],
@@ -105,7 +106,7 @@ pub fn sample_layer(
     skin: bool,
     scratch: &mut LayerScratch,
     out: LayerOut<'_>,
-) {
+) -> f64 {
     let texels = resolution * resolution;
     if scratch.sums.len() != texels {
         scratch.sums = vec![EMPTY; texels];
@@ -124,7 +125,7 @@ pub fn sample_layer(
         mode,
     };
     let mut out = out;
-    match Banded::new(sums, queues, resolution) {
+    let coverage = match Banded::new(sums, queues, resolution) {
         Some(mut banded) => hairs.sample(footprint, dirty, &mut banded, skin, &mut out),
         None => {
             let mut direct = Direct {
@@ -135,9 +136,10 @@ pub fn sample_layer(
                 },
                 resolution,
             };
-            hairs.sample(footprint, dirty, &mut direct, skin, &mut out);
+            hairs.sample(footprint, dirty, &mut direct, skin, &mut out)
         }
-    }
+    };
+    coverage / texels as f64
 }
 
 /// The hairs crossing one layer's sample heights.
@@ -149,7 +151,8 @@ struct Hairs<'a> {
 }
 
 impl Hairs<'_> {
-    /// Splats the hairs through `sink` and finishes the layer into `out`, band by band.
+    /// Splats the hairs through `sink` and finishes the layer into `out`, band by band; returns
+    /// the layer's summed coverage.
     fn sample(
         &self,
         footprint: &mut FootprintScratch,
@@ -157,10 +160,12 @@ impl Hairs<'_> {
         sink: &mut impl Sink,
         skin: bool,
         out: &mut LayerOut<'_>,
-    ) {
+    ) -> f64 {
         let totals = self.splat(footprint, dirty, sink);
         let finisher = Finisher::new(&totals, skin, self.resolution);
-        sink.drain(&mut |sums, rows| finisher.rows(rows, sums, dirty, out));
+        let mut coverage = 0.0f64;
+        sink.drain(&mut |sums, rows| finisher.rows(rows, sums, dirty, out, &mut coverage));
+        coverage
     }
 
     /// Adds every hair's shares to `sink`, marks the rows they touch in `dirty`, and returns the
@@ -256,8 +261,16 @@ impl Finisher {
     }
 
     /// Finishes the rows `rows` of the layer from its `sums` into `out`, and resets their sums
-    /// and `dirty` flags for the next layer while they are in cache.
-    fn rows(&self, rows: Range<usize>, sums: &mut [Sums], dirty: &mut [bool], out: &mut LayerOut<'_>) {
+    /// and `dirty` flags for the next layer while they are in cache. Adds their coverage to
+    /// `total` texel by texel (in f64, in order: the same sum for any banding).
+    fn rows(
+        &self,
+        rows: Range<usize>,
+        sums: &mut [Sums],
+        dirty: &mut [bool],
+        out: &mut LayerOut<'_>,
+        total: &mut f64,
+    ) {
         let (res, srgb) = (self.resolution, self.srgb);
         let (empty_px, empty_tx) = (self.empty_px, self.empty_tx);
         for row in rows {
@@ -276,14 +289,18 @@ impl Finisher {
             let row_sums = &mut sums[row * res..(row + 1) * res];
             let pixels = rgba.chunks_exact_mut(4).zip(tangent.chunks_exact_mut(4));
             for ((sum, cov), (px, tx)) in row_sums.iter_mut().zip(coverage.iter_mut()).zip(pixels) {
-                let t = std::mem::replace(sum, EMPTY);
+                let t = *sum;
                 *cov = t[0];
                 if t[0] <= 0.0 {
-                    // Most texels of the upper layers: no hair, constant bytes.
+                    // Most texels of the upper layers: no hair, constant bytes. A texel whose
+                    // Σ w is 0 got no share above 0, so its sums are still exactly EMPTY: not
+                    // rewriting them keeps their cache line clean.
                     px.copy_from_slice(&empty_px);
                     tx.copy_from_slice(&empty_tx);
                     continue;
                 }
+                *sum = EMPTY;
+                *total += f64::from(t[0]);
                 let inv = 1.0 / t[0];
                 let dir = unit_or([t[5], t[6], t[7]], self.fill_tangent);
                 let alpha = if self.skin { 255 } else { unit_to_u8(1.0 - t[1]) };

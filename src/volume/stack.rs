@@ -126,9 +126,7 @@ pub(super) fn sample_stack(params: &StackParams<'_>, progress: &Progress<'_>) ->
                     tangent: tan,
                 };
                 let heights = (params.heights)(layer);
-                sample_layer(params.strands, &heights, res, params.coverage, layer == 0, scratch, out);
-                // While the layer's coverage is in cache.
-                *mean = cov.iter().map(|&c| f64::from(c)).sum::<f64>() / texels as f64;
+                *mean = sample_layer(params.strands, &heights, res, params.coverage, layer == 0, scratch, out);
                 progress.advance(1)?;
             }
             if let Some(dst) = pair.lod {
