@@ -162,50 +162,174 @@ impl Hairs<'_> {
         out: &mut LayerOut<'_>,
     ) -> f64 {
         let totals = self.splat(footprint, dirty, sink);
-        let finisher = Finisher::new(&totals, skin, self.resolution);
-        let mut coverage = 0.0f64;
-        sink.drain(&mut |sums, rows| finisher.rows(rows, sums, dirty, out, &mut coverage));
-        coverage
+        finish(&totals, skin, self.resolution, sink, dirty, out)
     }
 
     /// Adds every hair's shares to `sink`, marks the rows they touch in `dirty`, and returns the
     /// layer totals for the fill values: Σ w, Σ w·color, Σ w·direction, per hair in f64 and in
     /// strand order (thread-count independent).
     fn splat(&self, footprint: &mut FootprintScratch, dirty: &mut [bool], sink: &mut impl Sink) -> [f64; 7] {
-        let (strands, resolution) = (self.strands, self.resolution);
         let mut totals = [0.0f64; 7];
         for &(z, weight) in self.heights {
-            for k in (0..strands.len()).filter(|&k| strands.reaches(k, z)) {
-                let cut = strands.cut(k, z);
-                let [root, tip] = strands.colors(k);
-                let color: [f32; 3] = std::array::from_fn(|c| root[c] + (tip[c] - root[c]) * cut.along);
-                let d = cut.direction;
-                let mut hair_total = 0.0f64;
-                sink.start(Hair { color, direction: d });
-                visit_disk_texels(
-                    resolution,
-                    cut.x,
-                    cut.y,
-                    cut.radius,
-                    self.mode,
-                    footprint,
-                    |texel, row, share| {
-                        let w = (share * weight) as f32;
-                        hair_total += f64::from(w);
-                        dirty[row] = true;
-                        sink.add(texel, row, w);
-                    },
-                );
-                sink.finish();
-                totals[0] += hair_total;
-                for c in 0..3 {
-                    totals[1 + c] += hair_total * f64::from(color[c]);
-                    totals[4 + c] += hair_total * f64::from(d[c]);
-                }
+            for k in (0..self.strands.len()).filter(|&k| self.strands.reaches(k, z)) {
+                self.splat_hair(k, (z, weight), footprint, dirty, sink, &mut totals);
             }
         }
         totals
     }
+
+    /// Adds the shares of table strand `k` at height `z` (which it reaches) with `weight`.
+    #[inline(always)]
+    fn splat_hair(
+        &self,
+        k: usize,
+        (z, weight): (f64, f64),
+        footprint: &mut FootprintScratch,
+        dirty: &mut [bool],
+        sink: &mut impl Sink,
+        totals: &mut [f64; 7],
+    ) {
+        let cut = self.strands.cut(k, z);
+        let [root, tip] = self.strands.colors(k);
+        let color: [f32; 3] = std::array::from_fn(|c| root[c] + (tip[c] - root[c]) * cut.along);
+        let d = cut.direction;
+        let mut hair_total = 0.0f64;
+        sink.start(Hair { color, direction: d });
+        visit_disk_texels(
+            self.resolution,
+            cut.x,
+            cut.y,
+            cut.radius,
+            self.mode,
+            footprint,
+            |texel, row, share| {
+                let w = (share * weight) as f32;
+                hair_total += f64::from(w);
+                dirty[row] = true;
+                sink.add(texel, row, w);
+            },
+        );
+        sink.finish();
+        totals[0] += hair_total;
+        for c in 0..3 {
+            totals[1 + c] += hair_total * f64::from(color[c]);
+            totals[4 + c] += hair_total * f64::from(d[c]);
+        }
+    }
+}
+
+/// Samples two layers of one sample height each (`(z, weight)`) in a single walk over the
+/// strands, so that each strand's data is read once for both; otherwise as two calls of
+/// [`sample_layer`], with the same results. Returns both layers' mean coverage.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn sample_layer_pair(
+    strands: &StrandTable,
+    heights: [(f64, f64); 2],
+    resolution: usize,
+    mode: CoverageMode,
+    skin: [bool; 2],
+    scratch: [&mut LayerScratch; 2],
+    out: [LayerOut<'_>; 2],
+) -> [f64; 2] {
+    let texels = resolution * resolution;
+    let [first, second] = scratch;
+    for s in [&mut *first, &mut *second] {
+        if s.sums.len() != texels {
+            s.sums = vec![EMPTY; texels];
+            s.dirty = vec![false; resolution];
+        }
+    }
+    let footprint = &mut first.footprint;
+    let dirty = [&mut first.dirty[..], &mut second.dirty[..]];
+    let mut outs = out;
+    let pair = Pair {
+        strands,
+        heights,
+        resolution,
+        mode,
+        skin,
+    };
+    let coverage = if Banded::wanted(resolution) {
+        let mut a = Banded::build(&mut first.sums, &mut first.queues, resolution);
+        let mut b = Banded::build(&mut second.sums, &mut second.queues, resolution);
+        pair.sample(footprint, dirty, [&mut a, &mut b], &mut outs)
+    } else {
+        let hair = Hair {
+            color: [0.0; 3],
+            direction: [0.0; 3],
+        };
+        let mut a = Direct {
+            sums: &mut first.sums,
+            hair,
+            resolution,
+        };
+        let mut b = Direct {
+            sums: &mut second.sums,
+            hair,
+            resolution,
+        };
+        pair.sample(footprint, dirty, [&mut a, &mut b], &mut outs)
+    };
+    coverage.map(|c| c / texels as f64)
+}
+
+/// The two layers of [`sample_layer_pair`].
+struct Pair<'a> {
+    strands: &'a StrandTable,
+    heights: [(f64, f64); 2],
+    resolution: usize,
+    mode: CoverageMode,
+    skin: [bool; 2],
+}
+
+impl Pair<'_> {
+    fn sample<S: Sink>(
+        &self,
+        footprint: &mut FootprintScratch,
+        dirty: [&mut [bool]; 2],
+        sinks: [&mut S; 2],
+        outs: &mut [LayerOut<'_>; 2],
+    ) -> [f64; 2] {
+        let [dirty_a, dirty_b] = dirty;
+        let [sink_a, sink_b] = sinks;
+        let layer = |i: usize| Hairs {
+            strands: self.strands,
+            heights: &self.heights[i..i + 1],
+            resolution: self.resolution,
+            mode: self.mode,
+        };
+        let (a, b) = (layer(0), layer(1));
+        let (za, zb) = (self.heights[0].0, self.heights[1].0);
+        let mut totals = [[0.0f64; 7]; 2];
+        for k in 0..self.strands.len() {
+            if self.strands.reaches(k, za) {
+                a.splat_hair(k, self.heights[0], footprint, dirty_a, sink_a, &mut totals[0]);
+            }
+            if self.strands.reaches(k, zb) {
+                b.splat_hair(k, self.heights[1], footprint, dirty_b, sink_b, &mut totals[1]);
+            }
+        }
+        let [out_a, out_b] = outs;
+        [
+            finish(&totals[0], self.skin[0], self.resolution, sink_a, dirty_a, out_a),
+            finish(&totals[1], self.skin[1], self.resolution, sink_b, dirty_b, out_b),
+        ]
+    }
+}
+
+/// Finishes a layer whose hairs are all in `sink`; returns its summed coverage.
+fn finish(
+    totals: &[f64; 7],
+    skin: bool,
+    resolution: usize,
+    sink: &mut impl Sink,
+    dirty: &mut [bool],
+    out: &mut LayerOut<'_>,
+) -> f64 {
+    let finisher = Finisher::new(totals, skin, resolution);
+    let mut coverage = 0.0f64;
+    sink.drain(&mut |sums, rows| finisher.rows(rows, sums, dirty, out, &mut coverage));
+    coverage
 }
 
 /// Turns the sums into straight color and unit tangents; empty texels get the layer's mean color

@@ -110,23 +110,30 @@ pub(super) struct Banded<'a> {
 }
 
 impl<'a> Banded<'a> {
-    /// A banded sink for a `resolution`² layer, or `None` when its sums fit in cache anyway.
+    /// Whether a `resolution`² layer is worth banding: not when its sums fit in cache anyway.
+    pub fn wanted(resolution: usize) -> bool {
+        resolution * resolution > 4 * BAND_TEXELS
+    }
+
+    /// A banded sink for a `resolution`² layer, or `None` when it is not [`Banded::wanted`].
     pub fn new(sums: &'a mut [Sums], queues: &'a mut BandQueues, resolution: usize) -> Option<Self> {
-        if resolution * resolution <= 4 * BAND_TEXELS {
-            return None;
-        }
+        Self::wanted(resolution).then(|| Self::build(sums, queues, resolution))
+    }
+
+    /// A banded sink for a `resolution`² layer, wanted or not.
+    pub fn build(sums: &'a mut [Sums], queues: &'a mut BandQueues, resolution: usize) -> Self {
         let rows = (BAND_TEXELS / resolution).max(1);
         // The largest power of two not above `rows`.
         let shift = usize::BITS - 1 - rows.leading_zeros();
         let bands = resolution.div_ceil(1 << shift);
         queues.bands.resize_with(bands, Vec::new);
         queues.bands.truncate(bands);
-        Some(Banded {
+        Banded {
             sums,
             queues,
             shift,
             resolution,
-        })
+        }
     }
 }
 

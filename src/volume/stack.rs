@@ -12,7 +12,7 @@ use rayon::prelude::*;
 
 use super::coverage::CoverageMode;
 use super::lod::composite_pair;
-use super::shells::{LayerOut, ScratchPool, sample_layer};
+use super::shells::{LayerOut, ScratchPool, sample_layer, sample_layer_pair};
 use super::strand_table::StrandTable;
 use crate::error::{PeltError, Result};
 use crate::export::MipAlpha;
@@ -110,24 +110,59 @@ pub(super) fn sample_stack(params: &StackParams<'_>, progress: &Progress<'_>) ->
     let scratches = ScratchPool::default();
     tasks
         .into_par_iter()
-        .try_for_each_init(|| scratches.take(), |scratch, pair| {
+        .try_for_each_init(|| [scratches.take(), scratches.take()], |[scratch, other], pair| {
             let count = pair.mean.len();
-            let layer_parts = pair
-                .rgba
-                .chunks_mut(texels * 4)
-                .zip(pair.coverage.chunks_mut(texels))
-                .zip(pair.tangent.chunks_mut(texels * 4))
-                .zip(pair.mean.iter_mut());
-            for (layer, (((rgba, cov), tan), mean)) in (pair.first..).zip(layer_parts) {
+            let heights = [pair.first, pair.first + 1].map(params.heights);
+            if let ([a], [b]) = (&heights[0][..], &heights[1][..])
+                && count == 2
+            {
+                // One height each (no vertical filter): both layers in one walk over the strands.
                 progress.check()?;
-                let out = LayerOut {
-                    coverage: cov,
-                    rgba,
-                    tangent: tan,
-                };
-                let heights = (params.heights)(layer);
-                *mean = sample_layer(params.strands, &heights, res, params.coverage, layer == 0, scratch, out);
-                progress.advance(1)?;
+                let (rgba_a, rgba_b) = pair.rgba.split_at_mut(texels * 4);
+                let (cov_a, cov_b) = pair.coverage.split_at_mut(texels);
+                let (tan_a, tan_b) = pair.tangent.split_at_mut(texels * 4);
+                let outs = [
+                    LayerOut {
+                        coverage: cov_a,
+                        rgba: rgba_a,
+                        tangent: tan_a,
+                    },
+                    LayerOut {
+                        coverage: cov_b,
+                        rgba: rgba_b,
+                        tangent: tan_b,
+                    },
+                ];
+                let skin = [pair.first == 0, false];
+                let means = sample_layer_pair(
+                    params.strands,
+                    [*a, *b],
+                    res,
+                    params.coverage,
+                    skin,
+                    [scratch, other],
+                    outs,
+                );
+                pair.mean.copy_from_slice(&means);
+                progress.advance(2)?;
+            } else {
+                let layer_parts = pair
+                    .rgba
+                    .chunks_mut(texels * 4)
+                    .zip(pair.coverage.chunks_mut(texels))
+                    .zip(pair.tangent.chunks_mut(texels * 4))
+                    .zip(pair.mean.iter_mut())
+                    .zip(&heights);
+                for (layer, ((((rgba, cov), tan), mean), heights)) in (pair.first..).zip(layer_parts) {
+                    progress.check()?;
+                    let out = LayerOut {
+                        coverage: cov,
+                        rgba,
+                        tangent: tan,
+                    };
+                    *mean = sample_layer(params.strands, heights, res, params.coverage, layer == 0, scratch, out);
+                    progress.advance(1)?;
+                }
             }
             if let Some(dst) = pair.lod {
                 let (inner, outer) = pair.rgba.split_at(texels * 4);
