@@ -59,6 +59,9 @@ fn main() -> pelt::error::Result<()> {
     eat(&volume.fin);
     volume.lod.iter().for_each(|l| eat(l));
     volume.mips.iter().for_each(|m| eat(m));
+    let stats = &volume.stats;
+    eat(&stats.tallest.to_le_bytes());
+    stats.mean_coverage.iter().for_each(|m| eat(&m.to_le_bytes()));
     println!(
         "{resolution}x{resolution}x{} from {} strands ({stages}): {seconds:.3} s, cpu {cpu:.2} s, \
          checksum {hash:016x}",

@@ -16,12 +16,9 @@ use crate::threads::pool;
 
 use super::coverage::CoverageMode;
 use super::fin::{fin_row, slab_candidates};
-use super::lod::lod_chain;
-use super::shells::{LayerOut, ScratchPool, sample_layer};
+use super::lod::lod_chain_from;
+use super::stack::{StackParams, sample_stack};
 use super::strand_table::StrandTable;
-use crate::export::MipAlpha;
-use crate::export::full_mip_count;
-use crate::export::mip::chain_rgba8;
 
 /// Most shell layers.
 pub const MAX_LAYERS: usize = 256;
@@ -234,37 +231,19 @@ pub(crate) fn bake_validated(
     let [fin_w, fin_h] = volume.fin_size;
     let progress = Progress::new(layers + fin_h, callback);
 
-    // Rayon starts a fresh scratch for every piece of the layer range it hands out (about five
-    // per thread); sharing them keeps the large per-texel sums to one per thread.
-    let scratches = ScratchPool::default();
-    let mut shells = vec![0u8; layers * texels * 4];
-    let mut coverage = vec![0.0f32; layers * texels];
-    let mut tangents = vec![0u8; layers * texels * 4];
-    let mut mean_coverage = vec![0.0f64; layers];
-    shells
-        .par_chunks_mut(texels * 4)
-        .zip(coverage.par_chunks_mut(texels))
-        .zip(tangents.par_chunks_mut(texels * 4))
-        .zip(mean_coverage.par_iter_mut())
-        .enumerate()
-        .try_for_each_init(
-            || scratches.take(),
-            |scratch, (layer, (((rgba, cov), tan), mean))| {
-                progress.check()?;
-                let heights = layer_heights(layer, requested, volume.vertical_filter);
-                let out = LayerOut {
-                    coverage: cov,
-                    rgba,
-                    tangent: tan,
-                };
-                sample_layer(&table, &heights, res, volume.coverage, layer == 0, scratch, out);
-                // While the layer's coverage is in cache.
-                *mean = cov.iter().map(|&c| f64::from(c)).sum::<f64>() / texels as f64;
-                progress.advance(1)
-            },
-        )?;
-    // The sums are as large as a layer's outputs: free them before the LOD chain and mipmaps.
-    drop(scratches);
+    let heights = |layer: usize| layer_heights(layer, requested, volume.vertical_filter);
+    let stack = sample_stack(
+        &StackParams {
+            strands: &table,
+            resolution: res,
+            layers,
+            coverage: volume.coverage,
+            heights: &heights,
+            lod: volume.lod,
+            mipmaps: volume.mipmaps,
+        },
+        &progress,
+    )?;
 
     let mut fin = vec![0u8; fin_w * fin_h * 4];
     let candidates = slab_candidates(&table, volume.fin_slab);
@@ -276,43 +255,30 @@ pub(crate) fn bake_validated(
             progress.advance(1)
         })?;
 
-    let lod = if volume.lod {
-        lod_chain(&shells, layers, texels)
-    } else {
+    // Levels 2.. from level 1, which the stack made pair by pair.
+    let lod = if stack.lod_first.is_empty() {
         Vec::new()
-    };
-    let mips = if volume.mipmaps {
-        // Alpha-weighted box filter in linear light, as the exported KTX2 chains.
-        chain_rgba8(
-            res,
-            res,
-            layers,
-            &shells,
-            true,
-            MipAlpha::Straight,
-            full_mip_count(res, res),
-        )
     } else {
-        Vec::new()
+        lod_chain_from(stack.lod_first, layers.div_ceil(2), texels)
     };
     Ok(HairVolume {
         resolution: res,
         layers,
         layer_spacing: 1.0 / requested as f64,
-        shells,
-        coverage,
-        tangents,
+        shells: stack.shells,
+        coverage: stack.coverage,
+        tangents: stack.tangents,
         fin_size: volume.fin_size,
         fin,
         lod,
-        mips,
+        mips: stack.mips,
         stats: VolumeStats {
             strands: strands.len(),
             tallest,
             layers_requested: requested,
             layers,
             trimmed: requested - layers,
-            mean_coverage,
+            mean_coverage: stack.mean_coverage,
         },
     })
 }

@@ -268,7 +268,7 @@ pub fn disk_texel_coverage(
     cy: f64,
     r: f64,
     mode: CoverageMode,
-    visit: impl FnMut(usize, f64),
+    mut visit: impl FnMut(usize, f64),
 ) -> Result<()> {
     if !(1..=MAX_RESOLUTION).contains(&resolution) {
         return Err(PeltError::parameter(
@@ -284,12 +284,17 @@ pub fn disk_texel_coverage(
     if !(0.0..0.5).contains(&r) {
         return Err(PeltError::parameter("r", format!("must be in [0, 0.5), got {r}")));
     }
-    SCRATCH.with_borrow_mut(|scratch| visit_disk_texels(resolution, cx, cy, r, mode, scratch, visit));
+    SCRATCH.with_borrow_mut(|scratch| {
+        visit_disk_texels(resolution, cx, cy, r, mode, scratch, |texel, _, share| {
+            visit(texel, share);
+        });
+    });
     Ok(())
 }
 
 /// The body of [`disk_texel_coverage`] for arguments already known to be valid (the volume bake
-/// checks its strands once instead of once per disk), with the caller's buffers.
+/// checks its strands once instead of once per disk), with the caller's buffers; `visit` also gets
+/// the texel's row.
 pub(crate) fn visit_disk_texels(
     resolution: usize,
     cx: f64,
@@ -297,7 +302,7 @@ pub(crate) fn visit_disk_texels(
     r: f64,
     mode: CoverageMode,
     scratch: &mut FootprintScratch,
-    mut visit: impl FnMut(usize, f64),
+    mut visit: impl FnMut(usize, usize, f64),
 ) {
     // In texel units the texel area is 1, so areas are already shares of a texel.
     let res = resolution as f64;
@@ -319,7 +324,9 @@ pub(crate) fn visit_disk_texels(
                 (ix0, ix1),
                 (iy0, iy1),
                 scratch,
-                |column, row, share| visit(origin + row * resolution + column, share),
+                |column, row, share| {
+                    visit(origin + row * resolution + column, iy0 as usize + row, share);
+                },
             );
             return;
         }
@@ -331,10 +338,8 @@ pub(crate) fn visit_disk_texels(
             (iy0, iy1),
             scratch,
             |column, row, share| {
-                visit(
-                    wrap(iy0 + row as i64) * resolution + wrap(ix0 + column as i64),
-                    share,
-                );
+                let row = wrap(iy0 + row as i64);
+                visit(row * resolution + wrap(ix0 + column as i64), row, share);
             },
         );
         return;
@@ -345,7 +350,7 @@ pub(crate) fn visit_disk_texels(
             let x0 = ix as f64;
             let share = mode.area(px, py, pr, x0, y0, x0 + 1.0, y0 + 1.0);
             if share > 0.0 {
-                visit(wrap(iy) * resolution + wrap(ix), share);
+                visit(wrap(iy) * resolution + wrap(ix), wrap(iy), share);
             }
         }
     }

@@ -152,27 +152,46 @@ fn visit_corners(
     // The vertical chord at X spans [−h, h]; its part below y is 2h where h <= y (|X| >= s, upper
     // half-plane only), y + h where |X| < s, and nothing where h <= −y.
     let corner = |&(x, i_x): &(f64, f64), &(y, s, i_s): &(f64, f64, f64)| -> f64 {
-        let (mid, i_mid) = if x < -s {
-            (-s, -i_s)
-        } else if x > s {
-            (s, i_s)
-        } else {
-            (x, i_x)
-        };
+        if x < -s {
+            // Left of the chord band (every corner of the footprint's first column): the middle
+            // term y·(−s + s) − I(s) + I(s) is an exact +0, which leaves these.
+            return if y < 0.0 { 0.0 } else { 2.0 * (i_x + i_r) };
+        }
+        let (mid, i_mid) = if x > s { (s, i_s) } else { (x, i_x) };
         let middle = y * (mid + s) + i_mid + i_s;
         if y < 0.0 {
             return middle;
         }
-        let left = if x < -s { i_x } else { -i_s } + i_r;
+        let left = -i_s + i_r;
         let right = if x > s { i_x - i_s } else { 0.0 };
         2.0 * left + middle + 2.0 * right
     };
-    for (q, c) in below.iter_mut().zip(columns.iter()) {
-        *q = corner(c, &rows[0]);
+    // The first corner row usually lies on the bounding box, y = −r, where s = I(s) = 0 and
+    // every corner value above is an exact +0 (the terms cancel exactly or vanish); the last
+    // usually lies at y = r, where the three cases reduce to the sums written out below, with
+    // the same roundings. Rounding can keep either row off the box; then it is done in full.
+    if rows[0].0 == -r {
+        below.fill(0.0);
+    } else {
+        for (q, c) in below.iter_mut().zip(columns.iter()) {
+            *q = corner(c, &rows[0]);
+        }
     }
     for (row, top) in rows[1..].iter().enumerate() {
-        for (q, c) in above.iter_mut().zip(columns.iter()) {
-            *q = corner(c, top);
+        if top.0 == r {
+            for (q, &(x, i_x)) in above.iter_mut().zip(columns.iter()) {
+                *q = if x < 0.0 {
+                    2.0 * (i_x + i_r)
+                } else if x > 0.0 {
+                    2.0 * i_r + 2.0 * i_x
+                } else {
+                    2.0 * i_r
+                };
+            }
+        } else {
+            for (q, c) in above.iter_mut().zip(columns.iter()) {
+                *q = corner(c, top);
+            }
         }
         for column in 0..columns.len() - 1 {
             let area = above[column + 1] - above[column] - below[column + 1] + below[column];

@@ -10,7 +10,9 @@
 //!   paper's approximation, supersampled), and [`footprint`], the fast exact path over a disk;
 //! - `grid`: floors and toroidal wrapping without library calls;
 //! - [`strand_table`]: the strands flattened and sorted by height for sampling;
-//! - [`shells`]: one layer's coverage, color and hair tangent;
+//! - [`shells`]: one layer's coverage, color and hair tangent, with `splat` adding the hairs'
+//!   shares to its per-texel sums;
+//! - `stack`: the shell layers two at a time, with LOD level 1 and mipmaps made pair by pair;
 //! - [`fin`]: the fin texture, a slab of hair seen from the side;
 //! - [`lod`]: composited shell pairs and mipmaps;
 //! - [`bake`]: the whole volume ([`bake_volume`]) with its trim and statistics.
@@ -22,6 +24,8 @@ pub mod footprint;
 mod grid;
 pub mod lod;
 pub mod shells;
+mod splat;
+mod stack;
 pub mod strand_table;
 
 #[cfg(test)]
