@@ -8,7 +8,8 @@ PYTHON ?= python3
 VENV := .venv
 PY := $(VENV)/bin/python
 VERSION := $(shell sed -n 's/^version = "\(.*\)"/\1/p' Cargo.toml | head -n 1)
-APT_PACKAGES := mesa-vulkan-drivers libvulkan1 libegl1 libegl-mesa0 libgl1-mesa-dri
+APT_PACKAGES := mesa-vulkan-drivers libvulkan1 libegl1 libegl-mesa0 libgl1-mesa-dri \
+	xvfb xauth libx11-xcb1 libxcursor1 libxi6 libxrandr2 libxkbcommon0 libxkbcommon-x11-0
 PY_REQUIREMENTS := bpy==5.0.1 pytest==9.2.0 maturin==1.16.0 ruff==0.17.6
 # The Khronos glTF-Validator (a JavaScript library), pinned; installed into build/node.
 GLTF_VALIDATOR := gltf-validator@2.0.0-dev.3.10
@@ -41,7 +42,8 @@ test: setup $(ZIP) check-rust check-gltf check-python
 setup: system-deps $(INSTALL_STAMP) $(TEMPLATES)
 	@mkdir -p -m 700 $(XDG_RUNTIME_DIR)
 
-# Mesa's Vulkan (lavapipe) and GL drivers: a real GPU device on machines without a GPU; Node.js
+# Mesa's Vulkan (lavapipe) and GL drivers: a real GPU device on machines without a GPU; a virtual
+# X server and the X libraries winit loads, for the `pelt view` test (tests/viewer.rs); Node.js
 # and npm for the glTF validator when no npm is on the PATH.
 system-deps:
 	@missing=$$(for p in $(APT_PACKAGES); do \

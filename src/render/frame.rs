@@ -1,6 +1,7 @@
 //! One frame: the three fur passes in Lengyel et al. 2001's order (§2.3) — skin, fins, shells —
 //! in a single render pass into an offscreen target (8-bit sRGB or linear half floats), then read
-//! back. Under PRT a compute pass first rotates the lighting into every vertex's tile frame.
+//! back, or into a caller's texture (`texture_target.rs`). Under PRT a compute pass first rotates
+//! the lighting into every vertex's tile frame.
 
 use super::camera::{Camera, CameraFrame};
 use super::frame_uniforms::{FrameUniforms, SceneFrame};
@@ -16,46 +17,87 @@ use super::settings::RenderSettings;
 use super::{Renderer, fins, scoped, shells, skin};
 use crate::error::{PeltError, Result};
 
-/// Color and depth targets of one size and format, kept between frames.
+/// The depth target of one size and, for offscreen frames, a color target of that size, kept
+/// between frames.
 pub(super) struct Targets {
     size: (u32, u32),
-    target: Target,
-    color: wgpu::Texture,
-    color_view: wgpu::TextureView,
     depth_view: wgpu::TextureView,
+    color: Option<ColorTarget>,
+}
+
+/// The offscreen color target.
+struct ColorTarget {
+    target: Target,
+    texture: wgpu::Texture,
+    view: wgpu::TextureView,
+}
+
+fn texture_2d(
+    device: &wgpu::Device,
+    label: &str,
+    (width, height): (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
 }
 
 impl Targets {
-    fn new(device: &wgpu::Device, (width, height): (u32, u32), target: Target) -> Self {
-        let texture = |label, format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
+    /// `cached` if it fits `size` (and holds a color target of `color`, when one is asked for),
+    /// else the parts that do not fit made anew.
+    fn fit(
+        device: &wgpu::Device,
+        cached: Option<Targets>,
+        size: (u32, u32),
+        color: Option<Target>,
+    ) -> Targets {
+        let mut targets = match cached {
+            Some(t) if t.size == size => t,
+            _ => {
+                let depth = texture_2d(
+                    device,
+                    "fur depth",
+                    size,
+                    DEPTH_FORMAT,
+                    wgpu::TextureUsages::RENDER_ATTACHMENT,
+                );
+                Targets {
+                    size,
+                    depth_view: depth.create_view(&wgpu::TextureViewDescriptor::default()),
+                    color: None,
+                }
+            }
         };
-        let color = texture(
-            "fur color",
-            target.format(),
-            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        );
-        let depth = texture("fur depth", DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT);
-        Targets {
-            size: (width, height),
-            target,
-            color_view: color.create_view(&wgpu::TextureViewDescriptor::default()),
-            depth_view: depth.create_view(&wgpu::TextureViewDescriptor::default()),
-            color,
+        if let Some(target) = color
+            && targets.color.as_ref().is_none_or(|c| c.target != target)
+        {
+            let texture = texture_2d(
+                device,
+                "fur color",
+                size,
+                target.format(),
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            );
+            targets.color = Some(ColorTarget {
+                target,
+                view: texture.create_view(&wgpu::TextureViewDescriptor::default()),
+                texture,
+            });
         }
+        targets
     }
 }
 
@@ -160,7 +202,7 @@ impl Renderer {
         })
     }
 
-    /// Renders into `target` and returns its texels, premultiplied.
+    /// Renders into `target` offscreen and returns its texels, premultiplied.
     fn render_to(
         &self,
         scene: &FurScene,
@@ -169,6 +211,21 @@ impl Renderer {
         settings: &RenderSettings,
         target: Target,
     ) -> Result<Vec<u8>> {
+        let (_, texels) = self.draw(scene, camera, lighting, settings, target, None)?;
+        texels.ok_or_else(|| PeltError::Render("an offscreen frame was not read back".into()))
+    }
+
+    /// Draws a frame into `view` (a caller's texture of `target`'s format and the camera's size),
+    /// or without one into the cached offscreen target, whose texels it then reads back.
+    pub(super) fn draw(
+        &self,
+        scene: &FurScene,
+        camera: &Camera,
+        lighting: &Lighting,
+        settings: &RenderSettings,
+        target: Target,
+        view: Option<&wgpu::TextureView>,
+    ) -> Result<(FrameInfo, Option<Vec<u8>>)> {
         let checked = self.check(scene, camera, lighting, settings)?;
         let pipelines = self
             .fur_pipelines()?
@@ -204,13 +261,18 @@ impl Renderer {
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
         let size = (camera.width, camera.height);
+        let offscreen = view.is_none().then_some(target);
         let targets = scoped(&self.device, "creating the render targets", || {
-            match cached.take() {
-                Some(t) if t.size == size && t.target == target => t,
-                _ => Targets::new(&self.device, size, target),
-            }
+            Targets::fit(&self.device, cached.take(), size, offscreen)
         })?;
         let targets = cached.insert(targets);
+        let (color_view, readback) = match (view, &targets.color) {
+            (Some(view), _) => (view, None),
+            (None, Some(color)) => (&color.view, Some(&color.texture)),
+            (None, None) => {
+                return Err(PeltError::Render("the offscreen color target is missing".into()));
+            }
+        };
         let [r, g, b, a] = settings.background.map(f64::from);
         let max_groups = self.device.limits().max_compute_workgroups_per_dimension;
         scoped(&self.device, "rendering a frame", || {
@@ -233,7 +295,7 @@ impl Renderer {
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("fur"),
                     color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &targets.color_view,
+                        view: color_view,
                         depth_slice: None,
                         resolve_target: None,
                         ops: wgpu::Operations {
@@ -272,10 +334,15 @@ impl Renderer {
             self.queue.submit([encoder.finish()]);
             Ok::<_, PeltError>(())
         })??;
-        let texel_bytes = match target {
-            Target::Srgb8 => 4,
-            Target::Linear16 => 8,
+        let texels = match readback {
+            Some(texture) => Some(read_texels(
+                &self.device,
+                &self.queue,
+                texture,
+                target.texel_bytes(),
+            )?),
+            None => None,
         };
-        read_texels(&self.device, &self.queue, &targets.color, texel_bytes)
+        Ok((checked.info, texels))
     }
 }

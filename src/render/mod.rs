@@ -8,7 +8,8 @@
 //! patch seams, fin quads, the hair volume's textures, optionally PRT transfer textures) is
 //! uploaded once; [`Renderer::render`] draws the opaque skin, the fins near the silhouette and the
 //! shells (one instanced draw) offscreen and returns an [`RgbaImage`] ([`Renderer::render_linear`]
-//! a [`LinearImage`]). Lighting is Kajiya–Kay or precomputed radiance transfer (prt-shell-fur
+//! a [`LinearImage`]); [`Renderer::render_to_texture`] draws the same passes into a caller's
+//! texture, and [`WindowSurface`] into a window (`pelt view`). Lighting is Kajiya–Kay or precomputed radiance transfer (prt-shell-fur
 //! §2.4). The smoke pass proves the device works end to end.
 //!
 //! Files: `camera.rs`, `lighting.rs`, `settings.rs` (the per-frame inputs, validated);
@@ -18,7 +19,8 @@
 //! `common.wgsl`, `surface.wgsl` and the model's WGSL (`lighting.wgsl`, `surface_kk.wgsl`,
 //! `fin_kk.wgsl` for Kajiya–Kay; `prt.wgsl`, `surface_prt.wgsl`, `fin_prt.wgsl` for PRT) shared
 //! by their shaders; `prt_light.rs` (world SH) and `prt_rotate.rs` (the rotation compute pass);
-//! `frame.rs` (one frame) and `readback.rs`.
+//! `frame.rs` (one frame), `readback.rs`, `texture_target.rs` (a caller's texture) and
+//! `window.rs` (a window's surface).
 
 mod camera;
 mod fin_mesh;
@@ -38,8 +40,10 @@ mod shells;
 mod skin;
 mod smoke;
 mod surface_mesh;
+mod texture_target;
 mod textures;
 mod transfer;
+mod window;
 
 #[cfg(test)]
 mod prt_tests;
@@ -53,6 +57,7 @@ pub use lod::FrameInfo;
 pub use scene::{FurScene, UploadStats};
 pub use settings::{MAX_FUR_DEPTH, MAX_SHELLS_PER_PIXEL, RenderSettings};
 pub use smoke::SMOKE_COLOR;
+pub use window::{DisplayHandle, PresentedFrame, WindowSurface};
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Mutex, OnceLock};
@@ -85,6 +90,8 @@ pub struct AdapterReport {
 
 /// A wgpu device and queue for offscreen rendering.
 pub struct Renderer {
+    /// Kept to ask a window's surface what it supports.
+    adapter_handle: wgpu::Adapter,
     device: wgpu::Device,
     queue: wgpu::Queue,
     adapter: AdapterReport,
@@ -133,16 +140,36 @@ impl Renderer {
     /// [`PeltError::Render`] when no adapter (of the requested kind) exists or the device cannot be
     /// created; the message lists what was tried.
     pub fn new(choice: AdapterChoice) -> Result<Self> {
-        pollster::block_on(Self::open(choice))
+        pollster::block_on(Self::open(choice, None)).map(|(renderer, _)| renderer)
     }
 
-    async fn open(choice: AdapterChoice) -> Result<Self> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle().with_env());
+    /// Opens the device, and with `window` (its display connection and itself) the window's
+    /// surface on the same instance, choosing only adapters that can present to it.
+    async fn open(
+        choice: AdapterChoice,
+        window: Option<(window::DisplayHandle, wgpu::SurfaceTarget<'static>)>,
+    ) -> Result<(Self, Option<wgpu::Surface<'static>>)> {
+        let (descriptor, target) = match window {
+            None => (wgpu::InstanceDescriptor::new_without_display_handle(), None),
+            Some((display, target)) => (
+                wgpu::InstanceDescriptor::new_with_display_handle(display),
+                Some(target),
+            ),
+        };
+        let instance = wgpu::Instance::new(descriptor.with_env());
+        let surface = match target {
+            Some(target) => Some(
+                instance
+                    .create_surface(target)
+                    .map_err(|e| PeltError::Render(format!("cannot draw into the window: {e}")))?,
+            ),
+            None => None,
+        };
         let request = |force_fallback_adapter| {
             instance.request_adapter(&wgpu::RequestAdapterOptions {
                 power_preference: wgpu::PowerPreference::HighPerformance,
                 force_fallback_adapter,
-                compatible_surface: None,
+                compatible_surface: surface.as_ref(),
                 apply_limit_buckets: false,
             })
         };
@@ -155,13 +182,18 @@ impl Renderer {
             },
         }
         .map_err(|e| {
+            let presenting = if surface.is_some() {
+                " that can draw into the window"
+            } else {
+                ""
+            };
             PeltError::Render(match choice {
                 AdapterChoice::Cpu => format!(
-                    "no CPU adapter found ({e}); install Mesa's Vulkan drivers (lavapipe)"
+                    "no CPU adapter{presenting} found ({e}); install Mesa's Vulkan drivers (lavapipe)"
                 ),
-                AdapterChoice::Gpu => format!("no GPU adapter found ({e})"),
+                AdapterChoice::Gpu => format!("no GPU adapter{presenting} found ({e})"),
                 AdapterChoice::PreferHardware => format!(
-                    "no GPU or CPU adapter found ({e}); install Mesa's Vulkan drivers (lavapipe) for a CPU adapter"
+                    "no GPU or CPU adapter{presenting} found ({e}); install Mesa's Vulkan drivers (lavapipe) for a CPU adapter"
                 ),
             })
         })?;
@@ -183,7 +215,8 @@ impl Renderer {
             })
             .await
             .map_err(|e| PeltError::Render(format!("cannot open a device on {}: {e}", info.name)))?;
-        Ok(Renderer {
+        let renderer = Renderer {
+            adapter_handle: adapter,
             device,
             queue,
             adapter: AdapterReport {
@@ -194,12 +227,18 @@ impl Renderer {
             id: NEXT_RENDERER_ID.fetch_add(1, Ordering::Relaxed),
             fur: OnceLock::new(),
             targets: Mutex::new(None),
-        })
+        };
+        Ok((renderer, surface))
     }
 
     /// The adapter in use.
     pub fn adapter(&self) -> &AdapterReport {
         &self.adapter
+    }
+
+    /// The device, to make textures for [`Renderer::render_to_texture`].
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
     }
 
     /// The fur pipelines, built on first use (a race builds them twice and keeps one).

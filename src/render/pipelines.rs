@@ -48,6 +48,8 @@ pub(super) enum Model {
 pub(super) enum Target {
     /// 8-bit sRGB: blending happens in linear light, the bytes come back sRGB-encoded.
     Srgb8,
+    /// The same in BGRA order, the usual format of a window's surface.
+    Bgra8Srgb,
     /// Half floats, linear (for [`super::Renderer::render_linear`]).
     Linear16,
 }
@@ -56,7 +58,28 @@ impl Target {
     pub fn format(self) -> wgpu::TextureFormat {
         match self {
             Target::Srgb8 => wgpu::TextureFormat::Rgba8UnormSrgb,
+            Target::Bgra8Srgb => wgpu::TextureFormat::Bgra8UnormSrgb,
             Target::Linear16 => wgpu::TextureFormat::Rgba16Float,
+        }
+    }
+
+    /// The target that draws into a texture of `format`: 8-bit formats through their sRGB view
+    /// (blending in linear light), half floats as they are.
+    pub fn for_format(format: wgpu::TextureFormat) -> Option<Target> {
+        use wgpu::TextureFormat as F;
+        match format {
+            F::Rgba8UnormSrgb | F::Rgba8Unorm => Some(Target::Srgb8),
+            F::Bgra8UnormSrgb | F::Bgra8Unorm => Some(Target::Bgra8Srgb),
+            F::Rgba16Float => Some(Target::Linear16),
+            _ => None,
+        }
+    }
+
+    /// Bytes of one texel.
+    pub fn texel_bytes(self) -> u32 {
+        match self {
+            Target::Srgb8 | Target::Bgra8Srgb => 4,
+            Target::Linear16 => 8,
         }
     }
 }
@@ -126,11 +149,16 @@ pub(super) struct FurPipelines {
     pub fin_sampler: wgpu::Sampler,
     prt: OnceLock<PrtShared>,
     /// Indexed by [`variant`].
-    passes: [OnceLock<PassPipelines>; 4],
+    passes: [OnceLock<PassPipelines>; 6],
 }
 
 fn variant(model: Model, target: Target) -> usize {
-    2 * usize::from(model == Model::Prt) + usize::from(target == Target::Linear16)
+    let target = match target {
+        Target::Srgb8 => 0,
+        Target::Bgra8Srgb => 1,
+        Target::Linear16 => 2,
+    };
+    3 * usize::from(model == Model::Prt) + target
 }
 
 fn texture_entry(binding: u32, view_dimension: wgpu::TextureViewDimension) -> wgpu::BindGroupLayoutEntry {

@@ -1,6 +1,7 @@
 //! `pelt bake MESH --out DIR`: bakes every object of a mesh file with the staged pipeline and
 //! writes the texture set, one GLB per glTF mode and `pelt.json` (`pelt::export::write_asset`),
-//! plus `bake.json`, the arguments of the bake, from which `pelt export` writes the folder again.
+//! plus `bake.json`, the arguments of the bake, from which `pelt export` writes the folder again
+//! and `pelt view` loads it.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -8,7 +9,8 @@ use std::sync::Arc;
 use clap::Args;
 use pelt::FurMesh;
 use pelt::export::{AssetOptions, ExportInput, GltfMode, TextureFormats, write_asset};
-use pelt::pipeline::{BakeParams, Pipeline, TransferChoice};
+use pelt::mesh::obj::MeshData;
+use pelt::pipeline::{BakeParams, FurAsset, Pipeline, TransferChoice};
 use pelt::presets::FurPreset;
 use serde::{Deserialize, Serialize};
 
@@ -113,28 +115,7 @@ fn bake_params(args: &BakeArgs) -> Result<BakeParams, String> {
 pub fn run(args: BakeArgs) -> Result<(), String> {
     let formats = TextureFormats::parse(&args.formats).map_err(|e| e.to_string())?;
     let modes = modes(&args.mode)?;
-    let params = bake_params(&args)?;
-    let objects = read_objects(&args.mesh)?;
-
-    let mut assets = Vec::with_capacity(objects.len());
-    for (name, data) in &objects {
-        let comb = args.comb.map(|c| vec![c; data.positions.len()]);
-        let input = match &comb {
-            Some(comb) => data.input().with_comb(comb),
-            None => data.input(),
-        };
-        let mesh = FurMesh::new(input).map_err(|e| format!("{name}: {e}"))?;
-        let asset = Pipeline::new()
-            .bake(Arc::new(mesh), &params, None)
-            .map_err(|e| format!("{name}: {e}"))?;
-        for stage in &asset.report {
-            eprintln!(
-                "{name}: {} {:.2} s: {}",
-                stage.stage, stage.seconds, stage.summary
-            );
-        }
-        assets.push((name.as_str(), asset));
-    }
+    let assets = bake_objects(&args)?;
 
     let inputs: Vec<ExportInput<'_>> = assets
         .iter()
@@ -156,6 +137,56 @@ pub fn run(args: BakeArgs) -> Result<(), String> {
         args.out.display()
     );
     Ok(())
+}
+
+/// Bakes every object of the mesh file with the arguments.
+fn bake_objects(args: &BakeArgs) -> Result<Vec<(String, FurAsset)>, String> {
+    let (params, objects) = prepare(args)?;
+    objects
+        .into_iter()
+        .map(|(name, data)| {
+            let asset = bake_object(args, &params, &name, &data)?;
+            Ok((name, asset))
+        })
+        .collect()
+}
+
+/// The pipeline's parameters and the mesh file's objects for these arguments.
+pub fn prepare(args: &BakeArgs) -> Result<(BakeParams, Vec<(String, MeshData)>), String> {
+    Ok((bake_params(args)?, read_objects(&args.mesh)?))
+}
+
+/// Bakes one object, reporting each stage on stderr. The bake is deterministic, so this is also
+/// how a baked folder is loaded again (`pelt view`).
+pub fn bake_object(
+    args: &BakeArgs,
+    params: &BakeParams,
+    name: &str,
+    data: &MeshData,
+) -> Result<FurAsset, String> {
+    let comb = args.comb.map(|c| vec![c; data.positions.len()]);
+    let input = match &comb {
+        Some(comb) => data.input().with_comb(comb),
+        None => data.input(),
+    };
+    let mesh = FurMesh::new(input).map_err(|e| format!("{name}: {e}"))?;
+    let asset = Pipeline::new()
+        .bake(Arc::new(mesh), params, None)
+        .map_err(|e| format!("{name}: {e}"))?;
+    for stage in &asset.report {
+        eprintln!(
+            "{name}: {} {:.2} s: {}",
+            stage.stage, stage.seconds, stage.summary
+        );
+    }
+    Ok(asset)
+}
+
+/// The arguments recorded in `dir`'s `bake.json`.
+pub fn load_record(dir: &Path) -> Result<BakeArgs, String> {
+    let path = dir.join(BAKE_RECORD);
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    serde_json::from_str(&text).map_err(|e| format!("{}: not a Pelt bake record: {e}", path.display()))
 }
 
 /// The mesh file's stem, naming the GLB files.

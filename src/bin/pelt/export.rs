@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::bake::{self, BAKE_RECORD, BakeArgs};
+use crate::bake;
 
 #[derive(Args)]
 pub struct ExportArgs {
@@ -28,10 +28,7 @@ pub struct ExportArgs {
 }
 
 pub fn run(args: ExportArgs) -> Result<(), String> {
-    let path = args.asset_dir.join(BAKE_RECORD);
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut recorded: BakeArgs = serde_json::from_str(&text)
-        .map_err(|e| format!("{}: not a Pelt bake record: {e}", path.display()))?;
+    let mut recorded = bake::load_record(&args.asset_dir)?;
     recorded.out = args.out.unwrap_or(args.asset_dir);
     if let Some(mode) = args.mode {
         recorded.mode = mode;

@@ -1,12 +1,14 @@
-//! The `pelt` command line: `bench`, `bake`, `export` and `presets`, one file per subcommand. The
-//! commands parse their arguments and call the library; errors print as one line and exit with
-//! status 1.
+//! The `pelt` command line: `bench`, `bake`, `export`, `presets` and, with the `viewer` feature,
+//! `view`, one file (or folder) per subcommand. The commands parse their arguments and call the
+//! library; errors print as one line and exit with status 1.
 
 mod bake;
 mod bench;
 mod export;
 mod meshes;
 mod presets;
+#[cfg(feature = "viewer")]
+mod view;
 
 use std::process::ExitCode;
 
@@ -33,6 +35,15 @@ enum Command {
     Export(export::ExportArgs),
     /// List the fur presets.
     Presets(presets::PresetsArgs),
+    /// Show a baked folder in a window: orbit, light, shells, fins, LOD, frame times.
+    #[cfg(feature = "viewer")]
+    View(view::ViewArgs),
+    /// Show a baked folder in a window (this build lacks it: build with `--features viewer`).
+    #[cfg(not(feature = "viewer"))]
+    View {
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true, hide = true)]
+        args: Vec<String>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -42,6 +53,12 @@ fn main() -> ExitCode {
         Command::Bake(args) => bake::run(args),
         Command::Export(args) => export::run(args),
         Command::Presets(args) => presets::run(args),
+        #[cfg(feature = "viewer")]
+        Command::View(args) => view::run(args),
+        #[cfg(not(feature = "viewer"))]
+        Command::View { .. } => {
+            Err("`pelt view` needs a build with the viewer: cargo build --release --features viewer".into())
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
