@@ -9,7 +9,6 @@
 //! (feature `render`) are thin layers on top. Start with [`FurMesh`].
 
 pub mod bench;
-mod buffers;
 mod cg;
 pub mod color;
 pub mod error;

@@ -68,7 +68,7 @@ pub fn composite_pair(inner: &[u8], outer: &[u8], dst: &mut [u8]) {
 /// texels each; an odd last layer is kept as it is. Returns `ceil(layers / 2)` layers.
 pub fn composite_pairs(shells: &[u8], layers: usize, texels: usize) -> Vec<u8> {
     let size = 4 * texels;
-    let mut out = crate::buffers::zeroed(layers.div_ceil(2) * size, 0u8);
+    let mut out = vec![0u8; layers.div_ceil(2) * size];
     out.par_chunks_exact_mut(size).enumerate().for_each(|(j, dst)| {
         let inner = &shells[2 * j * size..(2 * j + 1) * size];
         if 2 * j + 1 >= layers {

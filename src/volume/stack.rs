@@ -14,7 +14,6 @@ use super::coverage::CoverageMode;
 use super::lod::composite_pair;
 use super::shells::{LayerOut, ScratchPool, sample_layer, sample_layer_pair};
 use super::strand_table::StrandTable;
-use crate::buffers::zeroed;
 use crate::error::{PeltError, Result};
 use crate::export::MipAlpha;
 use crate::export::full_mip_count;
@@ -66,12 +65,12 @@ pub(super) fn sample_stack(params: &StackParams<'_>, progress: &Progress<'_>) ->
     let (res, layers) = (params.resolution, params.layers);
     let texels = res * res;
     let pairs = layers.div_ceil(2);
-    let mut shells = zeroed(layers * texels * 4, 0u8);
-    let mut coverage = zeroed(layers * texels, 0.0f32);
-    let mut tangents = zeroed(layers * texels * 4, 0u8);
+    let mut shells = vec![0u8; layers * texels * 4];
+    let mut coverage = vec![0.0f32; layers * texels];
+    let mut tangents = vec![0u8; layers * texels * 4];
     let mut mean_coverage = vec![0.0f64; layers];
     let mut lod_first = if params.lod && layers > 1 {
-        zeroed(pairs * texels * 4, 0u8)
+        vec![0u8; pairs * texels * 4]
     } else {
         Vec::new()
     };
@@ -81,7 +80,7 @@ pub(super) fn sample_stack(params: &StackParams<'_>, progress: &Progress<'_>) ->
         0
     };
     let mut mips: Vec<Vec<u8>> = (1..mip_count)
-        .map(|k| zeroed(layers * level_side(res, k).pow(2) * 4, 0u8))
+        .map(|k| vec![0u8; layers * level_side(res, k).pow(2) * 4])
         .collect();
 
     let mut pair_mips: Vec<Vec<&mut [u8]>> = (0..pairs).map(|_| Vec::new()).collect();

@@ -129,6 +129,31 @@ impl StrandTable {
         }
     }
 
+    /// Asks the processor to start loading the points [`StrandTable::cut`] reads for table
+    /// strand `k` at height `z`. The table is far larger than the caches and a layer's walk reads
+    /// two points per strand, so without this every cut waits on memory; walking the strands in
+    /// order, a cut a few strands ahead is fetched while the current hair is splatted. A hint
+    /// only: results are the same without it (and on processors without one, it does nothing).
+    #[inline(always)]
+    pub fn prefetch(&self, k: usize, z: f64) {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(&(height, _)) = self.heights.get(k) {
+            let segments = self.stride - 1;
+            let s = ((z / height * segments as f64).max(0.0) as usize).min(segments - 1);
+            if let Some(point) = self.points.get(k * self.stride + s) {
+                use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+                // SAFETY: a prefetch reads nothing the program sees and cannot fault; the address
+                // is that of a live element of `points`.
+                #[allow(unused_unsafe)]
+                unsafe {
+                    _mm_prefetch::<_MM_HINT_T0>(std::ptr::from_ref(point).cast());
+                }
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = (k, z);
+    }
+
     /// The lateral extent `[min y, max y]` of table strand `k`, unwrapped.
     pub fn y_range(&self, k: usize) -> [f64; 2] {
         let pts = &self.points[k * self.stride..(k + 1) * self.stride];

@@ -38,7 +38,7 @@ pub(super) fn halve_even_rgba8(
     let w = (h2 as u64 * w2 as u64) as f64;
     let norm = (width * height) as f64;
     let (table, encoder) = (srgb8_to_linear_table(), srgb8_encoder());
-    let mut out = crate::buffers::zeroed(layers * h2 * w2 * 4, 0u8);
+    let mut out = vec![0u8; layers * h2 * w2 * 4];
     out.par_chunks_mut(w2 * 4).enumerate().for_each(|(r, row)| {
         let (layer, y) = (r / h2, r % h2);
         let first = (layer * height + 2 * y) * width * 4;
