@@ -26,10 +26,27 @@ use super::strand_table::StrandTable;
 /// and reset afterwards, and every other row is written as empty directly.
 #[derive(Debug, Default)]
 pub struct LayerScratch {
+    /// The whole layer's sums: for layers small enough to add shares directly, or a banded
+    /// layer whose queue overflowed (see [`Banded`]).
     sums: Vec<Sums>,
     dirty: Vec<bool>,
     footprint: FootprintScratch,
     queues: BandQueues,
+}
+
+impl LayerScratch {
+    /// Sizes the buffers for a `resolution`² layer. The whole layer's sums are made here only
+    /// for layers small enough to add their shares directly; a banded layer keeps one band's
+    /// sums, and makes the whole layer's only if its queue overflows ([`Banded`]).
+    fn prepare(&mut self, resolution: usize) {
+        if self.dirty.len() != resolution {
+            self.dirty = vec![false; resolution];
+        }
+        let texels = resolution * resolution;
+        if !Banded::wanted(resolution) && self.sums.len() != texels {
+            self.sums = vec![EMPTY; texels];
+        }
+    }
 }
 
 /// Scratch buffers handed to the workers of one bake and taken back when they finish a share of
@@ -108,10 +125,7 @@ pub fn sample_layer(
     out: LayerOut<'_>,
 ) -> f64 {
     let texels = resolution * resolution;
-    if scratch.sums.len() != texels {
-        scratch.sums = vec![EMPTY; texels];
-        scratch.dirty = vec![false; resolution];
-    }
+    scratch.prepare(resolution);
     let LayerScratch {
         sums,
         dirty,
@@ -233,12 +247,8 @@ pub(super) fn sample_layer_pair(
 ) -> [f64; 2] {
     let texels = resolution * resolution;
     let [first, second] = scratch;
-    for s in [&mut *first, &mut *second] {
-        if s.sums.len() != texels {
-            s.sums = vec![EMPTY; texels];
-            s.dirty = vec![false; resolution];
-        }
-    }
+    first.prepare(resolution);
+    second.prepare(resolution);
     let footprint = &mut first.footprint;
     let dirty = [&mut first.dirty[..], &mut second.dirty[..]];
     let mut outs = out;
@@ -402,6 +412,7 @@ impl Finisher {
     ) {
         let (res, srgb) = (self.resolution, self.srgb);
         let (empty_px, empty_tx) = (self.empty_px, self.empty_tx);
+        let first = rows.start;
         for row in rows {
             let coverage = &mut out.coverage[row * res..(row + 1) * res];
             let rgba = &mut out.rgba[4 * row * res..4 * (row + 1) * res];
@@ -415,7 +426,7 @@ impl Finisher {
                     .for_each(|tx| tx.copy_from_slice(&empty_tx));
                 continue;
             }
-            let row_sums = &mut sums[row * res..(row + 1) * res];
+            let row_sums = &mut sums[(row - first) * res..(row - first + 1) * res];
             let pixels = rgba.chunks_exact_mut(4).zip(tangent.chunks_exact_mut(4));
             for ((sum, cov), (px, tx)) in row_sums.iter_mut().zip(coverage.iter_mut()).zip(pixels) {
                 let t = *sum;

@@ -6,9 +6,13 @@
 //! in a core's cache, and consecutive hairs (in the order of their roots) land rows apart once
 //! curl has moved them, so adding each share where it falls waits on memory for most of them.
 //! [`Banded`] instead queues the shares per band of rows, each band's sums the size of a cache,
-//! and adds them band after band. Every texel lies in one band and each band keeps its queue in
-//! order, so every texel receives its shares in the same order as when they are added at once
-//! ([`Direct`]), and the f32 sums come out bit for bit the same.
+//! and adds them band after band into one band-sized buffer that stays in cache, finishing each
+//! band before the next: the whole layer's sums never exist, which spares the bake reading and
+//! writing them back (64 bytes of memory traffic per texel and layer, most of a big bake's). Only
+//! a layer whose queue outgrows its limit spills its shares into whole-layer sums. Every texel
+//! lies in one band and each band keeps its queue in order, so every texel receives its shares
+//! in the same order as when they are added at once ([`Direct`]), and the f32 sums come out bit
+//! for bit the same.
 
 use std::ops::Range;
 
@@ -21,10 +25,11 @@ pub(super) const EMPTY: Sums = [0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
 
 /// Texels per band: 512 KiB of sums, a quarter of a typical L2 cache.
 const BAND_TEXELS: usize = 1 << 14;
-/// Shares queued before they are added (12 MiB of queue).
-const QUEUE_LIMIT: usize = 1 << 20;
-/// Hairs queued before their shares are added (6 MiB of colors and directions).
-const HAIR_LIMIT: usize = 1 << 18;
+/// Shares queued before a layer spills them into whole-layer sums (48 MiB of queue; a 1024²
+/// layer of 200,000 hairs about a texel wide queues some 2 million).
+const QUEUE_LIMIT: usize = 1 << 22;
+/// Hairs queued before the layer spills (24 MiB of colors and directions).
+const HAIR_LIMIT: usize = 1 << 20;
 
 /// What a hair adds to each texel it covers, besides its share: color and unit direction.
 #[derive(Debug, Clone, Copy)]
@@ -56,6 +61,8 @@ pub(super) trait Sink {
     fn finish(&mut self);
     /// Adds every share still queued and hands the sums to `rows` in bands of whole rows, each
     /// band complete and still in cache, in order.
+    /// `rows` gets the sums of those rows only: its first record is the first texel of the
+    /// range's first row.
     fn drain(&mut self, rows: &mut dyn FnMut(&mut [Sums], Range<usize>));
 }
 
@@ -98,15 +105,23 @@ pub(super) struct BandQueues {
     bands: Vec<Vec<Share>>,
     hairs: Vec<Hair>,
     queued: usize,
+    /// One band's sums, all [`EMPTY`] between bands (the finisher resets every record it reads
+    /// a share from, and a record no share reached is still `EMPTY`).
+    band_sums: Vec<Sums>,
+    /// Whether this layer's queue overflowed into the whole-layer sums.
+    spilled: bool,
 }
 
 /// Queues the shares per band of rows and adds them band by band.
 pub(super) struct Banded<'a> {
-    sums: &'a mut [Sums],
+    /// The whole layer's sums, made on the first spill (and kept, all `EMPTY`, for later ones).
+    sums: &'a mut Vec<Sums>,
     queues: &'a mut BandQueues,
     /// Rows per band, as a power of two.
     shift: u32,
     resolution: usize,
+    /// Queued shares and hairs at which the layer spills ([`QUEUE_LIMIT`], [`HAIR_LIMIT`]).
+    limits: (usize, usize),
 }
 
 impl<'a> Banded<'a> {
@@ -116,23 +131,27 @@ impl<'a> Banded<'a> {
     }
 
     /// A banded sink for a `resolution`² layer, or `None` when it is not [`Banded::wanted`].
-    pub fn new(sums: &'a mut [Sums], queues: &'a mut BandQueues, resolution: usize) -> Option<Self> {
+    pub fn new(sums: &'a mut Vec<Sums>, queues: &'a mut BandQueues, resolution: usize) -> Option<Self> {
         Self::wanted(resolution).then(|| Self::build(sums, queues, resolution))
     }
 
     /// A banded sink for a `resolution`² layer, wanted or not.
-    pub fn build(sums: &'a mut [Sums], queues: &'a mut BandQueues, resolution: usize) -> Self {
+    pub fn build(sums: &'a mut Vec<Sums>, queues: &'a mut BandQueues, resolution: usize) -> Self {
         let rows = (BAND_TEXELS / resolution).max(1);
         // The largest power of two not above `rows`.
         let shift = usize::BITS - 1 - rows.leading_zeros();
         let bands = resolution.div_ceil(1 << shift);
         queues.bands.resize_with(bands, Vec::new);
         queues.bands.truncate(bands);
+        queues.band_sums.clear();
+        queues.band_sums.resize((1 << shift) * resolution, EMPTY);
+        queues.spilled = false;
         Banded {
             sums,
             queues,
             shift,
             resolution,
+            limits: (QUEUE_LIMIT, HAIR_LIMIT),
         }
     }
 }
@@ -156,8 +175,8 @@ impl Sink for Banded<'_> {
     }
 
     fn finish(&mut self) {
-        if self.queues.queued >= QUEUE_LIMIT || self.queues.hairs.len() >= HAIR_LIMIT {
-            self.add_queued(&mut |_, _| {});
+        if self.queues.queued >= self.limits.0 || self.queues.hairs.len() >= self.limits.1 {
+            self.spill();
         }
     }
 
@@ -167,24 +186,78 @@ impl Sink for Banded<'_> {
 }
 
 impl Banded<'_> {
-    /// Adds the queued shares band by band, handing each band's rows to `rows` once added.
+    /// Adds the queued shares band by band into the band buffer, handing each band's rows to
+    /// `rows` as soon as they are complete; or, after a spill, into the whole layer's sums.
     fn add_queued(&mut self, rows: &mut dyn FnMut(&mut [Sums], Range<usize>)) {
-        let BandQueues { bands, hairs, queued } = &mut *self.queues;
-        for (b, band) in bands.iter_mut().enumerate() {
-            for share in band.iter() {
+        let res = self.resolution;
+        if self.queues.spilled {
+            self.spill();
+            self.queues.spilled = false;
+            for b in 0..self.queues.bands.len() {
+                let band = band_rows(b, self.shift, res);
+                rows(&mut self.sums[band.start * res..band.end * res], band);
+            }
+            return;
+        }
+        let BandQueues {
+            bands,
+            hairs,
+            queued,
+            band_sums,
+            ..
+        } = &mut *self.queues;
+        for (b, queue) in bands.iter_mut().enumerate() {
+            let band = band_rows(b, self.shift, res);
+            let offset = band.start * res;
+            for share in queue.iter() {
+                add(
+                    &mut band_sums[share.texel as usize - offset],
+                    share.w,
+                    &hairs[share.hair as usize],
+                );
+            }
+            queue.clear();
+            let texels = band.len() * res;
+            rows(&mut band_sums[..texels], band);
+        }
+        hairs.clear();
+        *queued = 0;
+    }
+
+    /// Adds the queued shares into the whole layer's sums (made on first need) and empties the
+    /// queues: for a layer with more shares than a queue holds.
+    fn spill(&mut self) {
+        let texels = self.resolution * self.resolution;
+        if self.sums.len() != texels {
+            *self.sums = vec![EMPTY; texels];
+        }
+        let BandQueues {
+            bands,
+            hairs,
+            queued,
+            spilled,
+            ..
+        } = &mut *self.queues;
+        for queue in bands.iter_mut() {
+            for share in queue.iter() {
                 add(
                     &mut self.sums[share.texel as usize],
                     share.w,
                     &hairs[share.hair as usize],
                 );
             }
-            band.clear();
-            let first = b << self.shift;
-            rows(self.sums, first..(first + (1 << self.shift)).min(self.resolution));
+            queue.clear();
         }
         hairs.clear();
         *queued = 0;
+        *spilled = true;
     }
+}
+
+/// The rows of band `b` of a `resolution`² layer with `1 << shift` rows per band.
+fn band_rows(b: usize, shift: u32, resolution: usize) -> Range<usize> {
+    let first = b << shift;
+    first..(first + (1 << shift)).min(resolution)
 }
 
 #[cfg(test)]
@@ -192,8 +265,9 @@ mod tests {
     use super::*;
     use crate::rng::Rng;
 
-    /// Many overlapping hairs, each a few shares in neighbouring rows, with the queue flushed
-    /// part way (small limits are not needed: a second layer reuses the queues).
+    /// Many overlapping hairs, each a few shares in neighbouring rows, two layers in a row (the
+    /// second reuses the queues and band sums), with the default limits (no spill) and with
+    /// small ones that spill many times per layer.
     #[test]
     fn banded_sums_are_the_direct_sums_bit_for_bit() {
         // (texel, row, share)
@@ -239,28 +313,44 @@ mod tests {
             direct.finish();
         });
         direct.drain(&mut |_, _| {});
-        let mut queues = BandQueues::default();
-        for _layer in 0..2 {
-            let mut banded_sums = vec![EMPTY; texels];
-            let Some(mut banded) = Banded::new(&mut banded_sums, &mut queues, resolution) else {
-                panic!("a 512² layer is banded");
-            };
-            run(&mut |hair, shares| {
-                banded.start(*hair);
-                for &(texel, row, w) in shares {
-                    banded.add(texel, row, w);
-                }
-                banded.finish();
-            });
-            // The bands come complete and in order.
-            let mut next = 0;
-            banded.drain(&mut |_, rows| {
-                assert_eq!(rows.start, next);
-                next = rows.end;
-            });
-            assert_eq!(next, resolution);
-            let bits = |sums: &[Sums]| -> Vec<u32> { sums.iter().flatten().map(|v| v.to_bits()).collect() };
-            assert!(bits(&banded_sums) == bits(&direct_sums));
+        let bits = |sums: &[Sums]| -> Vec<u32> { sums.iter().flatten().map(|v| v.to_bits()).collect() };
+        // Limits that never spill here, and small ones that spill many times per layer.
+        for limits in [(QUEUE_LIMIT, HAIR_LIMIT), (1000, 300)] {
+            let mut queues = BandQueues::default();
+            let mut whole = Vec::new();
+            for _layer in 0..2 {
+                let Some(mut banded) = Banded::new(&mut whole, &mut queues, resolution) else {
+                    panic!("a 512² layer is banded");
+                };
+                banded.limits = limits;
+                run(&mut |hair, shares| {
+                    banded.start(*hair);
+                    for &(texel, row, w) in shares {
+                        banded.add(texel, row, w);
+                    }
+                    banded.finish();
+                });
+                // The bands come complete and in order; each is reset as the finisher does.
+                let mut seen = vec![EMPTY; texels];
+                let mut next = 0;
+                banded.drain(&mut |sums, rows| {
+                    assert_eq!(rows.start, next);
+                    assert_eq!(sums.len(), rows.len() * resolution);
+                    seen[rows.start * resolution..rows.end * resolution].copy_from_slice(sums);
+                    sums.iter_mut().filter(|t| t[0] > 0.0).for_each(|t| *t = EMPTY);
+                    next = rows.end;
+                });
+                assert_eq!(next, resolution);
+                assert!(bits(&seen) == bits(&direct_sums), "limits {limits:?}");
+                // What the next layer starts from is empty again.
+                assert!(queues.band_sums.iter().all(|t| bits(&[*t]) == bits(&[EMPTY])));
+                assert!(whole.iter().all(|t| bits(&[*t]) == bits(&[EMPTY])));
+                assert_eq!(
+                    whole.is_empty(),
+                    limits.0 == QUEUE_LIMIT,
+                    "only a spill makes whole sums"
+                );
+            }
         }
     }
 }
