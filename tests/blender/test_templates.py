@@ -136,3 +136,18 @@ def test_trees_baked_by_older_code_are_replaced_in_place(modules):
     group = geonodes.find_modifier(obj).node_group
     assert group.nodes[geonodes.SHELL_MATERIAL_NODE].inputs["Material"].default_value == fresh
     assert ownership.is_owned(fresh, obj.name, "fur_material")
+
+
+@pytest.mark.parametrize("content", [None, b"not a .blend file"])
+def test_a_missing_or_corrupt_template_file_falls_back_to_building(modules, monkeypatch, tmp_path, content):
+    fur, fur_layout, _, materials, _, templates = modules
+    path = tmp_path / "node_templates.blend"
+    if content is not None:
+        path.write_bytes(content)
+    monkeypatch.setattr(templates, "PATH", path)
+    obj, images, layout, settings = furred_cube(fur_layout)
+    modifier = fur.build_fur(obj, images, layout, settings)
+    material = bpy.data.materials[f"Pelt Fur {obj.name}"]
+    assert material.node_tree.nodes[materials.ATLAS_NODE].image == images["shells"]
+    assert modifier.node_group is not None and len(modifier.node_group.nodes) > 10
+    assert len(bpy.data.libraries) == 0
