@@ -36,19 +36,6 @@ def all_owned(collection, owner_name: str) -> list:
     return [item for item in collection if is_owned(item, owner_name)]
 
 
-def owned_or_new(collection, owner_name: str, role: str, name: str, new):
-    """Pelt's ``role`` datablock for ``owner_name``, named ``name`` again if that name is free; a
-    new one from ``new(name)``, tagged, when there is none. A user's datablock already called
-    ``name`` keeps its name, and Pelt's gets Blender's numbered variant of it."""
-    item = find_owned(collection, owner_name, role)
-    if item is None:
-        item = new(name)
-        tag(item, owner_name, role)
-    elif item.name != name and collection.get(name) is None:
-        item.name = name
-    return item
-
-
 BUILT = "pelt_built"
 
 

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import bpy
 
-from .ownership import BUILT, find_owned, mark_built, tag
+from .ownership import find_owned, mark_built, tag, up_to_date
 
 PATH = Path(__file__).parent / "assets" / "node_templates.blend"
 # A template's custom properties: the signature of the sources that built it, and its role.
@@ -46,9 +46,9 @@ def owned_tree(owner_name: str, role: str, name: str, build):
     one it has when that is up to date, otherwise a fresh one (:func:`fresh`) that takes the
     outdated one's place everywhere it was used. A new datablock is called ``name`` (Blender's
     numbered variant when a user's datablock has that name)."""
-    collection = getattr(bpy.data, ROLES[role][0])
+    collection = _collection(role)
     current = find_owned(collection, owner_name, role)
-    if current is not None and current.get(BUILT) == SIGNATURE:
+    if current is not None and up_to_date(current, SIGNATURE):
         if current.name != name and collection.get(name) is None:
             current.name = name
         return current
@@ -100,7 +100,7 @@ def _collection(role: str):
 
 def _outdated(owner_name: str, role: str) -> bool:
     current = find_owned(_collection(role), owner_name, role)
-    return current is None or current.get(BUILT) != SIGNATURE
+    return current is None or not up_to_date(current, SIGNATURE)
 
 
 def _append(roles: list) -> dict:
@@ -162,14 +162,13 @@ def set_values(tree, values: dict) -> None:
 def write(path: Path, builders: dict) -> None:
     """Builds every template (``builders`` maps a role to its ``build(name)``) and writes them,
     with :data:`SIGNATURE`, into the .blend ``path``; removes them from this session again."""
-    made = []
+    made = {}
     for role, build in builders.items():
         block = build(ROLES[role][1])
         block[TEMPLATE] = SIGNATURE
         block[TEMPLATE_ROLE] = role
-        block.pop(BUILT, None)
-        made.append((ROLES[role][0], block))
+        made[role] = block
     path.parent.mkdir(parents=True, exist_ok=True)
-    bpy.data.libraries.write(str(path), {block for _, block in made}, fake_user=True, compress=False)
-    for collection_name, block in made:
-        getattr(bpy.data, collection_name).remove(block)
+    bpy.data.libraries.write(str(path), set(made.values()), fake_user=True, compress=False)
+    for role, block in made.items():
+        _collection(role).remove(block)

@@ -6,13 +6,12 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use common::bake::{SMALL_BAKE, suzanne};
 use pelt::export::Manifest;
 
-const PELT: &str = env!("CARGO_BIN_EXE_pelt");
+mod common;
 
-fn suzanne() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/suzanne.obj")
-}
+const PELT: &str = env!("CARGO_BIN_EXE_pelt");
 
 fn out_dir(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cli-{name}"));
@@ -32,20 +31,8 @@ fn pelt(args: &[&str], threads: usize) -> Output {
 /// A small bake of Suzanne (few small layers, order-2 transfer) into `dir`.
 fn bake(dir: &Path, threads: usize, extra: &[&str]) -> Output {
     let mesh = suzanne();
-    let mut args = vec![
-        "bake",
-        mesh.to_str().unwrap(),
-        "--out",
-        dir.to_str().unwrap(),
-        "--comb",
-        "0,0,-1",
-        "--layers",
-        "6",
-        "--resolution",
-        "32",
-        "--order",
-        "2",
-    ];
+    let mut args = vec!["bake", mesh.to_str().unwrap(), "--out", dir.to_str().unwrap()];
+    args.extend_from_slice(&SMALL_BAKE);
     args.extend_from_slice(extra);
     pelt(&args, threads)
 }

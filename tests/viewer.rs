@@ -8,6 +8,10 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use common::bake::{SMALL_BAKE, suzanne};
+
+mod common;
+
 const PELT: &str = env!("CARGO_BIN_EXE_pelt");
 /// Window side of the test.
 const SIDE: u32 = 64;
@@ -33,19 +37,10 @@ fn xvfb_run() -> Option<PathBuf> {
 
 /// A small bake of Suzanne: few small layers, order-2 transfer, PNG textures only.
 fn bake(dir: &Path) {
-    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/suzanne.obj");
+    let mesh = suzanne();
     let output = Command::new(PELT)
         .args(["bake", mesh.to_str().unwrap(), "--out", dir.to_str().unwrap()])
-        .args([
-            "--comb",
-            "0,0,-1",
-            "--layers",
-            "6",
-            "--resolution",
-            "32",
-            "--order",
-            "2",
-        ])
+        .args(SMALL_BAKE)
         .args(["--formats", "png", "--mode", "geometry"])
         .output()
         .unwrap();

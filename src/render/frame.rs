@@ -32,7 +32,7 @@ struct ColorTarget {
     view: wgpu::TextureView,
 }
 
-fn texture_2d(
+pub(super) fn texture_2d(
     device: &wgpu::Device,
     label: &str,
     (width, height): (u32, u32),

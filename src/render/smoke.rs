@@ -2,6 +2,7 @@
 //! the device compiles WGSL, rasterizes and reads back.
 
 use super::Renderer;
+use super::frame::texture_2d;
 use super::readback::read_rgba8;
 use crate::error::Result;
 
@@ -17,20 +18,8 @@ impl Renderer {
     pub fn render_smoke(&self, width: u32, height: u32) -> Result<Vec<u8>> {
         let device = &self.device;
         let format = wgpu::TextureFormat::Rgba8Unorm;
-        let target = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("smoke target"),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        let target = texture_2d(device, "smoke target", (width, height), format, usage);
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("smoke.wgsl"),
             source: wgpu::ShaderSource::Wgsl(include_str!("smoke.wgsl").into()),

@@ -93,22 +93,16 @@ impl Renderer {
                     caps.formats
                 ))
             })?;
-        let alpha_mode = if caps.alpha_modes.contains(&wgpu::CompositeAlphaMode::Opaque) {
-            wgpu::CompositeAlphaMode::Opaque
-        } else {
-            caps.alpha_modes
-                .first()
-                .copied()
-                .unwrap_or(wgpu::CompositeAlphaMode::Auto)
-        };
-        let present_mode = if caps.present_modes.contains(&wgpu::PresentMode::Fifo) {
-            wgpu::PresentMode::Fifo
-        } else {
-            caps.present_modes
-                .first()
-                .copied()
-                .unwrap_or(wgpu::PresentMode::AutoVsync)
-        };
+        let alpha_mode = preferred(
+            &caps.alpha_modes,
+            wgpu::CompositeAlphaMode::Opaque,
+            wgpu::CompositeAlphaMode::Auto,
+        );
+        let present_mode = preferred(
+            &caps.present_modes,
+            wgpu::PresentMode::Fifo,
+            wgpu::PresentMode::AutoVsync,
+        );
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | (caps.usages & wgpu::TextureUsages::COPY_SRC);
         let config = wgpu::SurfaceConfiguration {
             usage,
@@ -229,5 +223,14 @@ impl WindowSurface {
             renderer.queue.present(frame)
         })?;
         Ok(Some(PresentedFrame { info, seconds, image }))
+    }
+}
+
+/// `wanted` when the surface offers it, else the first mode it offers, else `fallback`.
+fn preferred<T: Copy + PartialEq>(offered: &[T], wanted: T, fallback: T) -> T {
+    if offered.contains(&wanted) {
+        wanted
+    } else {
+        offered.first().copied().unwrap_or(fallback)
     }
 }

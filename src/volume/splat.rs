@@ -208,15 +208,7 @@ impl Banded<'_> {
         } = &mut *self.queues;
         for (b, queue) in bands.iter_mut().enumerate() {
             let band = band_rows(b, self.shift, res);
-            let offset = band.start * res;
-            for share in queue.iter() {
-                add(
-                    &mut band_sums[share.texel as usize - offset],
-                    share.w,
-                    &hairs[share.hair as usize],
-                );
-            }
-            queue.clear();
+            add_shares(queue, hairs, band_sums, band.start * res);
             let texels = band.len() * res;
             rows(&mut band_sums[..texels], band);
         }
@@ -239,19 +231,25 @@ impl Banded<'_> {
             ..
         } = &mut *self.queues;
         for queue in bands.iter_mut() {
-            for share in queue.iter() {
-                add(
-                    &mut self.sums[share.texel as usize],
-                    share.w,
-                    &hairs[share.hair as usize],
-                );
-            }
-            queue.clear();
+            add_shares(queue, hairs, self.sums, 0);
         }
         hairs.clear();
         *queued = 0;
         *spilled = true;
     }
+}
+
+/// Adds the shares of `queue` (of `hairs`) into `sums`, whose first record is texel `offset`,
+/// and empties the queue.
+fn add_shares(queue: &mut Vec<Share>, hairs: &[Hair], sums: &mut [Sums], offset: usize) {
+    for share in queue.iter() {
+        add(
+            &mut sums[share.texel as usize - offset],
+            share.w,
+            &hairs[share.hair as usize],
+        );
+    }
+    queue.clear();
 }
 
 /// The rows of band `b` of a `resolution`² layer with `1 << shift` rows per band.

@@ -112,8 +112,7 @@ impl StrandTable {
     pub fn cut(&self, k: usize, z: f64) -> Cut {
         let height = self.heights[k].0;
         let segments = self.stride - 1;
-        let t = (z / height * segments as f64).max(0.0);
-        let s = (t as usize).min(segments - 1);
+        let (s, t) = self.segment(height, z);
         let f = t - s as f64;
         let a = self.points[k * self.stride + s];
         let b = self.points[k * self.stride + s + 1];
@@ -129,6 +128,15 @@ impl StrandTable {
         }
     }
 
+    /// The segment of a strand `height` tall that holds height `z`, and `z`'s place along the
+    /// strand in segments (`t`, the segment index plus the fraction within it).
+    #[inline(always)]
+    fn segment(&self, height: f64, z: f64) -> (usize, f64) {
+        let segments = self.stride - 1;
+        let t = (z / height * segments as f64).max(0.0);
+        ((t as usize).min(segments - 1), t)
+    }
+
     /// Asks the processor to start loading the points [`StrandTable::cut`] reads for table
     /// strand `k` at height `z`. The table is far larger than the caches and a layer's walk reads
     /// two points per strand, so without this every cut waits on memory; walking the strands in
@@ -138,8 +146,7 @@ impl StrandTable {
     pub fn prefetch(&self, k: usize, z: f64) {
         #[cfg(target_arch = "x86_64")]
         if let Some(&(height, _)) = self.heights.get(k) {
-            let segments = self.stride - 1;
-            let s = ((z / height * segments as f64).max(0.0) as usize).min(segments - 1);
+            let (s, _) = self.segment(height, z);
             if let Some(point) = self.points.get(k * self.stride + s) {
                 use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
                 // SAFETY: a prefetch reads nothing the program sees and cannot fault; the address

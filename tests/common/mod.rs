@@ -1,7 +1,9 @@
 //! Helpers shared by the integration tests: camera matrices written out from their definitions,
-//! and the golden-image check of DESIGN.md §3. Each test binary uses a part of them.
+//! the golden-image check of DESIGN.md §3 and the command-line tests' small bake. Each test
+//! binary uses a part of them.
 #![allow(dead_code)]
 
+pub mod bake;
 pub mod golden;
 
 /// Row-major `m[row][col]` to the column-major array the renderer takes.
