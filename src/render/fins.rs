@@ -1,6 +1,7 @@
-//! Pass (b), the fins (Lengyel et al. 2001, §2.3): the quads of [`super::fin_mesh`], faded toward
-//! the silhouette in the vertex shader, blended premultiplied, depth tested but not written (the
-//! shells drawn next must still land on the skin behind a fin).
+//! Pass (b), the fins (Lengyel et al. 2001, §2.3): the quads of [`super::fin_mesh`] that
+//! [`super::fin_cull`] collects, faded toward the silhouette in the vertex shader, blended
+//! premultiplied, depth tested but not written (the shells drawn next must still land on the
+//! skin behind a fin).
 
 use super::pipelines::{Model, PassPipelines, PassState, VertexInput};
 use super::scene::FurScene;
@@ -33,12 +34,18 @@ pub(super) fn state(model: Model) -> PassState<'static> {
     }
 }
 
-/// Draws every fin; the vertex shader drops those faded out.
-pub(super) fn draw(pass: &mut wgpu::RenderPass<'_>, pipelines: &PassPipelines, scene: &FurScene) {
-    if scene.fins.index_count == 0 {
+/// Draws the first `indices` of the fin index buffer, where the frame has collected the fins the
+/// fade leaves visible (`fin_cull`); the vertex shader drops any faded out after all.
+pub(super) fn draw(
+    pass: &mut wgpu::RenderPass<'_>,
+    pipelines: &PassPipelines,
+    scene: &FurScene,
+    indices: u32,
+) {
+    if indices == 0 {
         return;
     }
     pass.set_pipeline(&pipelines.fins);
     scene.fins.bind(pass);
-    pass.draw_indexed(0..scene.fins.index_count, 0, 0..1);
+    pass.draw_indexed(0..indices, 0, 0..1);
 }

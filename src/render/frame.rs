@@ -275,9 +275,18 @@ impl Renderer {
         };
         let [r, g, b, a] = settings.background.map(f64::from);
         let max_groups = self.device.limits().max_compute_workgroups_per_dimension;
+        let fin_indices = if settings.fins && settings.fin_opacity > 0.0 {
+            scene.fin_planes.visible_indices(checked.camera.eye)
+        } else {
+            Vec::new()
+        };
         scoped(&self.device, "rendering a frame", || {
             self.queue
                 .write_buffer(&scene.uniforms, 0, bytemuck::bytes_of(&uniforms));
+            if !fin_indices.is_empty() {
+                self.queue
+                    .write_buffer(&scene.fins.index, 0, bytemuck::cast_slice(&fin_indices));
+            }
             let mut encoder = self
                 .device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("fur") });
@@ -326,9 +335,7 @@ impl Renderer {
                     pass.set_bind_group(1, &t.render_group, &[]);
                 }
                 skin::draw(&mut pass, pipelines, scene, checked.model);
-                if settings.fins {
-                    fins::draw(&mut pass, pipelines, scene);
-                }
+                fins::draw(&mut pass, pipelines, scene, fin_indices.len() as u32);
                 shells::draw(&mut pass, pipelines, scene, checked.model, checked.info.shells);
             }
             self.queue.submit([encoder.finish()]);

@@ -23,6 +23,7 @@
 //! `window.rs` (a window's surface).
 
 mod camera;
+mod fin_cull;
 mod fin_mesh;
 mod fins;
 mod frame;

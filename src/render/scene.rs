@@ -4,6 +4,7 @@
 
 use wgpu::util::DeviceExt;
 
+use super::fin_cull::FinPlanes;
 use super::frame_uniforms::FrameUniforms;
 use super::lod::{Extent, Levels};
 use super::pipelines::Model;
@@ -64,7 +65,8 @@ impl GpuMesh {
         };
         let vertex = wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE;
         let dynamic = vertex | wgpu::BufferUsages::COPY_DST;
-        let index = wgpu::BufferUsages::INDEX | wgpu::BufferUsages::STORAGE;
+        // The fin pass rewrites its index buffer every frame (`fin_cull`).
+        let index = wgpu::BufferUsages::INDEX | wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
         GpuMesh {
             geometry: buffer("geometry", geometry, vertex),
             color: buffer("color", bytemuck::cast_slice(colors), dynamic),
@@ -101,6 +103,8 @@ pub struct FurScene {
     queue: wgpu::Queue,
     pub(super) surface: GpuMesh,
     pub(super) fins: GpuMesh,
+    /// The fins' planes, from which each frame collects the fins it draws.
+    pub(super) fin_planes: FinPlanes,
     pub(super) uniforms: wgpu::Buffer,
     pub(super) bind_group: wgpu::BindGroup,
     surface_source: Vec<u32>,
@@ -300,6 +304,10 @@ impl FurScene {
             queue: renderer.queue.clone(),
             surface: surface_gpu,
             fins: fins_gpu,
+            fin_planes: FinPlanes::new(
+                fins.vertices.iter().step_by(4).map(|v| v.center).collect(),
+                fins.vertices.iter().step_by(4).map(|v| v.fin_normal).collect(),
+            ),
             uniforms,
             bind_group,
             surface_source: surface.source,

@@ -1,0 +1,110 @@
+//! Which fins a frame draws (Lengyel et al. 2001, §2.3: "We collect the fins with nonzero alpha
+//! and render them"). A fin's fade `max(0, 2|p| − 1)` depends only on its plane and the eye, so
+//! the CPU collects the fins it leaves visible into the fin index buffer before the draw: the
+//! vertex shader then never runs for the (many) faded-out ones. The shader keeps its own fade
+//! test, so this list only has to hold every fin the shader would draw; it errs on the side of
+//! keeping a fin, and the image is the same as drawing all of them.
+
+use rayon::prelude::*;
+
+/// A fin `p` this far under the fade's zero (|p| = 1/2) is still kept, so that rounding in this
+/// f32 evaluation, which need not match the shader's bit for bit, never drops a fin the shader
+/// draws.
+const MARGIN: f32 = 1e-4;
+
+/// Fins per parallel work item: big enough that splitting costs nothing next to the work.
+const CHUNK: usize = 4096;
+
+/// The two corners of fin `k` at the skin and the two at the fur's top are vertices `4k..4k+4`;
+/// these are its two triangles, as [`super::fin_mesh::build`] writes them.
+pub(super) fn fin_triangles(k: u32) -> [u32; 6] {
+    [0, 1, 3, 0, 3, 2].map(|c| 4 * k + c)
+}
+
+/// Each fin's plane: the point its fade is evaluated at and its unit normal.
+#[derive(Debug, Clone, Default)]
+pub(super) struct FinPlanes {
+    centers: Vec<[f32; 3]>,
+    normals: Vec<[f32; 3]>,
+}
+
+impl FinPlanes {
+    pub fn new(centers: Vec<[f32; 3]>, normals: Vec<[f32; 3]>) -> Self {
+        debug_assert_eq!(centers.len(), normals.len());
+        FinPlanes { centers, normals }
+    }
+
+    /// The index list (two triangles per fin, in fin order, so the blend order and thus the
+    /// image do not depend on the thread count) of the fins visible from `eye` (object space,
+    /// homogeneous: `w = 1` a position, `w = 0` a direction toward the viewer).
+    pub fn visible_indices(&self, eye: [f32; 4]) -> Vec<u32> {
+        let chunks: Vec<Vec<u32>> = self
+            .centers
+            .par_chunks(CHUNK)
+            .zip(self.normals.par_chunks(CHUNK))
+            .enumerate()
+            .map(|(chunk, (centers, normals))| {
+                let first = (chunk * CHUNK) as u32;
+                let mut out = Vec::new();
+                for (k, (c, n)) in centers.iter().zip(normals).enumerate() {
+                    if faded_in(*c, *n, eye) {
+                        out.extend(fin_triangles(first + k as u32));
+                    }
+                }
+                out
+            })
+            .collect();
+        chunks.concat()
+    }
+}
+
+/// `2|p| − 1 > 0` (within [`MARGIN`]) for `p` = fin normal · unit vector toward the eye, as
+/// `fins.wgsl` computes it.
+fn faded_in(center: [f32; 3], normal: [f32; 3], eye: [f32; 4]) -> bool {
+    let to_eye: [f32; 3] = std::array::from_fn(|i| eye[i] - center[i] * eye[3]);
+    let len2: f32 = to_eye.iter().map(|x| x * x).sum();
+    let p: f32 = normal.iter().zip(&to_eye).map(|(n, v)| n * v).sum();
+    // |p| / |v| > 1/2 − MARGIN without the square root; a zero vector (the eye on the fin) keeps it.
+    let bound = (0.5 - MARGIN) * (0.5 - MARGIN) * len2;
+    p * p > bound || len2 == 0.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keeps_exactly_the_fins_facing_the_eye_more_than_sixty_degrees() {
+        // Fins at the origin whose normal makes angle θ with the direction toward the eye.
+        let angles: Vec<f32> = (0..=180).map(|d| (d as f32).to_radians()).collect();
+        let normals: Vec<[f32; 3]> = angles.iter().map(|a| [a.sin(), 0.0, a.cos()]).collect();
+        let planes = FinPlanes::new(vec![[0.0; 3]; normals.len()], normals);
+        for eye in [[0.0, 0.0, 5.0, 1.0], [0.0, 0.0, 1.0, 0.0]] {
+            let kept: Vec<u32> = planes.visible_indices(eye).chunks(6).map(|t| t[0] / 4).collect();
+            // |cos θ| > 1/2: θ < 60° or θ > 120°; the 60° and 120° fins sit on the fade's zero.
+            let expected: Vec<u32> = (0..=180u32).filter(|&d| d <= 60 || d >= 120).collect();
+            assert_eq!(kept, expected);
+        }
+    }
+
+    #[test]
+    fn order_and_triangles_follow_the_fins_across_chunks() {
+        let n = 3 * CHUNK + 17;
+        let normals: Vec<[f32; 3]> = (0..n)
+            .map(|k| {
+                if k % 3 == 0 {
+                    [1.0, 0.0, 0.0]
+                } else {
+                    [0.0, 0.0, 1.0]
+                }
+            })
+            .collect();
+        let planes = FinPlanes::new(vec![[0.0; 3]; n], normals);
+        let indices = planes.visible_indices([0.0, 0.0, 2.0, 1.0]);
+        let expected: Vec<u32> = (0..n as u32)
+            .filter(|k| k % 3 != 0)
+            .flat_map(fin_triangles)
+            .collect();
+        assert_eq!(indices, expected);
+    }
+}
