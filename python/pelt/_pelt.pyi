@@ -452,6 +452,7 @@ class Preview:
         min_shells: int = 2,
         max_shells: int = 64,
         shells_per_pixel: float = 1.0,
+        shell_method: Literal["instanced", "marched"] = "instanced",
     ) -> npt.NDArray[np.uint8] | npt.NDArray[np.float32]:
         """One frame (GIL released): ``[height, width, 4]`` uint8 sRGB, or float32 linear with
         ``linear=True``; straight alpha, top row first.
@@ -464,9 +465,11 @@ class Preview:
         (``environment`` ``[n², 3]`` SH radiance for PRT). ``shells``: how many of the volume's
         shells to draw (``None``: all); ``lod=True`` chooses the count from the projected fur
         depth (``shells_per_pixel`` per pixel, within ``min_shells``..``max_shells``) and
-        cross-fades LOD levels (``shells`` must be ``None`` then). ``fur_depth`` defaults to the
-        asset's. Bad input raises :class:`InvalidParameterError` naming it; the preview stays
-        usable."""
+        cross-fades LOD levels (``shells`` must be ``None`` then). ``shell_method="marched"``
+        draws the shells as one hull whose pixels march down through the layers: one mesh of
+        triangles whatever the shell count, several times faster on a CPU adapter, lit once per
+        pixel. ``fur_depth`` defaults to the asset's. Bad input raises
+        :class:`InvalidParameterError` naming it; the preview stays usable."""
     def update(self, *, color: npt.ArrayLike | None = None, length: npt.ArrayLike | None = None) -> None:
         """Rewrite the per-vertex colors (``[V, 4]`` or ``[V, 3]``, linear) and/or length
         multipliers (``[V]``, 0..1000) in place; nothing else is uploaded (see :attr:`uploads`)."""

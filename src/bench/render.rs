@@ -20,7 +20,9 @@ use crate::prt::pack::pack_f16;
 use crate::prt::sh::{self, ShRotation};
 use crate::prt::volume_input::VolumeInput;
 use crate::prt::{TransferParams, bake_transfer};
-use crate::render::{AdapterChoice, Camera, FurScene, LightModel, Lighting, Prt, RenderSettings, Renderer};
+use crate::render::{
+    AdapterChoice, Camera, FurScene, LightModel, Lighting, Prt, RenderSettings, Renderer, ShellMethod,
+};
 use crate::threads::pool;
 use crate::vec3::{cross, dot};
 use crate::volume::{VolumeParams, bake_volume};
@@ -197,6 +199,37 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
         &lighting,
         ", fins off",
     )?;
+    let marched = RenderSettings {
+        shell_method: ShellMethod::Marched,
+        ..settings
+    };
+    let marched_near = frame(
+        &scene,
+        "render.frame.marched",
+        &near,
+        &marched,
+        &lighting,
+        ", Kajiya-Kay, shells marched per pixel",
+    )?;
+    let marched_hd = frame(
+        &scene,
+        "render.frame.marched.1080p",
+        &camera(5.0, 1920, 1080),
+        &marched,
+        &lighting,
+        ", Kajiya-Kay, shells marched per pixel",
+    )?;
+    let marched_no_fins = frame(
+        &scene,
+        "render.frame.marched.no_fins",
+        &near,
+        &RenderSettings {
+            fins: false,
+            ..marched
+        },
+        &lighting,
+        ", shells marched per pixel, fins off",
+    )?;
     let tiny = frame(
         &scene,
         "render.frame.tiny",
@@ -229,6 +262,13 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     )?;
     let speedup = base.seconds / far_case.seconds;
     results.extend([base.clone(), hd, skin, no_fins, tiny]);
+    for case in [marched_near, marched_hd, marched_no_fins] {
+        results.push(CaseResult {
+            baseline: Some("render.frame".into()),
+            speedup: Some(base.seconds / case.seconds),
+            ..case
+        });
+    }
     results.push(CaseResult {
         baseline: Some("render.frame".into()),
         speedup: Some(speedup),

@@ -17,7 +17,7 @@ use crate::error::PeltError;
 use crate::prt::pack::PackedF16;
 use crate::render::{
     AdapterChoice, Camera, FrameInfo, FurScene, KajiyaKay, LightModel, Lighting, Prt, RenderSettings,
-    Renderer,
+    Renderer, ShellMethod,
 };
 
 /// The preview renderer of one baked asset.
@@ -226,7 +226,7 @@ impl PyPreview {
     #[pyo3(signature = (
         view_matrix, projection_matrix, width, height, *, lighting=None, shells=None, fins=true,
         lod=false, linear=false, fur_depth=None, background=(0.0, 0.0, 0.0, 0.0), min_shells=2,
-        max_shells=64, shells_per_pixel=1.0
+        max_shells=64, shells_per_pixel=1.0, shell_method="instanced"
     ))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
@@ -246,7 +246,19 @@ impl PyPreview {
         min_shells: u32,
         max_shells: u32,
         shells_per_pixel: f32,
+        shell_method: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let shell_method = match shell_method {
+            "instanced" => ShellMethod::Instanced,
+            "marched" => ShellMethod::Marched,
+            other => {
+                return Err(PeltError::parameter(
+                    "shell_method",
+                    format!("must be 'instanced' or 'marched', got {other:?}"),
+                )
+                .into());
+            }
+        };
         let camera = Camera::from_gl(
             matrix(view_matrix, "view_matrix")?,
             matrix(projection_matrix, "projection_matrix")?,
@@ -262,6 +274,7 @@ impl PyPreview {
             min_shells,
             max_shells,
             fins,
+            shell_method,
             fur_depth: fur_depth.unwrap_or(self.fur_depth),
             background: [background.0, background.1, background.2, background.3],
             ..RenderSettings::default()

@@ -66,6 +66,12 @@ fn shell_layers(instance: u32) -> Layers {
     return Layers(layer, layer, NO_LAYER);
 }
 
+// Lighting at one point, affine in the (premultiplied) texel: lit = albedo × scale + alpha × add.
+struct HairLight {
+    scale: vec3<f32>,
+    add: vec3<f32>,
+};
+
 // A clip position outside the view volume: a primitive whose corners all go here is dropped.
 const CULLED: vec4<f32> = vec4<f32>(2.0, 2.0, 2.0, 1.0);
 

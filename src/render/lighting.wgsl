@@ -8,10 +8,8 @@
 // around the terminator (wider than Lambert's, as light scatters through the fur).
 const TERMINATOR_WRAP: f32 = 0.3;
 
-// `albedo` is premultiplied by `alpha`; so is the result. `height` is the share of the fur depth
-// (0 at the skin, 1 at the top of the volume).
-fn shade(albedo: vec3<f32>, alpha: f32, tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>,
-         height: f32) -> vec4<f32> {
+// The hair lighting at one point (see `HairLight`); `height` is the share of the fur depth (0 at the skin, 1 at the top of the volume).
+fn hair_light(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f32) -> HairLight {
     let l = frame.light_direction.xyz;
     let h = unit_or(l + view, normal);
     let u = dot(tangent, l);
@@ -22,9 +20,15 @@ fn shade(albedo: vec3<f32>, alpha: f32, tangent: vec3<f32>, normal: vec3<f32>, v
     let lit = clamp((dot(normal, l) + TERMINATOR_WRAP) / (1.0 + TERMINATOR_WRAP), 0.0, 1.0);
     let light = frame.light_color.rgb * lit;
     let banks = 1.0 - frame.fur.z * (1.0 - clamp(height, 0.0, 1.0));
-    let rgb = albedo * (frame.ambient.rgb + light * (frame.kajiya_kay.x * diffuse))
-        + alpha * light * (frame.kajiya_kay.y * specular);
-    return vec4<f32>(rgb * banks, alpha);
+    return HairLight((frame.ambient.rgb + light * (frame.kajiya_kay.x * diffuse)) * banks,
+                     light * (frame.kajiya_kay.y * specular) * banks);
+}
+
+// `albedo` is premultiplied by `alpha`; so is the result.
+fn shade(albedo: vec3<f32>, alpha: f32, tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>,
+         height: f32) -> vec4<f32> {
+    let k = hair_light(tangent, normal, view, height);
+    return vec4<f32>(albedo * k.scale + alpha * k.add, alpha);
 }
 
 // The skin itself: an opaque surface under the hair roots (where the fur is painted away, the

@@ -31,6 +31,7 @@ mod frame_uniforms;
 mod image;
 mod lighting;
 mod lod;
+mod marched;
 mod pipelines;
 mod prt_light;
 mod prt_rotate;
@@ -56,7 +57,7 @@ pub use image::{LinearImage, RgbaImage};
 pub use lighting::{KajiyaKay, LightModel, Lighting, MAX_LIGHT_RADIUS, MAX_POWER, MAX_RADIANCE, Prt};
 pub use lod::FrameInfo;
 pub use scene::{FurScene, UploadStats};
-pub use settings::{MAX_FUR_DEPTH, MAX_SHELLS_PER_PIXEL, RenderSettings};
+pub use settings::{MAX_FUR_DEPTH, MAX_SHELLS_PER_PIXEL, RenderSettings, ShellMethod};
 pub use smoke::SMOKE_COLOR;
 pub use window::{DisplayHandle, PresentedFrame, WindowSurface};
 

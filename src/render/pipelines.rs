@@ -11,7 +11,7 @@ use std::sync::OnceLock;
 
 use super::frame_uniforms::FrameUniforms;
 use super::prt_rotate::RotatePipeline;
-use super::{fins, shells, skin};
+use super::{fins, marched, shells, skin};
 use crate::error::{PeltError, Result};
 
 /// Depth target.
@@ -129,6 +129,7 @@ pub(super) struct PassPipelines {
     pub skin: wgpu::RenderPipeline,
     pub fins: wgpu::RenderPipeline,
     pub shells: wgpu::RenderPipeline,
+    pub marched: wgpu::RenderPipeline,
 }
 
 /// What PRT adds: its bind group layout (group 1), the pipeline layout with it, and the
@@ -283,7 +284,8 @@ impl FurPipelines {
                     storage_entry(1, fragment),
                     storage_entry(2, fragment),
                     storage_entry(3, vertex),
-                    storage_entry(4, vertex),
+                    // The marched shells' fragments read the surface geometry too.
+                    storage_entry(4, vertex | fragment),
                     storage_entry(5, vertex),
                     storage_entry(6, vertex),
                 ],
@@ -322,6 +324,7 @@ impl FurPipelines {
                 skin: pipeline(device, layout, &skin::state(model), format),
                 fins: pipeline(device, layout, &fins::state(model), format),
                 shells: pipeline(device, layout, &shells::state(model), format),
+                marched: pipeline(device, layout, &marched::state(model), format),
             })
         })?;
         Ok(slot.get_or_init(|| built))

@@ -9,6 +9,22 @@ pub const MAX_FUR_DEPTH: f32 = 1e6;
 /// Largest [`RenderSettings::shells_per_pixel`].
 pub const MAX_SHELLS_PER_PIXEL: f32 = 1e3;
 
+/// How the shells are drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ShellMethod {
+    /// Lengyel et al. 2001, §2.3: every shell a copy of the mesh, one instanced draw, each
+    /// composited over the last by the blender. Exact per layer; costs a triangle per face and
+    /// shell, which a CPU adapter feels most.
+    #[default]
+    Instanced,
+    /// One hull (the outermost shell) whose fragments march down through the layers along the
+    /// view ray, the surface taken as flat under each pixel (after the per-pixel rays of
+    /// raycast-fur-virtual-planes §3): one mesh's triangles whatever the shell count, one
+    /// lighting evaluation per pixel, one mip level per pixel. Near the silhouette, where the
+    /// surface bends within the ray's run, it differs from the instanced shells most.
+    Marched,
+}
+
 /// What to draw and how.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RenderSettings {
@@ -31,6 +47,8 @@ pub struct RenderSettings {
     pub min_shells: u32,
     /// LOD: most shells, `≥ min_shells` (the volume's `layers − 1` caps it).
     pub max_shells: u32,
+    /// How the shells are drawn.
+    pub shell_method: ShellMethod,
     /// Draw the fins (Lengyel §2.3, pass b).
     pub fins: bool,
     /// Fur depth in object units: the height of the volume's top at length multiplier 1
@@ -54,6 +72,7 @@ impl Default for RenderSettings {
             shells_per_pixel: 1.0,
             min_shells: 2,
             max_shells: 64,
+            shell_method: ShellMethod::Instanced,
             fins: true,
             fur_depth: 0.05,
             fin_opacity: 1.0,

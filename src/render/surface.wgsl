@@ -60,3 +60,13 @@ fn blended(t: Texels) -> vec4<f32> {
 fn uv_gradients(uv: vec2<f32>) -> vec4<f32> {
     return vec4<f32>(dpdx(uv), dpdy(uv));
 }
+
+// A point of the hull of the marched shells and its tile frame: `up` is d(position) / d(tile
+// height) as in `Lifted`.
+struct MarchFrame {
+    position: vec3<f32>,
+    normal: vec3<f32>,
+    dpdu: vec3<f32>,
+    dpdv: vec3<f32>,
+    up: vec3<f32>,
+};

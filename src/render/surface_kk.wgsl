@@ -60,3 +60,16 @@ fn hair_tangent(uv: vec2<f32>, layer: u32, dpdu: vec3<f32>, dpdv: vec3<f32>, up:
     let d = textureSampleLevel(tangent_texture, tile_sampler, uv, layer, 0.0).xyz * 2.0 - 1.0;
     return unit_or(d.x * dpdu + d.y * dpdv + d.z * up, n);
 }
+
+// The hull fragment's point and tile frame for the marched shells (`marched.wgsl`).
+fn march_frame(s: SurfaceOut) -> MarchFrame {
+    return MarchFrame(s.position, s.normal, s.dpdu, s.dpdv, s.up);
+}
+
+// The hair lighting at the marched layer `layers` read at `uv`.
+fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alpha: f32,
+               grad: vec4<f32>) -> HairLight {
+    let n = unit_or(f.normal, vec3<f32>(0.0, 0.0, 1.0));
+    let t = hair_tangent(uv, layers.height, f.dpdu, f.dpdv, f.up, n);
+    return hair_light(t, n, view_vector(f.position), f32(layers.height) * frame.fur.y);
+}

@@ -67,3 +67,27 @@ fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>) -
     }
     return vec4<f32>(rgb * tint, blended(texels).a * opacity);
 }
+
+// The hull fragment's point and tile frame for the marched shells (`marched.wgsl`), interpolated
+// from the geometry of the triangle's three surface vertices (pulled, as the vertex shader does;
+// the fragment stage reads no color or length buffer, within the storage buffer limit).
+fn march_frame(s: SurfaceOut) -> MarchFrame {
+    let w = s.bary;
+    let b = s.ids * SURFACE_FLOATS;
+    var at: array<vec3<f32>, 5>;
+    // position, normal, dP/du, dP/dv at float offsets 0, 3, 6, 9; comb at 14.
+    for (var k = 0u; k < 5u; k++) {
+        let o = select(3u * k, 14u, k == 4u);
+        at[k] = w.x * vec3_at(b.x + o) + w.y * vec3_at(b.y + o) + w.z * vec3_at(b.z + o);
+    }
+    let up = frame.fur.x * s.length * growth(at[1], at[4]);
+    let height = f32(shell_layers(frame.counts.x - 1u).height) * frame.fur.y;
+    return MarchFrame(at[0] + height * up, at[1], at[2], at[3], up);
+}
+
+// The transfer of the marched layer `layers` read at `uv` (`alpha` its texel's opacity, which
+// the premultiplied transfer divides out), dotted with the lighting.
+fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alpha: f32,
+               grad: vec4<f32>) -> HairLight {
+    return HairLight(transfer_radiance(s.ids, s.bary, uv, layers.fine, grad, alpha), vec3<f32>(0.0));
+}

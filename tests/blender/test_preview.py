@@ -125,6 +125,20 @@ def test_frames_are_numpy_images_in_both_formats(preview, asset):
     assert info["shells"] == asset.layers - 1 and info["level"] == 0
 
 
+def test_marched_shells_cover_what_instanced_shells_cover(preview):
+    # Both lighting models; the marched hull covers the same pixels as the instanced shells to a
+    # percent, and is as bright to within 15% where both are opaque.
+    for lighting in ("kajiya-kay", "prt"):
+        instanced = preview.render(VIEW, PROJECTION, SIDE, SIDE, lighting=lighting)
+        marched = preview.render(VIEW, PROJECTION, SIDE, SIDE, lighting=lighting, shell_method="marched")
+        assert not np.array_equal(instanced, marched)
+        covered = [int((image[..., 3] > 0).sum()) for image in (instanced, marched)]
+        assert abs(covered[0] - covered[1]) <= 0.01 * covered[0], covered
+        both = (instanced[..., 3] == 255) & (marched[..., 3] == 255)
+        means = [float(image[both][:, :3].mean()) for image in (instanced, marched)]
+        assert abs(means[0] - means[1]) <= 0.15 * means[0], means
+
+
 def test_opengl_depth_is_remapped_to_wgpu():
     # Orthographic, near 0 and far 10, the sphere's front 2 units away: GL depth -0.6, which
     # wgpu would clip without the remap to 0..1.
@@ -189,6 +203,7 @@ def test_bad_input_names_the_problem_and_the_preview_survives(asset):
         # A transfer baked for another hair volume (other layers).
         (lambda: preview.set_transfer(bake(layers=6)), "transfer.layers"),
         (lambda: pelt.Preview(asset, adapter="quantum"), "adapter"),
+        (lambda: preview.render(VIEW, PROJECTION, SIDE, SIDE, shell_method="ray"), "shell_method"),
     ]
     for call, name in cases:
         with pytest.raises(pelt.InvalidParameterError, match=name.replace(".", r"\.")):

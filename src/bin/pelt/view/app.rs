@@ -347,6 +347,7 @@ impl ApplicationHandler for App {
                         info: &info,
                         lod: viewer.state.lod,
                         fins: viewer.state.fins,
+                        marched: viewer.state.marched,
                         model: viewer.state.model_name(),
                         adapter: &adapter.name,
                     };

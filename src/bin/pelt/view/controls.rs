@@ -1,7 +1,7 @@
 //! What the viewer shows and how input changes it: the orbit camera and light (`orbit.rs`), the
 //! shell count, fins, LOD and lighting model, and the keys and drags that change them.
 
-use pelt::render::{KajiyaKay, LightModel, Lighting, Prt, RenderSettings};
+use pelt::render::{KajiyaKay, LightModel, Lighting, Prt, RenderSettings, ShellMethod};
 use winit::event::{ElementState, MouseButton, MouseScrollDelta};
 use winit::keyboard::{Key, NamedKey};
 
@@ -22,6 +22,7 @@ controls:
   right drag, ←→↑↓ turn the light
   + / -            more / fewer shells (with LOD: the most LOD may draw)
   F                fins on / off
+  M                shells instanced / marched per pixel (fewer triangles: faster on a CPU)
   L                level of detail on / off
   K / P            Kajiya-Kay / PRT lighting
   R                reset the camera
@@ -36,6 +37,7 @@ pub enum Action {
     MoreShells,
     FewerShells,
     ToggleFins,
+    ToggleMarched,
     ToggleLod,
     KajiyaKay,
     Prt,
@@ -68,6 +70,7 @@ pub fn key_action(key: &Key) -> Option<Action> {
             "+" | "=" => Some(Action::MoreShells),
             "-" | "_" => Some(Action::FewerShells),
             "f" => Some(Action::ToggleFins),
+            "m" => Some(Action::ToggleMarched),
             "l" => Some(Action::ToggleLod),
             "k" => Some(Action::KajiyaKay),
             "p" => Some(Action::Prt),
@@ -126,6 +129,8 @@ pub struct ViewState {
     /// The volume's layers above the skin.
     pub max_shells: u32,
     pub fins: bool,
+    /// Shells marched per pixel instead of instanced.
+    pub marched: bool,
     pub lod: bool,
     pub prt: bool,
     /// Whether the scene has transfer textures (PRT possible).
@@ -143,6 +148,7 @@ impl ViewState {
             shells: max_shells,
             max_shells,
             fins: true,
+            marched: false,
             lod: false,
             prt: false,
             has_transfer,
@@ -170,6 +176,7 @@ impl ViewState {
                 self.shells = shells;
             }
             Action::ToggleFins => self.fins = !self.fins,
+            Action::ToggleMarched => self.marched = !self.marched,
             Action::ToggleLod => self.lod = !self.lod,
             Action::KajiyaKay if self.prt => self.prt = false,
             Action::Prt if !self.has_transfer => {
@@ -189,6 +196,11 @@ impl ViewState {
     pub fn settings(&self, fur_depth: f32) -> RenderSettings {
         let base = RenderSettings {
             fins: self.fins,
+            shell_method: if self.marched {
+                ShellMethod::Marched
+            } else {
+                ShellMethod::Instanced
+            },
             fur_depth,
             background: BACKGROUND,
             ..RenderSettings::default()

@@ -46,6 +46,7 @@ pub struct Shown<'a> {
     pub info: &'a FrameInfo,
     pub lod: bool,
     pub fins: bool,
+    pub marched: bool,
     pub model: &'a str,
     pub adapter: &'a str,
 }
@@ -62,8 +63,9 @@ pub fn title(median: Option<f64>, shown: &Shown<'_>) -> String {
         "LOD off".into()
     };
     let fins = if shown.fins { "fins" } else { "no fins" };
+    let shells = if shown.marched { "shells marched" } else { "shells" };
     format!(
-        "pelt view: {} | {time} | {} shells | {lod} | {fins} | {} | {}",
+        "pelt view: {} | {time} | {} {shells} | {lod} | {fins} | {} | {}",
         shown.object, shown.info.shells, shown.model, shown.adapter
     )
 }
@@ -131,6 +133,7 @@ mod tests {
             info: &info,
             lod: true,
             fins: false,
+            marched: false,
             model: "PRT",
             adapter: "llvmpipe",
         };

@@ -1,0 +1,49 @@
+//! Pass (c), marched ([`super::ShellMethod::Marched`]): the shells as one hull whose fragments
+//! march down through the layers (`marched.wgsl`), instead of one instanced mesh per shell. Same
+//! state as the instanced pass: back faces culled, depth written behind the alpha test,
+//! premultiplied "over" the skin and fins.
+
+use super::pipelines::{Model, PassPipelines, PassState};
+use super::scene::FurScene;
+use super::shells;
+
+const KAJIYA_KAY: &str = concat!(
+    include_str!("common.wgsl"),
+    include_str!("lighting.wgsl"),
+    include_str!("surface.wgsl"),
+    include_str!("surface_kk.wgsl"),
+    include_str!("marched.wgsl")
+);
+const PRT: &str = concat!(
+    include_str!("common.wgsl"),
+    include_str!("prt.wgsl"),
+    include_str!("surface.wgsl"),
+    include_str!("surface_prt.wgsl"),
+    include_str!("marched.wgsl")
+);
+
+pub(super) fn state(model: Model) -> PassState<'static> {
+    PassState {
+        label: "marched shells",
+        source: match model {
+            Model::KajiyaKay => KAJIYA_KAY,
+            Model::Prt => PRT,
+        },
+        ..shells::state(model)
+    }
+}
+
+/// Draws the hull of `count` shells (nothing for none).
+pub(super) fn draw(
+    pass: &mut wgpu::RenderPass<'_>,
+    pipelines: &PassPipelines,
+    scene: &FurScene,
+    model: Model,
+    count: u32,
+) {
+    if count == 0 {
+        return;
+    }
+    pass.set_pipeline(&pipelines.marched);
+    scene.surface.draw(pass, model, 0..1);
+}

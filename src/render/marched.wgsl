@@ -1,0 +1,172 @@
+// Pass (c), marched: the shells drawn as one hull, the outermost shell, whose fragments follow
+// the view ray down through the shell layers below (the per-pixel ray of
+// raycast-fur-virtual-planes §3, through Lengyel's horizontal layers instead of vertical planes).
+// Each layer is read where the ray crosses its height, in the tile frame of the hull fragment
+// (the surface taken as flat under it), and composited front to back; the march stops once the
+// pixel is opaque. The geometry is one mesh instead of one per shell, and the layers cost a
+// texture read each instead of a rasterized triangle, which is what a CPU adapter pays for.
+// Lighting is evaluated once per pixel, at the layer where the composite passes half opacity.
+// The lighting model's file defines `march_frame` and `march_light`.
+
+// The most ray length, in layer heights, that descends one layer: where a flat hull is seen
+// nearly edge-on (beyond about 80°), the ray is bent down so that it still reaches the skin.
+const MAX_RUN: f32 = 6.0;
+// Opacity past which the layers below cannot change an 8-bit pixel.
+const OPAQUE: f32 = 0.998;
+
+// The mip level of the shell texture for the whole march: the hull's footprint, rounded to one
+// level (a single bilinear level costs half a trilinear read).
+fn march_lod(grad: vec4<f32>) -> f32 {
+    let texels = vec2<f32>(textureDimensions(shell_texture));
+    let rho = max(length(grad.xy * texels), length(grad.zw * texels));
+    return round(log2(max(rho, 1.0)));
+}
+
+// `fade`: whether an LOD cross-fade runs; a literal at each call, so that the march without one
+// holds no second texture read (a CPU adapter would pay for it even when skipped).
+fn march_texels(uv: vec2<f32>, layers: Layers, lod: f32, fade: bool) -> Texels {
+    let fine = textureSampleLevel(shell_texture, tile_sampler, uv, layers.fine, lod);
+    var coarse = vec4<f32>(0.0);
+    if (fade && layers.coarse != NO_LAYER) {
+        coarse = textureSampleLevel(shell_texture, tile_sampler, uv, layers.coarse, lod);
+    }
+    return Texels(fine, coarse);
+}
+
+// The view ray from a hull fragment, in the tile frame: `uv` moves `uv_rate` per object unit of
+// ray, its height above the surface falls `fall` level-0 layers per unit and, where the surface
+// curves away under it (a sphere's limb), rises back `bend` per unit² (the surface drops t²κ/2
+// below the tangent plane). A ray whose height never reaches a layer leaves the fur first.
+struct Ray {
+    uv_rate: vec2<f32>,
+    fall: f32,
+    bend: f32,
+    // Longest ray, per layer of drop, before it is bent down to the skin: MAX_RUN layer heights.
+    cap: f32,
+};
+
+// `curvature`: the surface's normal curvature at the fragment, 0 where flat or concave.
+fn march_ray(f: MarchFrame, curvature: f32) -> Ray {
+    // Columns: object offset per unit of u, of v and of level-0 layer height.
+    let a = f.dpdu;
+    let b = f.dpdv;
+    let c = f.up * frame.fur.y;
+    let bc = cross(b, c);
+    let det = dot(a, bc);
+    let layer = length(c);
+    if (!(abs(det) > 1e-30 && layer > 0.0)) {
+        return Ray(vec2<f32>(0.0), 1.0, 0.0, 1.0);
+    }
+    // The ray into the surface in (u, v, height) per object unit: Cramer's rule.
+    let w = -view_vector(f.position);
+    let d = vec3<f32>(dot(bc, w), dot(cross(c, a), w), dot(cross(a, b), w)) / det;
+    return Ray(d.xy, -d.z, 0.5 * curvature / layer, MAX_RUN * layer);
+}
+
+// Ray length to drop `drop` level-0 layers below the hull, or a negative value if it never does:
+// the nearer root of bend·t² − fall·t + drop = 0, in the form that stays exact as bend → 0.
+fn ray_length(r: Ray, drop: f32) -> f32 {
+    let disc = r.fall * r.fall - 4.0 * r.bend * drop;
+    if (drop <= 0.0) {
+        return 0.0;
+    }
+    if (r.fall <= 0.0 || disc < 0.0) {
+        // Flat and seen edge-on, the ray is bent down to the layer; curved, it has left the fur.
+        return select(-1.0, r.cap * drop, r.bend <= 0.0);
+    }
+    return min(2.0 * drop / (r.fall + sqrt(disc)), r.cap * drop);
+}
+
+// The surface's curvature from screen derivatives of the normal and position (taken in uniform
+// control flow): the larger of the two screen axes', where the normal turns away from the step.
+fn surface_curvature(normal: vec3<f32>, position: vec3<f32>) -> f32 {
+    let dpx = dpdx(position);
+    let dpy = dpdy(position);
+    let kx = dot(dpdx(normal), dpx) / max(dot(dpx, dpx), 1e-30);
+    let ky = dot(dpdy(normal), dpy) / max(dot(dpy, dpy), 1e-30);
+    return max(max(kx, ky), 0.0);
+}
+
+// `shell_layers(instance)` without its integer division (which a CPU adapter runs lane by lane):
+// the quotient of two small integers, rounded to f32 and floored, is exact.
+fn march_layers(instance: u32) -> Layers {
+    if (frame.counts.z == 1u) {
+        return shell_layers(instance);
+    }
+    let j = f32(instance + 1u);
+    let drawn = f32(max(frame.counts.x, 1u));
+    let top = f32(frame.counts.y - 1u);
+    let layer = u32(floor((j * top * 2.0 + drawn) / (2.0 * drawn)));
+    return Layers(layer, layer, NO_LAYER);
+}
+
+@vertex
+fn vs_main(v: SurfaceIn) -> SurfaceOut {
+    return surface_vertex(v, shell_layers(frame.counts.x - 1u), true);
+}
+
+// What a march leaves: the composite (premultiplied, before the vertex color's rgb) and the layer
+// lit for it, the one where the composite passes half opacity.
+struct Marched {
+    color: vec4<f32>,
+    shown: Layers,
+    uv: vec2<f32>,
+    // The shown layer's own texel opacity (level drawn).
+    alpha: f32,
+};
+
+fn march(s: SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
+    let hull = shell_layers(frame.counts.x - 1u);
+    var out = Marched(vec4<f32>(0.0), hull, s.uv, 1.0);
+    var i = frame.counts.x;
+    loop {
+        if (i == 0u || out.color.a >= OPAQUE) {
+            break;
+        }
+        i -= 1u;
+        let layers = march_layers(i);
+        let t = ray_length(ray, f32(hull.height - layers.height));
+        // The deeper layers lie further along the ray still.
+        if (t < 0.0) {
+            break;
+        }
+        let uv = s.uv + ray.uv_rate * t;
+        let texels = march_texels(uv, layers, lod, fade);
+        let texel = blended(texels) * s.color.a;
+        // The instanced pass's alpha test: such a texel draws nothing.
+        if (texel.a < frame.fur.w) {
+            continue;
+        }
+        if (out.color.a < 0.5) {
+            out.shown = layers;
+            out.uv = uv;
+            out.alpha = texels.fine.a;
+        }
+        out.color += (1.0 - out.color.a) * texel;
+    }
+    return out;
+}
+
+@fragment
+fn fs_main(s: SurfaceOut) -> @location(0) vec4<f32> {
+    let grad = uv_gradients(s.uv);
+    let f = march_frame(s);
+    let curvature = surface_curvature(f.normal, f.position);
+    // Bald faces draw no shells.
+    if (s.length <= 0.0) {
+        discard;
+    }
+    let ray = march_ray(f, curvature);
+    let lod = march_lod(grad);
+    var m: Marched;
+    if (frame.fin.y > 0.0) {
+        m = march(s, ray, lod, true);
+    } else {
+        m = march(s, ray, lod, false);
+    }
+    if (m.color.a <= 0.0) {
+        discard;
+    }
+    let k = march_light(s, f, m.uv, m.shown, m.alpha, grad);
+    return vec4<f32>(m.color.rgb * s.color.rgb * k.scale + m.color.a * k.add, m.color.a);
+}
