@@ -28,6 +28,13 @@ pub struct FinQuad {
     pub u1: f64,
 }
 
+/// The two triangles of fin `quad` when its four corners are vertices `4·quad ..`, written as
+/// the edge's ends `a`, `b` at one height and then `a`, `b` at the other (the renderer's and the
+/// glTF export's layout).
+pub fn quad_triangles(quad: u32) -> [u32; 6] {
+    [0, 1, 3, 0, 3, 2].map(|k| 4 * quad + k)
+}
+
 /// The fins of every edge that has a length and a well-defined fin plane, in edge order;
 /// `uv_scale` is tile units per object unit (see [`crate::mesh::UvSplit::uv_scale`]).
 pub fn fin_quads(mesh: &FurMesh, uv_scale: f64) -> Vec<FinQuad> {

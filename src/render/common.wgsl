@@ -52,8 +52,10 @@ fn skin_layers() -> Layers {
 
 // Shell `instance + 1`. With LOD, layer j of the level drawn stands at level-0 height j · 2^k
 // and fades into layer j / 2 of the next level (nothing for odd j). Without, shell i (1-based) of
-// s shows layer round(i (L - 1) / s), so fewer shells keep the full fur depth; integer rounding
-// keeps the choice exact.
+// s shows layer round(i (L - 1) / s), so fewer shells keep the full fur depth. The quotient is
+// estimated in f32 (an integer division runs lane by lane on a CPU adapter, and the marched
+// shells call this per layer and pixel), which lands within one of it, and settled exactly by
+// two integer multiplications (a float division need not round correctly).
 fn shell_layers(instance: u32) -> Layers {
     let j = instance + 1u;
     if (frame.counts.z == 1u) {
@@ -62,7 +64,11 @@ fn shell_layers(instance: u32) -> Layers {
     }
     let drawn = max(frame.counts.x, 1u);
     let top = frame.counts.y - 1u;
-    let layer = (j * top * 2u + drawn) / (2u * drawn);
+    let n = j * top * 2u + drawn;
+    let d = 2u * drawn;
+    var layer = u32(f32(n) / f32(d));
+    layer = select(layer, layer - 1u, layer * d > n);
+    layer = select(layer, layer + 1u, (layer + 1u) * d <= n);
     return Layers(layer, layer, NO_LAYER);
 }
 

@@ -7,6 +7,8 @@
 
 use rayon::prelude::*;
 
+use crate::mesh::quad_triangles;
+
 /// A fin `p` this far under the fade's zero (|p| = 1/2) is still kept, so that rounding in this
 /// f32 evaluation, which need not match the shader's bit for bit, never drops a fin the shader
 /// draws.
@@ -14,12 +16,6 @@ const MARGIN: f32 = 1e-4;
 
 /// Fins per parallel work item: big enough that splitting costs nothing next to the work.
 const CHUNK: usize = 4096;
-
-/// The two corners of fin `k` at the skin and the two at the fur's top are vertices `4k..4k+4`;
-/// these are its two triangles, as [`super::fin_mesh::build`] writes them.
-pub(super) fn fin_triangles(k: u32) -> [u32; 6] {
-    [0, 1, 3, 0, 3, 2].map(|c| 4 * k + c)
-}
 
 /// Each fin's plane: the point its fade is evaluated at and its unit normal.
 #[derive(Debug, Clone, Default)]
@@ -48,7 +44,7 @@ impl FinPlanes {
                 let mut out = Vec::new();
                 for (k, (c, n)) in centers.iter().zip(normals).enumerate() {
                     if faded_in(*c, *n, eye) {
-                        out.extend(fin_triangles(first + k as u32));
+                        out.extend(quad_triangles(first + k as u32));
                     }
                 }
                 out
@@ -103,7 +99,7 @@ mod tests {
         let indices = planes.visible_indices([0.0, 0.0, 2.0, 1.0]);
         let expected: Vec<u32> = (0..n as u32)
             .filter(|k| k % 3 != 0)
-            .flat_map(fin_triangles)
+            .flat_map(quad_triangles)
             .collect();
         assert_eq!(indices, expected);
     }

@@ -8,7 +8,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use crate::FurMesh;
-use crate::mesh::fin_quads;
+use crate::mesh::{fin_quads, quad_triangles};
 
 /// One GPU vertex of a fin (vertex buffer 0 of the fin pass).
 #[repr(C)]
@@ -56,9 +56,8 @@ pub(super) fn build(mesh: &FurMesh, uv_scale: f64, surface_vertex: &[u32]) -> Fi
         source: Vec::with_capacity(4 * quads.len()),
         indices: Vec::with_capacity(6 * quads.len()),
     };
-    for quad in &quads {
+    for (k, quad) in quads.iter().enumerate() {
         let [a, b] = quad.vertices;
-        let base = fins.vertices.len() as u32;
         let ends = [a, b].map(|v| surface_vertex[v as usize]);
         for (vertex, u, v) in [
             (a, quad.u0, 1.0),
@@ -78,7 +77,7 @@ pub(super) fn build(mesh: &FurMesh, uv_scale: f64, surface_vertex: &[u32]) -> Fi
             });
             fins.source.push(vertex);
         }
-        fins.indices.extend([0, 1, 3, 0, 3, 2].map(|k| base + k));
+        fins.indices.extend(quad_triangles(k as u32));
     }
     fins
 }

@@ -13,8 +13,8 @@ use super::prt_light::world_coefficients;
 use super::prt_rotate::RotationUniforms;
 use super::readback::read_texels;
 use super::scene::FurScene;
-use super::settings::{RenderSettings, ShellMethod};
-use super::{Renderer, fins, marched, scoped, shells, skin};
+use super::settings::RenderSettings;
+use super::{Renderer, fins, scoped, shells, skin};
 use crate::error::{PeltError, Result};
 
 /// The depth target of one size and, for offscreen frames, a color target of that size, kept
@@ -336,14 +336,14 @@ impl Renderer {
                 }
                 skin::draw(&mut pass, pipelines, scene, checked.model);
                 fins::draw(&mut pass, pipelines, scene, fin_indices.len() as u32);
-                match settings.shell_method {
-                    ShellMethod::Instanced => {
-                        shells::draw(&mut pass, pipelines, scene, checked.model, checked.info.shells);
-                    }
-                    ShellMethod::Marched => {
-                        marched::draw(&mut pass, pipelines, scene, checked.model, checked.info.shells);
-                    }
-                }
+                shells::draw(
+                    &mut pass,
+                    pipelines,
+                    scene,
+                    checked.model,
+                    checked.info.shells,
+                    settings.shell_method,
+                );
             }
             self.queue.submit([encoder.finish()]);
             Ok::<_, PeltError>(())

@@ -8,7 +8,8 @@
 // around the terminator (wider than Lambert's, as light scatters through the fur).
 const TERMINATOR_WRAP: f32 = 0.3;
 
-// The hair lighting at one point (see `HairLight`); `height` is the share of the fur depth (0 at the skin, 1 at the top of the volume).
+// The hair lighting at one point (see `HairLight`); `height` is the share of the fur depth (0 at
+// the skin, 1 at the top of the volume).
 fn hair_light(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f32) -> HairLight {
     let l = frame.light_direction.xyz;
     let h = unit_or(l + view, normal);

@@ -1,10 +1,9 @@
 //! Pass (c), marched ([`super::ShellMethod::Marched`]): the shells as one hull whose fragments
 //! march down through the layers (`marched.wgsl`), instead of one instanced mesh per shell. Same
 //! state as the instanced pass: back faces culled, depth written behind the alpha test,
-//! premultiplied "over" the skin and fins.
+//! premultiplied "over" the skin and fins; [`shells::draw`] draws it.
 
-use super::pipelines::{Model, PassPipelines, PassState};
-use super::scene::FurScene;
+use super::pipelines::{Model, PassState};
 use super::shells;
 
 const KAJIYA_KAY: &str = concat!(
@@ -31,19 +30,4 @@ pub(super) fn state(model: Model) -> PassState<'static> {
         },
         ..shells::state(model)
     }
-}
-
-/// Draws the hull of `count` shells (nothing for none).
-pub(super) fn draw(
-    pass: &mut wgpu::RenderPass<'_>,
-    pipelines: &PassPipelines,
-    scene: &FurScene,
-    model: Model,
-    count: u32,
-) {
-    if count == 0 {
-        return;
-    }
-    pass.set_pipeline(&pipelines.marched);
-    scene.surface.draw(pass, model, 0..1);
 }

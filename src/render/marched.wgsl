@@ -87,19 +87,6 @@ fn surface_curvature(normal: vec3<f32>, position: vec3<f32>) -> f32 {
     return max(max(kx, ky), 0.0);
 }
 
-// `shell_layers(instance)` without its integer division (which a CPU adapter runs lane by lane):
-// the quotient of two small integers, rounded to f32 and floored, is exact.
-fn march_layers(instance: u32) -> Layers {
-    if (frame.counts.z == 1u) {
-        return shell_layers(instance);
-    }
-    let j = f32(instance + 1u);
-    let drawn = f32(max(frame.counts.x, 1u));
-    let top = f32(frame.counts.y - 1u);
-    let layer = u32(floor((j * top * 2.0 + drawn) / (2.0 * drawn)));
-    return Layers(layer, layer, NO_LAYER);
-}
-
 @vertex
 fn vs_main(v: SurfaceIn) -> SurfaceOut {
     return surface_vertex(v, shell_layers(frame.counts.x - 1u), true);
@@ -124,7 +111,7 @@ fn march(s: SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
             break;
         }
         i -= 1u;
-        let layers = march_layers(i);
+        let layers = shell_layers(i);
         let t = ray_length(ray, f32(hull.height - layers.height));
         // The deeper layers lie further along the ray still.
         if (t < 0.0) {

@@ -5,6 +5,7 @@
 
 use super::pipelines::{Model, PassPipelines, PassState, VertexInput};
 use super::scene::FurScene;
+use super::settings::ShellMethod;
 
 const KAJIYA_KAY: &str = concat!(
     include_str!("common.wgsl"),
@@ -39,17 +40,23 @@ pub(super) fn state(model: Model) -> PassState<'static> {
     }
 }
 
-/// Draws `count` shells.
+/// Draws `count` shells: instanced, a copy of the mesh per shell, or marched
+/// ([`super::marched`]), their hull once.
 pub(super) fn draw(
     pass: &mut wgpu::RenderPass<'_>,
     pipelines: &PassPipelines,
     scene: &FurScene,
     model: Model,
     count: u32,
+    method: ShellMethod,
 ) {
     if count == 0 {
         return;
     }
-    pass.set_pipeline(&pipelines.shells);
-    scene.surface.draw(pass, model, 0..count);
+    let (pipeline, instances) = match method {
+        ShellMethod::Instanced => (&pipelines.shells, count),
+        ShellMethod::Marched => (&pipelines.marched, 1),
+    };
+    pass.set_pipeline(pipeline);
+    scene.surface.draw(pass, model, 0..instances);
 }

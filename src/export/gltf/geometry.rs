@@ -19,8 +19,8 @@ use super::builder::{GlbBuilder, SamplerKind};
 use super::vertices::{SplitVertices, check_lifted};
 use super::{Primitive, material, pelt_extras};
 use crate::error::Result;
-use crate::mesh::fin_quads;
 use crate::mesh::shell_offset::{lifted, shell_layer};
+use crate::mesh::{fin_quads, quad_triangles};
 use crate::threads::pool;
 
 /// Adds `input` as one mesh (skin, shells, fins) and returns it.
@@ -178,9 +178,7 @@ fn fin_primitive(
         }
     }
     check_lifted(&pos, |i| quads[i / 4].vertices[i % 2])?;
-    let indices: Vec<u32> = (0..quads.len() as u32)
-        .flat_map(|q| [0, 1, 3, 0, 3, 2].map(|k| 4 * q + k))
-        .collect();
+    let indices: Vec<u32> = (0..quads.len() as u32).flat_map(quad_triangles).collect();
     let image = builder.png_image(&format!("{}_fin", input.file_stem()), fin_png);
     let texture = builder.texture(image, SamplerKind::Fin);
     let fin = Primitive {
