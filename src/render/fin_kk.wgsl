@@ -1,8 +1,28 @@
 // Fins under Kajiya-Kay lighting: the fin texture has no tangent map, its hair runs along the
-// growth direction.
+// growth direction. A fin is a few pixels across, so it is lit at its corners and the lighting
+// interpolated (Lengyel et al. 2001, §2.4, also computes u = T·L and v = T·H per vertex, through
+// the texture matrix): the fragment is left a texture read and two multiply-adds, which a CPU
+// adapter feels on tens of thousands of fins.
 
-fn shade_fin(f: FinOut, albedo: vec3<f32>, alpha: f32) -> vec4<f32> {
-    let n = unit_or(f.normal, vec3<f32>(0.0, 0.0, 1.0));
-    let t = unit_or(f.growth, n);
-    return shade(albedo, alpha, t, n, view_vector(f.position), 1.0 - f.uv.y);
+struct FinOut {
+    @builtin(position) clip: vec4<f32>,
+    // Vertex color × opacity × the lighting's scale; fin texture u.
+    @location(0) scale_u: vec4<f32>,
+    // Opacity × the lighting's addition; fin texture v.
+    @location(1) add_v: vec4<f32>,
+    @location(2) opacity: f32,
+};
+
+fn fin_vertex(v: FinIn, c: FinCorner) -> FinOut {
+    let n = unit_or(v.normal, vec3<f32>(0.0, 0.0, 1.0));
+    let t = unit_or(c.growth, n);
+    let k = hair_light(t, n, view_vector(c.position), 1.0 - v.uv.y);
+    return FinOut(c.clip, vec4<f32>(v.color.rgb * c.opacity * k.scale, v.uv.x),
+                  vec4<f32>(c.opacity * k.add, v.uv.y), c.opacity);
+}
+
+// Premultiplied: texel × vertex color × opacity, lit.
+fn fin_fragment(f: FinOut) -> vec4<f32> {
+    let texel = textureSample(fin_texture, fin_sampler, vec2<f32>(f.scale_u.w, f.add_v.w));
+    return vec4<f32>(texel.rgb * f.scale_u.rgb + texel.a * f.add_v.rgb, texel.a * f.opacity);
 }

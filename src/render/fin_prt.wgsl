@@ -2,8 +2,27 @@
 // fins to future work), so a fin row takes the mean transfer of the hair in the shell layers at
 // its height, lit by its two ends' rotated lighting.
 
-fn shade_fin(f: FinOut, albedo: vec3<f32>, alpha: f32) -> vec4<f32> {
+struct FinOut {
+    @builtin(position) clip: vec4<f32>,
+    // Fin texture uv; the weight of the second end.
+    @location(0) uv_along: vec3<f32>,
+    // Vertex color; opacity.
+    @location(1) color_opacity: vec4<f32>,
+    // The surface vertices at the edge's ends.
+    @location(2) @interpolate(flat) ends: vec2<u32>,
+};
+
+fn fin_vertex(v: FinIn, c: FinCorner) -> FinOut {
+    return FinOut(c.clip, vec3<f32>(v.uv, v.along), vec4<f32>(v.color.rgb, c.opacity), v.ends);
+}
+
+// Premultiplied: texel × vertex color × opacity, lit per fragment.
+fn fin_fragment(f: FinOut) -> vec4<f32> {
+    let uv = f.uv_along.xy;
+    let texel = textureSample(fin_texture, fin_sampler, uv);
+    let opacity = f.color_opacity.w;
+    let albedo = texel.rgb * f.color_opacity.rgb * opacity;
     let ids = vec3<u32>(f.ends, f.ends.x);
-    let w = vec3<f32>(1.0 - f.along, f.along, 0.0);
-    return vec4<f32>(albedo * mean_radiance(ids, w, 1.0 - f.uv.y), alpha);
+    let w = vec3<f32>(1.0 - f.uv_along.z, f.uv_along.z, 0.0);
+    return vec4<f32>(albedo * mean_radiance(ids, w, 1.0 - uv.y), texel.a * opacity);
 }

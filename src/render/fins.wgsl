@@ -1,7 +1,8 @@
 // Pass (b), the fins (Lengyel et al. 2001, §2.3): one quad per mesh edge standing along the
 // growth direction, faded by max(0, 2|p| - 1) with p = fin normal · view direction, so that only
 // fins near the silhouette (also just over the horizon) show. Depth tested, not written. The
-// lighting model's file (`fin_kk.wgsl` or `fin_prt.wgsl`) defines `shade_fin`.
+// lighting model's file (`fin_kk.wgsl` or `fin_prt.wgsl`) defines what reaches the fragment
+// (`FinOut`, made by `fin_vertex`) and its color (`fin_fragment`).
 
 struct FinIn {
     @location(0) position: vec3<f32>,
@@ -16,17 +17,13 @@ struct FinIn {
     @location(9) along: f32,
 };
 
-struct FinOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) growth: vec3<f32>,
-    @location(3) uv: vec2<f32>,
-    @location(4) color: vec4<f32>,
-    @location(5) fade: f32,
-    // The surface vertices at the edge's ends and the weight of the second (PRT lighting).
-    @location(6) @interpolate(flat) ends: vec2<u32>,
-    @location(7) along: f32,
+// A fin corner lifted off the skin, what the model's `fin_vertex` starts from.
+struct FinCorner {
+    clip: vec4<f32>,
+    position: vec3<f32>,
+    growth: vec3<f32>,
+    // Fade × fin opacity × vertex opacity.
+    opacity: f32,
 };
 
 @vertex
@@ -37,22 +34,11 @@ fn vs_main(v: FinIn) -> FinOut {
     let g = growth(v.normal, v.comb);
     // uv.y is 0 at the top of the fur (the fin texture's first row) and 1 at the skin.
     let position = v.position + (1.0 - v.uv.y) * frame.fur.x * v.length * g;
-    var out: FinOut;
-    out.clip = select(CULLED, clip_position(position), fade > 0.0);
-    out.position = position;
-    out.normal = v.normal;
-    out.growth = g;
-    out.uv = v.uv;
-    out.color = v.color;
-    out.fade = fade;
-    out.ends = v.ends;
-    out.along = v.along;
-    return out;
+    let clip = select(CULLED, clip_position(position), fade > 0.0);
+    return fin_vertex(v, FinCorner(clip, position, g, fade * v.color.a));
 }
 
 @fragment
 fn fs_main(f: FinOut) -> @location(0) vec4<f32> {
-    let texel = textureSample(fin_texture, fin_sampler, f.uv);
-    let opacity = f.fade * f.color.a;
-    return shade_fin(f, texel.rgb * f.color.rgb * opacity, texel.a * opacity);
+    return fin_fragment(f);
 }

@@ -13,6 +13,10 @@
 const MAX_RUN: f32 = 6.0;
 // Opacity past which the layers below cannot change an 8-bit pixel.
 const OPAQUE: f32 = 0.998;
+// How far, in texels of the mip read, the ray may move sideways through one composited group of
+// layers of the LOD chain: while it stays within about a texel, the group's "over" composite
+// (Lengyel §2.4) is what the ray would gather from its layers one by one.
+const GROUP_SPREAD: f32 = 1.0;
 
 // The mip level of the shell texture for the whole march: the hull's footprint, rounded to one
 // level (a single bilinear level costs half a trilinear read).
@@ -88,7 +92,7 @@ fn surface_curvature(normal: vec3<f32>, position: vec3<f32>) -> f32 {
 }
 
 @vertex
-fn vs_main(v: SurfaceIn) -> SurfaceOut {
+fn vs_main(v: SurfaceIn) -> SurfaceVarying {
     return surface_vertex(v, shell_layers(frame.counts.x - 1u), true);
 }
 
@@ -134,8 +138,89 @@ fn march(s: SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
     return out;
 }
 
+// Layers of LOD level `k` of the volume (`frame.counts.y` layers at level 0): ⌈L / 2^k⌉.
+fn level_count(k: u32) -> u32 {
+    return (frame.counts.y + (1u << k) - 1u) >> k;
+}
+
+// The coarsest level whose groups the ray crosses within GROUP_SPREAD texels, for a march of the
+// whole stack: head-on a few composited groups stand for 32 layers, toward the limb it steps
+// through every layer. Level `k` needs a layer above its first (two layers), so `k` stops short
+// of the single-layer level.
+fn march_level(ray: Ray, lod: f32) -> u32 {
+    let per_layer = ray_length(ray, 1.0);
+    // A ray that leaves the fur within a layer (at the limb) reads the top layers one by one.
+    if (per_layer < 0.0) {
+        return 0u;
+    }
+    let texels = vec2<f32>(textureDimensions(shell_texture)) * exp2(-lod);
+    let spread = length(ray.uv_rate * texels) * per_layer;
+    let k = floor(log2(GROUP_SPREAD / spread));
+    // Head-on (no spread, k = +inf) the coarsest level; NaN from a degenerate frame, the finest.
+    return u32(clamp(select(k, 0.0, k != k), 0.0, f32(top_level())));
+}
+
+// The coarsest level with two layers or more.
+fn top_level() -> u32 {
+    var k = 0u;
+    while (level_count(k + 1u) >= 2u) {
+        k += 1u;
+    }
+    return k;
+}
+
+// The march through the whole stack from LOD level `k`: its groups from the top down to its
+// group 1 (level-0 layers 2^k .. 2^(k+1) - 1), then group 1 of each finer level, which together
+// hold level-0 layers 1 .. 2^k - 1 exactly. So 32 shells take 6 to 32 reads, each group read
+// at its middle height. Level 0 is the march above, layer by layer.
+fn march_levels(s: SurfaceOut, ray: Ray, lod: f32, k: u32) -> Marched {
+    let top = frame.counts.y - 1u;
+    var base = 0u;
+    for (var i = 0u; i < k; i++) {
+        base += level_count(i);
+    }
+    var out = Marched(vec4<f32>(0.0), Layers(top, top, NO_LAYER), s.uv, 1.0);
+    var m = k;
+    var j = level_count(k) - 1u;
+    loop {
+        if (out.color.a >= OPAQUE) {
+            break;
+        }
+        let lo = j << m;
+        let hi = min(lo + (1u << m) - 1u, top);
+        let layers = Layers((lo + hi) / 2u, base + j, NO_LAYER);
+        let t = ray_length(ray, f32(top) - 0.5 * f32(lo + hi));
+        // The deeper groups lie further along the ray still.
+        if (t < 0.0) {
+            break;
+        }
+        let uv = s.uv + ray.uv_rate * t;
+        let texels = march_texels(uv, layers, lod, false);
+        let texel = texels.fine * s.color.a;
+        if (texel.a >= frame.fur.w) {
+            if (out.color.a < 0.5) {
+                out.shown = layers;
+                out.uv = uv;
+                out.alpha = texels.fine.a;
+            }
+            out.color += (1.0 - out.color.a) * texel;
+        }
+        if (j > 1u) {
+            j -= 1u;
+        } else if (m > 0u) {
+            m -= 1u;
+            base -= level_count(m);
+            j = 1u;
+        } else {
+            break;
+        }
+    }
+    return out;
+}
+
 @fragment
-fn fs_main(s: SurfaceOut) -> @location(0) vec4<f32> {
+fn fs_main(v: SurfaceVarying) -> @location(0) vec4<f32> {
+    let s = surface_fragment(v);
     let grad = uv_gradients(s.uv);
     let f = march_frame(s);
     let curvature = surface_curvature(f.normal, f.position);
@@ -148,6 +233,9 @@ fn fs_main(s: SurfaceOut) -> @location(0) vec4<f32> {
     var m: Marched;
     if (frame.fin.y > 0.0) {
         m = march(s, ray, lod, true);
+    } else if (frame.counts.z == 0u && frame.counts.x + 1u == frame.counts.y) {
+        // The whole stack, no frame-wide LOD: each pixel picks its own level.
+        m = march_levels(s, ray, lod, march_level(ray, lod));
     } else {
         m = march(s, ray, lod, false);
     }

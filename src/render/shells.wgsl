@@ -2,12 +2,13 @@
 // order = inner to outer, each lifted in this vertex shader (§2.4, "Programmable vertex shaders").
 
 @vertex
-fn vs_main(v: SurfaceIn, @builtin(instance_index) instance: u32) -> SurfaceOut {
+fn vs_main(v: SurfaceIn, @builtin(instance_index) instance: u32) -> SurfaceVarying {
     return surface_vertex(v, shell_layers(instance), true);
 }
 
 @fragment
-fn fs_main(s: SurfaceOut) -> @location(0) vec4<f32> {
+fn fs_main(v: SurfaceVarying) -> @location(0) vec4<f32> {
+    let s = surface_fragment(v);
     let texels = surface_texels(s);
     let grad = uv_gradients(s.uv);
     // Bald faces (length 0 at every corner) draw nothing; the alpha test keeps empty texels from

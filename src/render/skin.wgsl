@@ -1,15 +1,15 @@
 // Pass (a), the skin (Lengyel et al. 2001, §2.3): the mesh itself, opaque, textured with layer 0
-// of the shell texture times the vertex color; it fills the depth buffer.
+// of the shell texture times the vertex color; it fills the depth buffer. The lighting model's
+// file defines `SkinVarying`, `skin_vertex` and `skin_fragment`.
 
 @vertex
-fn vs_main(v: SurfaceIn) -> SurfaceOut {
+fn vs_main(v: SurfaceIn) -> SkinVarying {
     // The skin is lit as under fur of length multiplier 1, whatever the painted length: painting
     // lengths (or baldness) changes only the fins and shells, never the skin.
-    return surface_vertex(v, skin_layers(), false);
+    return skin_vertex(v);
 }
 
 @fragment
-fn fs_main(s: SurfaceOut) -> @location(0) vec4<f32> {
-    let c = shade_surface(s, surface_texels(s), 1.0, uv_gradients(s.uv));
-    return vec4<f32>(c.rgb, 1.0);
+fn fs_main(s: SkinVarying) -> @location(0) vec4<f32> {
+    return vec4<f32>(skin_fragment(s), 1.0);
 }

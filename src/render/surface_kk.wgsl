@@ -12,29 +12,78 @@ struct SurfaceIn {
     @location(7) length: f32,
 };
 
+// What the fragment reads, unpacked from `SurfaceVarying`.
 struct SurfaceOut {
+    position: vec3<f32>,
+    normal: vec3<f32>,
+    dpdu: vec3<f32>,
+    dpdv: vec3<f32>,
+    up: vec3<f32>,
+    uv: vec2<f32>,
+    color: vec4<f32>,
+    length: f32,
+    // Array layers of the level drawn and the coarser one, level-0 height (see `Layers`).
+    layer: u32,
+    coarse: u32,
+    height: u32,
+};
+
+// `SurfaceOut` as it crosses from vertex to fragment, packed into few vec4s: a CPU adapter sets
+// up and interpolates every output location of every triangle, whatever its width.
+struct SurfaceVarying {
     @builtin(position) clip: vec4<f32>,
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) dpdu: vec3<f32>,
+    @location(0) position_length: vec4<f32>,
+    @location(1) normal_u: vec4<f32>,
+    @location(2) dpdu_v: vec4<f32>,
     @location(3) dpdv: vec3<f32>,
     @location(4) up: vec3<f32>,
-    @location(5) uv: vec2<f32>,
-    @location(6) color: vec4<f32>,
-    @location(7) length: f32,
-    // Array layers of the level drawn and the coarser one, level-0 height (see `Layers`).
-    @location(8) @interpolate(flat) layer: u32,
-    @location(9) @interpolate(flat) coarse: u32,
-    @location(10) @interpolate(flat) height: u32,
+    @location(5) color: vec4<f32>,
+    // Layer drawn, coarser layer, height.
+    @location(6) @interpolate(flat) layers: vec3<u32>,
 };
+
+fn surface_fragment(v: SurfaceVarying) -> SurfaceOut {
+    return SurfaceOut(v.position_length.xyz, v.normal_u.xyz, v.dpdu_v.xyz, v.dpdv, v.up,
+                      vec2<f32>(v.normal_u.w, v.dpdu_v.w), v.color, v.position_length.w,
+                      v.layers.x, v.layers.y, v.layers.z);
+}
 
 // The vertex lifted to its layers' height, with its painted length (`painted`) or the length
 // multiplier 1.
-fn surface_vertex(v: SurfaceIn, layers: Layers, painted: bool) -> SurfaceOut {
+fn surface_vertex(v: SurfaceIn, layers: Layers, painted: bool) -> SurfaceVarying {
     let d = SurfaceData(v.position, v.normal, v.dpdu, v.dpdv, v.uv, v.comb, v.color, v.length);
     let lifted = lift(d, layers.height, select(1.0, v.length, painted));
-    return SurfaceOut(lifted.clip, lifted.position, v.normal, v.dpdu, v.dpdv, lifted.up, v.uv,
-                      v.color, v.length, layers.fine, layers.coarse, layers.height);
+    return SurfaceVarying(lifted.clip, vec4<f32>(lifted.position, v.length),
+                          vec4<f32>(v.normal, v.uv.x), vec4<f32>(v.dpdu, v.uv.y), v.dpdv,
+                          lifted.up, v.color,
+                          vec3<u32>(layers.fine, layers.coarse, layers.height));
+}
+
+// The skin needs only its normal, tile UV and color (its texel layers are the frame's).
+struct SkinVarying {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) normal: vec3<f32>,
+    @location(1) uv: vec2<f32>,
+    @location(2) color: vec3<f32>,
+};
+
+// The skin stays where the mesh is (height 0).
+fn skin_vertex(v: SurfaceIn) -> SkinVarying {
+    return SkinVarying(clip_position(v.position), v.normal, v.uv, v.color.rgb);
+}
+
+// Layer 0 of the level drawn (cross-faded into the coarser level's under LOD) × vertex color,
+// lit as the skin.
+fn skin_fragment(s: SkinVarying) -> vec3<f32> {
+    let layers = skin_layers();
+    let fine = textureSample(shell_texture, tile_sampler, s.uv, layers.fine);
+    var coarse = vec4<f32>(0.0);
+    // The blend is uniform over the frame, so the branch keeps implicit derivatives valid.
+    if (frame.fin.y > 0.0 && layers.coarse != NO_LAYER) {
+        coarse = textureSample(shell_texture, tile_sampler, s.uv, layers.coarse);
+    }
+    let texel = blended(Texels(fine, coarse));
+    return shade_skin(texel.rgb * s.color, unit_or(s.normal, vec3<f32>(0.0, 0.0, 1.0)));
 }
 
 // The cross-faded texel × vertex color, lit (the model is linear in the texel, so one shading

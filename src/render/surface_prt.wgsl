@@ -16,17 +16,34 @@ struct SurfaceIn {
     @builtin(vertex_index) corner: u32,
 };
 
+// What the fragment reads, unpacked from `SurfaceVarying`.
 struct SurfaceOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) uv: vec2<f32>,
-    @location(1) color: vec4<f32>,
-    @location(2) length: f32,
+    uv: vec2<f32>,
+    color: vec4<f32>,
+    length: f32,
     // Array layers of the level drawn and the coarser one (see `Layers`).
-    @location(3) @interpolate(flat) layer: u32,
-    @location(4) @interpolate(flat) coarse: u32,
-    @location(5) @interpolate(flat) ids: vec3<u32>,
-    @location(6) bary: vec3<f32>,
+    layer: u32,
+    coarse: u32,
+    ids: vec3<u32>,
+    bary: vec3<f32>,
 };
+
+// `SurfaceOut` as it crosses from vertex to fragment, in few locations (a CPU adapter sets up
+// every output location of every triangle, whatever its width).
+struct SurfaceVarying {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) uv_length: vec3<f32>,
+    @location(1) color: vec4<f32>,
+    @location(2) bary: vec3<f32>,
+    @location(3) @interpolate(flat) ids: vec3<u32>,
+    // Layer drawn, coarser layer.
+    @location(4) @interpolate(flat) layers: vec2<u32>,
+};
+
+fn surface_fragment(v: SurfaceVarying) -> SurfaceOut {
+    return SurfaceOut(v.uv_length.xy, v.color, v.uv_length.z, v.layers.x, v.layers.y, v.ids,
+                      v.bary);
+}
 
 fn vec3_at(base: u32) -> vec3<f32> {
     return vec3<f32>(surface_geometry[base], surface_geometry[base + 1u],
@@ -42,7 +59,7 @@ fn load_surface(v: u32) -> SurfaceData {
 
 // The corner lifted to its layers' height, with its painted length (`painted`) or the length
 // multiplier 1.
-fn surface_vertex(v: SurfaceIn, layers: Layers, painted: bool) -> SurfaceOut {
+fn surface_vertex(v: SurfaceIn, layers: Layers, painted: bool) -> SurfaceVarying {
     let first = v.corner - v.corner % 3u;
     let ids = vec3<u32>(surface_indices[first], surface_indices[first + 1u],
                         surface_indices[first + 2u]);
@@ -50,7 +67,20 @@ fn surface_vertex(v: SurfaceIn, layers: Layers, painted: bool) -> SurfaceOut {
     let lifted = lift(d, layers.height, select(1.0, d.length, painted));
     var bary = vec3<f32>(0.0);
     bary[v.corner % 3u] = 1.0;
-    return SurfaceOut(lifted.clip, d.uv, d.color, d.length, layers.fine, layers.coarse, ids, bary);
+    return SurfaceVarying(lifted.clip, vec3<f32>(d.uv, d.length), d.color, bary, ids,
+                          vec2<u32>(layers.fine, layers.coarse));
+}
+
+// The skin is a surface at height 0, lit by the transfer of its own layer.
+alias SkinVarying = SurfaceVarying;
+
+fn skin_vertex(v: SurfaceIn) -> SkinVarying {
+    return surface_vertex(v, skin_layers(), false);
+}
+
+fn skin_fragment(v: SkinVarying) -> vec3<f32> {
+    let s = surface_fragment(v);
+    return shade_surface(s, surface_texels(s), 1.0, uv_gradients(s.uv)).rgb;
 }
 
 // Each level's texel × vertex color, lit by the transfer of its own layer (the two levels'
