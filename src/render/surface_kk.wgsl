@@ -86,16 +86,12 @@ fn skin_fragment(s: SkinVarying) -> vec3<f32> {
     return shade_skin(texel.rgb * s.color, unit_or(s.normal, vec3<f32>(0.0, 0.0, 1.0)));
 }
 
-// The cross-faded texel × vertex color, lit (the model is linear in the texel, so one shading
-// of the blend is the blend of two): the skin as a surface, shells as hair; premultiplied,
+// A shell's cross-faded texel × vertex color, lit as hair (the model is linear in the texel, so
+// one shading of the blend is the blend of two; the skin has `skin_fragment`); premultiplied,
 // opacity × texel alpha. `grad` is unused here (the tangent map has one level).
 fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>) -> vec4<f32> {
     let texel = blended(texels);
     let n = unit_or(s.normal, vec3<f32>(0.0, 0.0, 1.0));
-    // Only the skin stands at height 0 (shells start at 1).
-    if (s.height == 0u) {
-        return vec4<f32>(shade_skin(texel.rgb * s.color.rgb * opacity, n), texel.a * opacity);
-    }
     let t = hair_tangent(s.uv, s.height, s.dpdu, s.dpdv, s.up, n);
     let albedo = texel.rgb * s.color.rgb * opacity;
     let height = f32(s.height) * frame.fur.y;
