@@ -339,21 +339,24 @@ fn coverage_and_mean(a: &RgbaImage, b: &RgbaImage) -> ((usize, usize), (f64, f64
 #[test]
 fn marched_shells_agree_with_instanced_shells() {
     // The instanced pass composites every layer by rasterizing it: an independent computation
-    // of what the march approximates. Measured: the same coverage to a few pixels, marched
-    // 5-7% darker under Kajiya-Kay (lit once, at the layer where the composite passes half
-    // opacity, which Banks darkens more than the mean of the layers above it).
-    for camera in [frontal(), camera([0.9, -3.0, 0.3], [0.9, 0.0, 0.0], 14.0)] {
-        let instanced = render(plain(), &camera, &light(), &settings());
-        let marched = render(plain(), &camera, &light(), &marched());
-        let ((ci, cm), (mi, mm)) = coverage_and_mean(&instanced, &marched);
-        assert!(
-            ci.abs_diff(cm) * 100 <= ci,
-            "coverage {ci} instanced, {cm} marched"
-        );
-        assert!(
-            (mi - mm).abs() <= 0.12 * mi,
-            "mean RGB {mi:.1} instanced, {mm:.1} marched"
-        );
+    // of what the march approximates. Measured: the same coverage to a few pixels; marched mean
+    // RGB 1% darker frontally and 6% toward the limb under Kajiya-Kay, 2% and 3% under PRT
+    // (before the march applied Banks darkening per layer and moved the PRT transfer to the
+    // composite's mean height, frontally 7% and 12.5% darker).
+    for lighting in [light(), prt_light()] {
+        for camera in [frontal(), camera([0.9, -3.0, 0.3], [0.9, 0.0, 0.0], 14.0)] {
+            let instanced = render(plain(), &camera, &lighting, &settings());
+            let marched = render(plain(), &camera, &lighting, &marched());
+            let ((ci, cm), (mi, mm)) = coverage_and_mean(&instanced, &marched);
+            assert!(
+                ci.abs_diff(cm) * 100 <= ci,
+                "coverage {ci} instanced, {cm} marched"
+            );
+            assert!(
+                (mi - mm).abs() <= 0.08 * mi,
+                "mean RGB {mi:.1} instanced, {mm:.1} marched"
+            );
+        }
     }
 }
 

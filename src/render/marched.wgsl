@@ -5,8 +5,10 @@
 // (the surface taken as flat under it), and composited front to back; the march stops once the
 // pixel is opaque. The geometry is one mesh instead of one per shell, and the layers cost a
 // texture read each instead of a rasterized triangle, which is what a CPU adapter pays for.
-// Lighting is evaluated once per pixel, at the layer where the composite passes half opacity.
-// The lighting model's file defines `march_frame` and `march_light`.
+// Lighting is evaluated once per pixel, at the layer where the composite passes half opacity,
+// which has hair where the ray crosses it; the Banks darkening, linear in height, is applied to
+// the composite exactly, and PRT moves its transfer to the composite's mean height (`raised`).
+// The lighting model's file defines `march_frame`, `march_light` and `march_banks`.
 
 // The most ray length, in layer heights, that descends one layer: where a flat hull is seen
 // nearly edge-on (beyond about 80°), the ray is bent down so that it still reaches the skin.
@@ -100,6 +102,9 @@ fn vs_main(v: SurfaceIn) -> SurfaceVarying {
 // lit for it, the one where the composite passes half opacity.
 struct Marched {
     color: vec4<f32>,
+    // Σ of each layer's share of `color` × its height (share of the fur depth): Banks darkening,
+    // (1 - b) + b × height, of every layer composited is (1 - b) color + b raised.
+    raised: vec4<f32>,
     shown: Layers,
     uv: vec2<f32>,
     // The shown layer's own texel opacity (level drawn).
@@ -108,7 +113,7 @@ struct Marched {
 
 fn march(s: SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
     let hull = shell_layers(frame.counts.x - 1u);
-    var out = Marched(vec4<f32>(0.0), hull, s.uv, 1.0);
+    var out = Marched(vec4<f32>(0.0), vec4<f32>(0.0), hull, s.uv, 1.0);
     var i = frame.counts.x;
     loop {
         if (i == 0u || out.color.a >= OPAQUE) {
@@ -133,7 +138,9 @@ fn march(s: SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
             out.uv = uv;
             out.alpha = texels.fine.a;
         }
-        out.color += (1.0 - out.color.a) * texel;
+        let share = (1.0 - out.color.a) * texel;
+        out.color += share;
+        out.raised += share * (f32(layers.height) * frame.fur.y);
     }
     return out;
 }
@@ -179,7 +186,7 @@ fn march_levels(s: SurfaceOut, ray: Ray, lod: f32, k: u32) -> Marched {
     for (var i = 0u; i < k; i++) {
         base += level_count(i);
     }
-    var out = Marched(vec4<f32>(0.0), Layers(top, top, NO_LAYER), s.uv, 1.0);
+    var out = Marched(vec4<f32>(0.0), vec4<f32>(0.0), Layers(top, top, NO_LAYER), s.uv, 1.0);
     var m = k;
     var j = level_count(k) - 1u;
     loop {
@@ -203,7 +210,9 @@ fn march_levels(s: SurfaceOut, ray: Ray, lod: f32, k: u32) -> Marched {
                 out.uv = uv;
                 out.alpha = texels.fine.a;
             }
-            out.color += (1.0 - out.color.a) * texel;
+            let share = (1.0 - out.color.a) * texel;
+            out.color += share;
+            out.raised += share * (0.5 * f32(lo + hi) * frame.fur.y);
         }
         if (j > 1u) {
             j -= 1u;
@@ -242,6 +251,9 @@ fn fs_main(v: SurfaceVarying) -> @location(0) vec4<f32> {
     if (m.color.a <= 0.0) {
         discard;
     }
-    let k = march_light(s, f, m.uv, m.shown, m.alpha, grad);
-    return vec4<f32>(m.color.rgb * s.color.rgb * k.scale + m.color.a * k.add, m.color.a);
+    let mean = m.raised.a / max(m.color.a, 1e-6);
+    let k = march_light(s, f, m.uv, m.shown, m.alpha, grad, mean);
+    let b = march_banks();
+    let c = (1.0 - b) * m.color + b * m.raised;
+    return vec4<f32>(c.rgb * s.color.rgb * k.scale + c.a * k.add, m.color.a);
 }

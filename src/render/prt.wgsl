@@ -35,19 +35,32 @@ fn transfer_radiance(ids: vec3<u32>, w: vec3<f32>, uv: vec2<f32>, layer: u32, gr
     return max(sum / max(alpha, 1e-4), vec3<f32>(0.0));
 }
 
-// Σ_k L'_k t̄_k with the hair's mean transfer at `height` (share of the fur depth) for the fins,
-// which have no transfer of their own: linear between the layers around it.
-fn mean_radiance(ids: vec3<u32>, w: vec3<f32>, height: f32) -> vec3<f32> {
+// The hair's mean transfer coefficient k at `height` (share of the fur depth): linear between
+// the layers around it.
+fn mean_transfer(k: u32, height: f32) -> f32 {
     let n = frame.prt.x;
     let top = frame.prt.w - 1u;
     let at = clamp(height / frame.fur.y, 0.0, f32(top));
     let below = min(u32(at), top);
     let above = min(below + 1u, top);
-    let s = at - f32(below);
+    return mix(layer_means[below * n + k], layer_means[above * n + k], at - f32(below));
+}
+
+// Σ_k L'_k t̄_k with the hair's mean transfer at `height` for the fins, which have no transfer of
+// their own.
+fn mean_radiance(ids: vec3<u32>, w: vec3<f32>, height: f32) -> vec3<f32> {
     var sum = vec3<f32>(0.0);
-    for (var k = 0u; k < n; k++) {
-        let t = mix(layer_means[below * n + k], layer_means[above * n + k], s);
-        sum += light_at(ids, w, k) * t;
+    for (var k = 0u; k < frame.prt.x; k++) {
+        sum += light_at(ids, w, k) * mean_transfer(k, height);
     }
     return max(sum, vec3<f32>(0.0));
+}
+
+// How much the mean radiance changes from height `start` to height `end`.
+fn mean_radiance_change(ids: vec3<u32>, w: vec3<f32>, start: f32, end: f32) -> vec3<f32> {
+    var sum = vec3<f32>(0.0);
+    for (var k = 0u; k < frame.prt.x; k++) {
+        sum += light_at(ids, w, k) * (mean_transfer(k, end) - mean_transfer(k, start));
+    }
+    return sum;
 }

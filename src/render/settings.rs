@@ -20,7 +20,7 @@ pub enum ShellMethod {
     /// One hull (the outermost shell) whose fragments march down through the layers along the
     /// view ray, the surface taken as flat under each pixel (after the per-pixel rays of
     /// raycast-fur-virtual-planes §3): one mesh's triangles whatever the shell count, one
-    /// lighting evaluation per pixel, one mip level per pixel. Drawing all the shells without
+    /// lighting evaluation per pixel (Banks darkening still per layer), one mip level per pixel. Drawing all the shells without
     /// `lod`, each pixel also reads the LOD chain's composited groups of layers where the ray
     /// crosses a group within about a texel (6 reads for 32 shells head-on, every layer at the
     /// limb). Near the silhouette, where the surface bends within the ray's run, it differs

@@ -111,10 +111,17 @@ fn march_frame(s: SurfaceOut) -> MarchFrame {
     return MarchFrame(s.position, s.normal, s.dpdu, s.dpdv, s.up);
 }
 
-// The hair lighting at the marched layer `layers` read at `uv`.
+// The hair lighting at the marched layer `layers` read at `uv`, before Banks darkening (at the
+// top of the fur it is none), which the march applies layer by layer (`march_banks`), so the
+// composite's mean height (`mean`) is not needed.
 fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alpha: f32,
-               grad: vec4<f32>) -> HairLight {
+               grad: vec4<f32>, mean: f32) -> HairLight {
     let n = unit_or(f.normal, vec3<f32>(0.0, 0.0, 1.0));
     let t = hair_tangent(uv, layers.height, f.dpdu, f.dpdv, f.up, n);
-    return hair_light(t, n, view_vector(f.position), f32(layers.height) * frame.fur.y);
+    return hair_light(t, n, view_vector(f.position), 1.0);
+}
+
+// The Banks strength the march darkens its layers by.
+fn march_banks() -> f32 {
+    return frame.fur.z;
 }

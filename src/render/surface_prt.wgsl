@@ -116,8 +116,18 @@ fn march_frame(s: SurfaceOut) -> MarchFrame {
 }
 
 // The transfer of the marched layer `layers` read at `uv` (`alpha` its texel's opacity, which
-// the premultiplied transfer divides out), dotted with the lighting.
+// the premultiplied transfer divides out), dotted with the lighting, and moved by how much the
+// hair's mean transfer changes from that layer's height to the composite's mean height `mean`:
+// the layer where the composite passes half opacity lies deeper than the mean of the layers it
+// holds, and deeper hair is more shadowed. The texel's own transfer keeps the strands' detail.
 fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alpha: f32,
-               grad: vec4<f32>) -> HairLight {
-    return HairLight(transfer_radiance(s.ids, s.bary, uv, layers.fine, grad, alpha), vec3<f32>(0.0));
+               grad: vec4<f32>, mean: f32) -> HairLight {
+    let texel = transfer_radiance(s.ids, s.bary, uv, layers.fine, grad, alpha);
+    let shift = mean_radiance_change(s.ids, s.bary, f32(layers.height) * frame.fur.y, mean);
+    return HairLight(max(texel + shift, vec3<f32>(0.0)), vec3<f32>(0.0));
+}
+
+// The transfer holds the hair's self-shadowing: no Banks darkening on top.
+fn march_banks() -> f32 {
+    return 0.0;
 }
