@@ -133,6 +133,7 @@ class VIEW3D_PT_pelt_display(_SubPanel, bpy.types.Panel):
 
     def draw_settings(self, layout, settings):
         layout.prop(settings, "fins")
+        layout.prop(settings, "shell_method")
         layout.prop(settings, "lod")
         column = layout.column(align=True)
         column.active = settings.lod

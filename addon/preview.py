@@ -85,6 +85,7 @@ def render_options(obj, asset) -> dict:
     settings = obj.pelt
     return {
         "fins": settings.fins,
+        "shell_method": settings.shell_method.lower(),
         "lod": settings.lod,
         "min_shells": min(settings.min_shells, settings.max_shells),
         "max_shells": settings.max_shells,

@@ -13,6 +13,11 @@ LIGHTING_ITEMS = (
 RESOLUTION_ITEMS = tuple(
     (str(r), f"{r}²", f"Shell textures of {r}×{r} texels") for r in (64, 128, 256, 512, 1024)
 )
+SHELL_METHOD_ITEMS = (
+    ("AUTO", "Auto", "Marched on a CPU adapter, where it is several times faster; instanced on a GPU"),
+    ("INSTANCED", "Instanced", "Every shell drawn as a copy of the mesh (exact per layer)"),
+    ("MARCHED", "Marched", "One hull whose pixels march down through the layers (one mesh of triangles)"),
+)
 COVERAGE_ITEMS = (
     ("exact", "Exact", "Analytic area of each hair's cross-section in each texel"),
     ("approx", "Approximate", "The chord and wedge approximation (faster, within a few percent)"),
@@ -201,6 +206,12 @@ class PeltObjectSettings(bpy.types.PropertyGroup):
     fins: bpy.props.BoolProperty(name="Fins", description="Draw fins at silhouettes", default=True)
     lod: bpy.props.BoolProperty(
         name="Level of Detail", description="Fewer shells when the object is small on screen", default=True
+    )
+    shell_method: bpy.props.EnumProperty(
+        name="Shells",
+        description="How the preview draws the shells",
+        items=SHELL_METHOD_ITEMS,
+        default="AUTO",
     )
     min_shells: bpy.props.IntProperty(
         name="Min Shells",

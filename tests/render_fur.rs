@@ -12,7 +12,9 @@ use std::sync::OnceLock;
 use pelt::export::{PngOptions, save_png};
 use pelt::hair::HairParams;
 use pelt::mesh::shapes::{torus, torus_uvs};
-use pelt::render::{AdapterChoice, Camera, FurScene, Lighting, RenderSettings, Renderer, RgbaImage};
+use pelt::render::{
+    AdapterChoice, Camera, FurScene, Lighting, RenderSettings, Renderer, RgbaImage, ShellMethod,
+};
 use pelt::volume::{HairVolume, VolumeParams, bake_volume};
 use pelt::{FurMesh, MeshInput, PeltError};
 
@@ -555,4 +557,26 @@ fn linear_output_encodes_to_the_srgb_image() {
         let mean = total / (3 * covered(&srgb)) as f64;
         assert!(mean < mean_bound, "mean difference {mean}");
     }
+}
+
+#[test]
+fn auto_shells_march_on_the_cpu_adapter() {
+    let renderer = &fixture().renderer;
+    assert_eq!(renderer.adapter().device_type, "Cpu");
+    assert!(renderer.is_cpu());
+    assert_eq!(renderer.shell_method(ShellMethod::Auto), ShellMethod::Marched);
+    let scene = scene();
+    let with = |shell_method| {
+        render(
+            &scene,
+            &oblique(SIZE),
+            &RenderSettings {
+                shell_method,
+                ..settings()
+            },
+        )
+    };
+    let auto = with(ShellMethod::Auto);
+    assert_eq!(auto.pixels, with(ShellMethod::Marched).pixels);
+    assert_ne!(auto.pixels, with(ShellMethod::Instanced).pixels);
 }

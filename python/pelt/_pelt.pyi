@@ -452,7 +452,7 @@ class Preview:
         min_shells: int = 2,
         max_shells: int = 64,
         shells_per_pixel: float = 1.0,
-        shell_method: Literal["instanced", "marched"] = "instanced",
+        shell_method: Literal["instanced", "marched", "auto"] = "instanced",
     ) -> npt.NDArray[np.uint8] | npt.NDArray[np.float32]:
         """One frame (GIL released): ``[height, width, 4]`` uint8 sRGB, or float32 linear with
         ``linear=True``; straight alpha, top row first.
@@ -468,8 +468,9 @@ class Preview:
         cross-fades LOD levels (``shells`` must be ``None`` then). ``shell_method="marched"``
         draws the shells as one hull whose pixels march down through the layers: one mesh of
         triangles whatever the shell count, several times faster on a CPU adapter, lit once per
-        pixel. ``fur_depth`` defaults to the asset's. Bad input raises
-        :class:`InvalidParameterError` naming it; the preview stays usable."""
+        pixel; ``"auto"`` marches on a CPU adapter and instances on a GPU. ``fur_depth``
+        defaults to the asset's. Bad input raises :class:`InvalidParameterError` naming it; the
+        preview stays usable."""
     def update(self, *, color: npt.ArrayLike | None = None, length: npt.ArrayLike | None = None) -> None:
         """Rewrite the per-vertex colors (``[V, 4]`` or ``[V, 3]``, linear) and/or length
         multipliers (``[V]``, 0..1000) in place; nothing else is uploaded (see :attr:`uploads`)."""

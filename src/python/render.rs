@@ -251,10 +251,11 @@ impl PyPreview {
         let shell_method = match shell_method {
             "instanced" => ShellMethod::Instanced,
             "marched" => ShellMethod::Marched,
+            "auto" => ShellMethod::Auto,
             other => {
                 return Err(PeltError::parameter(
                     "shell_method",
-                    format!("must be 'instanced' or 'marched', got {other:?}"),
+                    format!("must be 'instanced', 'marched' or 'auto', got {other:?}"),
                 )
                 .into());
             }

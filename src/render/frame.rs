@@ -342,7 +342,7 @@ impl Renderer {
                     scene,
                     checked.model,
                     checked.info.shells,
-                    settings.shell_method,
+                    self.shell_method(settings.shell_method),
                 );
             }
             self.queue.submit([encoder.finish()]);

@@ -97,6 +97,8 @@ pub struct Renderer {
     device: wgpu::Device,
     queue: wgpu::Queue,
     adapter: AdapterReport,
+    /// Whether the adapter is a CPU rasterizer.
+    cpu: bool,
     /// Tells scenes of this renderer from others' (wgpu objects of two devices must not meet).
     id: u64,
     /// The fur pipelines, built on first use.
@@ -226,6 +228,7 @@ impl Renderer {
                 backend: format!("{:?}", info.backend),
                 device_type: format!("{:?}", info.device_type),
             },
+            cpu: info.device_type == wgpu::DeviceType::Cpu,
             id: NEXT_RENDERER_ID.fetch_add(1, Ordering::Relaxed),
             fur: OnceLock::new(),
             targets: Mutex::new(None),
@@ -236,6 +239,16 @@ impl Renderer {
     /// The adapter in use.
     pub fn adapter(&self) -> &AdapterReport {
         &self.adapter
+    }
+
+    /// Whether the adapter is a CPU (software) rasterizer.
+    pub fn is_cpu(&self) -> bool {
+        self.cpu
+    }
+
+    /// How this renderer draws shells asked for with `method` ([`ShellMethod::Auto`] resolved).
+    pub fn shell_method(&self, method: ShellMethod) -> ShellMethod {
+        method.resolve(self.is_cpu())
     }
 
     /// The device, to make textures for [`Renderer::render_to_texture`].

@@ -20,12 +20,27 @@ pub enum ShellMethod {
     /// One hull (the outermost shell) whose fragments march down through the layers along the
     /// view ray, the surface taken as flat under each pixel (after the per-pixel rays of
     /// raycast-fur-virtual-planes §3): one mesh's triangles whatever the shell count, one
-    /// lighting evaluation per pixel (Banks darkening still per layer), one mip level per pixel. Drawing all the shells without
-    /// `lod`, each pixel also reads the LOD chain's composited groups of layers where the ray
-    /// crosses a group within about a texel (6 reads for 32 shells head-on, every layer at the
-    /// limb). Near the silhouette, where the surface bends within the ray's run, it differs
-    /// from the instanced shells most.
+    /// lighting evaluation per pixel (Banks darkening still per layer), one mip level per
+    /// pixel. Drawing all the shells without `lod`, each pixel also reads the LOD chain's
+    /// composited groups of layers where the ray crosses a group within about a texel (6 reads
+    /// for 32 shells head-on, every layer at the limb). Near the silhouette, where the surface
+    /// bends within the ray's run, it differs from the instanced shells most.
     Marched,
+    /// `Marched` on a CPU adapter, where it is several times faster, `Instanced` on a GPU
+    /// ([`crate::render::Renderer::shell_method`] tells which): for interactive previews. The
+    /// default stays `Instanced`, so that the same settings draw the same way on every adapter.
+    Auto,
+}
+
+impl ShellMethod {
+    /// The method drawn for this one on an adapter that is (`cpu`) or is not a CPU.
+    pub fn resolve(self, cpu: bool) -> ShellMethod {
+        match self {
+            ShellMethod::Auto if cpu => ShellMethod::Marched,
+            ShellMethod::Auto => ShellMethod::Instanced,
+            method => method,
+        }
+    }
 }
 
 /// What to draw and how.
@@ -139,6 +154,21 @@ impl RenderSettings {
                 "settings.shell_count",
                 format!("must be in [0, {most}] (the scene's volume has {layers} layers), got {n}"),
             )),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ShellMethod::{Auto, Instanced, Marched};
+
+    #[test]
+    fn auto_marches_on_a_cpu_and_instances_on_a_gpu_and_the_rest_stay() {
+        assert_eq!(Auto.resolve(true), Marched);
+        assert_eq!(Auto.resolve(false), Instanced);
+        for cpu in [true, false] {
+            assert_eq!(Instanced.resolve(cpu), Instanced);
+            assert_eq!(Marched.resolve(cpu), Marched);
         }
     }
 }

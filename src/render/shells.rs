@@ -41,7 +41,8 @@ pub(super) fn state(model: Model) -> PassState<'static> {
 }
 
 /// Draws `count` shells: instanced, a copy of the mesh per shell, or marched
-/// ([`super::marched`]), their hull once.
+/// ([`super::marched`]), their hull once; `method` is resolved ([`ShellMethod::resolve`]), an
+/// `Auto` left over draws instanced.
 pub(super) fn draw(
     pass: &mut wgpu::RenderPass<'_>,
     pipelines: &PassPipelines,
@@ -54,7 +55,7 @@ pub(super) fn draw(
         return;
     }
     let (pipeline, instances) = match method {
-        ShellMethod::Instanced => (&pipelines.shells, count),
+        ShellMethod::Instanced | ShellMethod::Auto => (&pipelines.shells, count),
         ShellMethod::Marched => (&pipelines.marched, 1),
     };
     pass.set_pipeline(pipeline);

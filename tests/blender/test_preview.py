@@ -139,6 +139,15 @@ def test_marched_shells_cover_what_instanced_shells_cover(preview):
         assert abs(means[0] - means[1]) <= 0.15 * means[0], means
 
 
+def test_auto_shell_method_marches_on_a_cpu_adapter(preview):
+    auto = preview.render(VIEW, PROJECTION, SIDE, SIDE, shell_method="auto")
+    cpu = preview.adapter["device_type"] == "Cpu"
+    expected = preview.render(VIEW, PROJECTION, SIDE, SIDE, shell_method="marched" if cpu else "instanced")
+    other = preview.render(VIEW, PROJECTION, SIDE, SIDE, shell_method="instanced" if cpu else "marched")
+    assert np.array_equal(auto, expected)
+    assert not np.array_equal(auto, other)
+
+
 def test_opengl_depth_is_remapped_to_wgpu():
     # Orthographic, near 0 and far 10, the sphere's front 2 units away: GL depth -0.6, which
     # wgpu would clip without the remap to 0..1.

@@ -61,6 +61,21 @@ def test_render_preview_fills_pelt_preview_with_the_furred_object(addon, prt):
     assert (preview_pixels()[..., 3] > 0.5).sum() < covered.sum()
 
 
+def test_render_preview_draws_the_shells_as_the_object_asks(addon):
+    obj = furred_suzanne_with_camera()
+    images = {}
+    for method in ("INSTANCED", "MARCHED", "AUTO"):
+        obj.pelt.shell_method = method
+        assert bpy.ops.pelt.render_preview() == {"FINISHED"}
+        images[method] = preview_pixels()
+    from addon import preview
+
+    assert not np.array_equal(images["INSTANCED"], images["MARCHED"])
+    # Auto marches on a CPU adapter (the tests' own) and instances on a GPU.
+    cpu = preview.preview_of(obj)[0].adapter["device_type"] == "Cpu"
+    assert np.array_equal(images["AUTO"], images["MARCHED" if cpu else "INSTANCED"])
+
+
 def test_render_preview_without_a_camera_changes_nothing(addon):
     furred_suzanne_with_camera()
     bpy.context.scene.camera = None

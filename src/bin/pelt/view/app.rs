@@ -8,7 +8,9 @@ use std::time::Instant;
 
 use pelt::export::{PngOptions, save_png};
 use pelt::pipeline::FurAsset;
-use pelt::render::{AdapterChoice, FrameInfo, FurScene, PresentedFrame, Renderer, WindowSurface};
+use pelt::render::{
+    AdapterChoice, FrameInfo, FurScene, PresentedFrame, Renderer, ShellMethod, WindowSurface,
+};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, WindowEvent};
@@ -140,7 +142,9 @@ impl App {
             .length()
             .map_or(1.0, |l| l.iter().copied().fold(0.0f32, f32::max));
         let sphere = Sphere::around(asset.mesh.positions(), fur_depth * f64::from(tallest));
-        let state = ViewState::new(scene.layers(), scene.transfer_order().is_some());
+        let mut state = ViewState::new(scene.layers(), scene.transfer_order().is_some());
+        // Start with the faster method on this adapter (marched on a CPU); M switches.
+        state.marched = renderer.shell_method(ShellMethod::Auto) == ShellMethod::Marched;
         let adapter = renderer.adapter();
         println!(
             "pelt view: {} on {} ({}, {}), {}x{} {:?}",

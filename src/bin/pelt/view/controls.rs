@@ -22,7 +22,7 @@ controls:
   right drag, ←→↑↓ turn the light
   + / -            more / fewer shells (with LOD: the most LOD may draw)
   F                fins on / off
-  M                shells instanced / marched per pixel (fewer triangles: faster on a CPU)
+  M                shells instanced / marched per pixel (faster on a CPU, where it starts)
   L                level of detail on / off
   K / P            Kajiya-Kay / PRT lighting
   R                reset the camera
