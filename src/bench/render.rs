@@ -107,8 +107,8 @@ fn rotate_on_cpu(frames: &[[[f64; 3]; 3]], light: &[[f64; 3]]) -> Result<Vec<[f6
 /// `render.frame`: one frame of Suzanne subdivided three times (61,952 triangles; twice in
 /// `--quick`, 15,488) with lapped-patch UVs, 32 shells and fins, Kajiya–Kay, at 512² and
 /// 1920 × 1080; the parts (`.skin`, `.no_fins`, `.tiny`); `.lod`, the same scene 4× as far with
-/// LOD on (baseline: the near frame); and PRT (`.prt`, order 5, not in `--quick`) with the CPU
-/// rotation it avoids (`render.prt.rotate.cpu`).
+/// LOD on (baseline: the near frame); and PRT (`.prt` and `.marched.prt`, order 5, not in
+/// `--quick`) with the CPU rotation it avoids (`render.prt.rotate.cpu`).
 pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let renderer = Renderer::new(AdapterChoice::PreferHardware)?;
     let adapter = renderer.adapter();
@@ -298,6 +298,14 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
             &prt,
             ", PRT order 5",
         )?;
+        let marched_prt = frame(
+            &scene,
+            "render.frame.marched.prt",
+            &near,
+            &marched,
+            &prt,
+            ", PRT order 5, shells marched per pixel",
+        )?;
         let frames: Vec<[[f64; 3]; 3]> = (0..scene.surface_vertex_count())
             .map(|i| {
                 let a = i as f64 * 0.618;
@@ -309,6 +317,11 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
             .map(|k| [1.0 / (1.0 + k as f64); 3])
             .collect();
         let timing = time_fallible(reps, || rotate_on_cpu(&frames, &light))?;
+        results.push(CaseResult {
+            baseline: Some("render.frame.prt".into()),
+            speedup: Some(prt_case.seconds / marched_prt.seconds),
+            ..marched_prt
+        });
         results.push(prt_case);
         results.push(CaseResult::timed(
             "render.prt.rotate.cpu",
