@@ -111,6 +111,23 @@ struct Marched {
     alpha: f32,
 };
 
+// `out` with `texel` (premultiplied, read at `uv` from `layers`, its level's own opacity
+// `alpha`, standing `height` level-0 layers up) composited under it; the layer where the
+// composite passes half opacity is the one lit.
+fn composite(out: Marched, texel: vec4<f32>, layers: Layers, uv: vec2<f32>, alpha: f32,
+             height: f32) -> Marched {
+    var next = out;
+    if (out.color.a < 0.5) {
+        next.shown = layers;
+        next.uv = uv;
+        next.alpha = alpha;
+    }
+    let share = (1.0 - out.color.a) * texel;
+    next.color += share;
+    next.raised += share * (height * frame.fur.y);
+    return next;
+}
+
 fn march(s: SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
     let hull = shell_layers(frame.counts.x - 1u);
     var out = Marched(vec4<f32>(0.0), vec4<f32>(0.0), hull, s.uv, 1.0);
@@ -133,14 +150,7 @@ fn march(s: SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
         if (texel.a < frame.fur.w) {
             continue;
         }
-        if (out.color.a < 0.5) {
-            out.shown = layers;
-            out.uv = uv;
-            out.alpha = texels.fine.a;
-        }
-        let share = (1.0 - out.color.a) * texel;
-        out.color += share;
-        out.raised += share * (f32(layers.height) * frame.fur.y);
+        out = composite(out, texel, layers, uv, texels.fine.a, f32(layers.height));
     }
     return out;
 }
@@ -205,14 +215,7 @@ fn march_levels(s: SurfaceOut, ray: Ray, lod: f32, k: u32) -> Marched {
         let texels = march_texels(uv, layers, lod, false);
         let texel = texels.fine * s.color.a;
         if (texel.a >= frame.fur.w) {
-            if (out.color.a < 0.5) {
-                out.shown = layers;
-                out.uv = uv;
-                out.alpha = texels.fine.a;
-            }
-            let share = (1.0 - out.color.a) * texel;
-            out.color += share;
-            out.raised += share * (0.5 * f32(lo + hi) * frame.fur.y);
+            out = composite(out, texel, layers, uv, texels.fine.a, 0.5 * f32(lo + hi));
         }
         if (j > 1u) {
             j -= 1u;
