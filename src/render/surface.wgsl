@@ -39,15 +39,21 @@ struct Texels {
 };
 
 fn surface_texels(s: SurfaceOut) -> Texels {
-    let fine = textureSample(shell_texture, tile_sampler, s.uv, s.layer);
-    var coarse = vec4<f32>(0.0);
+    return layer_texels(s.uv, s.layer, s.coarse);
+}
+
+// The texels at `uv` of array layers `fine` and `coarse` (NO_LAYER reads zero), with implicit
+// derivatives.
+fn layer_texels(uv: vec2<f32>, fine: u32, coarse: u32) -> Texels {
+    let texel = textureSample(shell_texture, tile_sampler, uv, fine);
+    var faded = vec4<f32>(0.0);
     // The blend is uniform over the frame, so the branch keeps implicit derivatives valid.
     if (frame.fin.y > 0.0) {
         let last = textureNumLayers(shell_texture) - 1u;
-        let sampled = textureSample(shell_texture, tile_sampler, s.uv, min(s.coarse, last));
-        coarse = select(sampled, vec4<f32>(0.0), s.coarse == NO_LAYER);
+        let sampled = textureSample(shell_texture, tile_sampler, uv, min(coarse, last));
+        faded = select(sampled, vec4<f32>(0.0), coarse == NO_LAYER);
     }
-    return Texels(fine, coarse);
+    return Texels(texel, faded);
 }
 
 // The cross-faded texel.

@@ -76,13 +76,7 @@ fn skin_vertex(v: SurfaceIn) -> SkinVarying {
 // lit as the skin.
 fn skin_fragment(s: SkinVarying) -> vec3<f32> {
     let layers = skin_layers();
-    let fine = textureSample(shell_texture, tile_sampler, s.uv, layers.fine);
-    var coarse = vec4<f32>(0.0);
-    // The blend is uniform over the frame, so the branch keeps implicit derivatives valid.
-    if (frame.fin.y > 0.0 && layers.coarse != NO_LAYER) {
-        coarse = textureSample(shell_texture, tile_sampler, s.uv, layers.coarse);
-    }
-    let texel = blended(Texels(fine, coarse));
+    let texel = blended(layer_texels(s.uv, layers.fine, layers.coarse));
     return shade_skin(texel.rgb * s.color, unit_or(s.normal, vec3<f32>(0.0, 0.0, 1.0)));
 }
 
