@@ -273,7 +273,7 @@ fn updating_colors_rewrites_only_the_attribute_buffers() {
     assert_eq!(after.texture_bytes, before.texture_bytes);
     assert_eq!(after.geometry_bytes, before.geometry_bytes);
     // One RGBA f32 row per GPU vertex of the surface and per fin corner.
-    let rows = scene.surface_vertex_count() + 4 * scene.fin_count();
+    let rows = scene.surface_vertex_count() + 4 * scene.uploaded_fin_count();
     assert_eq!(after.attribute_bytes - before.attribute_bytes, 16 * rows as u64);
     let reddened = render(&scene, &camera, &settings());
     // The default color is white, so red keeps the red channel's computation exactly and leaves

@@ -426,6 +426,8 @@ class FrameInfo(TypedDict):
     target_shells: float
     radius_pixels: float | None
     fur_pixels: float | None
+    mesh_level: int
+    triangles: int
 
 class Preview:
     """The real-time preview of one baked asset: a wgpu device (hardware first, or Mesa's CPU
@@ -453,6 +455,7 @@ class Preview:
         max_shells: int = 64,
         shells_per_pixel: float = 1.0,
         shell_method: Literal["instanced", "marched", "auto"] = "instanced",
+        mesh_error: float = 1.0,
     ) -> npt.NDArray[np.uint8] | npt.NDArray[np.float32]:
         """One frame (GIL released): ``[height, width, 4]`` uint8 sRGB, or float32 linear with
         ``linear=True``; straight alpha, top row first.
@@ -468,7 +471,10 @@ class Preview:
         cross-fades LOD levels (``shells`` must be ``None`` then). ``shell_method="marched"``
         draws the shells as one hull whose pixels march down through the layers: one mesh of
         triangles whatever the shell count, several times faster on a CPU adapter, lit once per
-        pixel; ``"auto"`` marches on a CPU adapter and instances on a GPU. ``fur_depth``
+        pixel; ``"auto"`` marches on a CPU adapter and instances on a GPU. ``mesh_error``: the
+        most pixels a simplified version of the mesh, drawn instead of the full one where the
+        object is small on screen, may stray from it (0 always draws the full mesh; after
+        :meth:`update` changes colors or lengths the full mesh is drawn). ``fur_depth``
         defaults to the asset's. Bad input raises :class:`InvalidParameterError` naming it; the
         preview stays usable."""
     def update(self, *, color: npt.ArrayLike | None = None, length: npt.ArrayLike | None = None) -> None:

@@ -106,7 +106,9 @@ fn rotate_on_cpu(frames: &[[[f64; 3]; 3]], light: &[[f64; 3]]) -> Result<Vec<[f6
 
 /// `render.frame`: one frame of Suzanne subdivided three times (61,952 triangles; twice in
 /// `--quick`, 15,488) with lapped-patch UVs, 32 shells and fins, Kajiya–Kay, at 512² and
-/// 1920 × 1080; the parts (`.skin`, `.no_fins`, `.tiny`); `.lod`, the same scene 4× as far with
+/// 1920 × 1080, each drawing the coarsest geometric level within a pixel of the full mesh
+/// (`.marched.full_mesh` draws every triangle); the parts (`.skin`, `.no_fins`, `.tiny`);
+/// `.lod`, the same scene 4× as far with
 /// LOD on (baseline: the near frame); and PRT (`.prt` and `.marched.prt`, order 5, not in
 /// `--quick`) with the CPU rotation it avoids (`render.prt.rotate.cpu`).
 pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
@@ -154,7 +156,13 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
                  lighting: &Lighting,
                  note: &str| {
         let timing = time_fallible(reps, || renderer.render(scene, camera, lighting, settings))?;
-        let size = format!("{}x{}, {what}{note}; {name}", camera.width, camera.height);
+        let info = renderer.frame_info(scene, camera, settings)?;
+        // Which geometric level the frame drew (`RenderSettings::mesh_error`).
+        let drawn = format!(
+            ", {} triangles drawn (mesh level {})",
+            info.triangles, info.mesh_level
+        );
+        let size = format!("{}x{}, {what}{note}{drawn}; {name}", camera.width, camera.height);
         Ok::<_, crate::PeltError>(CaseResult::timed(case, size, timing))
     };
     let near = camera(5.0, 512, 512);
@@ -230,6 +238,17 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
         &lighting,
         ", shells marched per pixel, fins off",
     )?;
+    let marched_full_mesh = frame(
+        &scene,
+        "render.frame.marched.full_mesh",
+        &near,
+        &RenderSettings {
+            mesh_error: 0.0,
+            ..marched
+        },
+        &lighting,
+        ", shells marched per pixel, every triangle (mesh_error 0)",
+    )?;
     let tiny = frame(
         &scene,
         "render.frame.tiny",
@@ -262,7 +281,7 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     )?;
     let speedup = base.seconds / far_case.seconds;
     results.extend([base.clone(), hd, skin, no_fins, tiny]);
-    for case in [marched_near, marched_hd, marched_no_fins] {
+    for case in [marched_near, marched_hd, marched_no_fins, marched_full_mesh] {
         results.push(CaseResult {
             baseline: Some("render.frame".into()),
             speedup: Some(base.seconds / case.seconds),

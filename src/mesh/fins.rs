@@ -14,7 +14,8 @@ const FIN_SEED: u64 = 0x5045_4c54_4649_4e53;
 /// The fin of one edge.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FinQuad {
-    /// The edge's index in [`crate::mesh::Topology::edges`].
+    /// The edge's index in [`crate::mesh::Topology::edges`] (or in the edges given to
+    /// [`fin_quads_of_edges`]).
     pub edge: u32,
     /// The edge's end vertices `[a, b]`, `a < b`.
     pub vertices: [u32; 2],
@@ -38,10 +39,21 @@ pub fn quad_triangles(quad: u32) -> [u32; 6] {
 /// The fins of every edge that has a length and a well-defined fin plane, in edge order;
 /// `uv_scale` is tile units per object unit (see [`crate::mesh::UvSplit::uv_scale`]).
 pub fn fin_quads(mesh: &FurMesh, uv_scale: f64) -> Vec<FinQuad> {
+    let edges = mesh.topology().edges().iter().map(|edge| edge.vertices());
+    fin_quads_of_edges(mesh, edges, uv_scale)
+}
+
+/// [`fin_quads`] of other edges over the mesh's vertices (a simplified version of its surface,
+/// say), numbered in the order given: `edge` is an index into `edges`, which also picks the
+/// fin's random texture interval.
+pub fn fin_quads_of_edges(
+    mesh: &FurMesh,
+    edges: impl IntoIterator<Item = [u32; 2]>,
+    uv_scale: f64,
+) -> Vec<FinQuad> {
     let (positions, normals) = (mesh.positions(), mesh.normals());
     let mut fins = Vec::new();
-    for (index, edge) in mesh.topology().edges().iter().enumerate() {
-        let [a, b] = edge.vertices();
+    for (index, [a, b]) in edges.into_iter().enumerate() {
         let (pa, pb) = (positions[a as usize], positions[b as usize]);
         let e: [f64; 3] = std::array::from_fn(|i| f64::from(pb[i]) - f64::from(pa[i]));
         let len = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();

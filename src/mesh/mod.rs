@@ -22,7 +22,7 @@ mod topology;
 pub mod uv_split;
 mod validate;
 
-pub use fins::{FinQuad, fin_quads, quad_triangles};
+pub use fins::{FinQuad, fin_quads, fin_quads_of_edges, quad_triangles};
 pub use frames::orthonormal_basis;
 pub use stats::MeshStats;
 pub use topology::{Edge, NO_COMPONENT, NO_EDGE, Topology, edge_key};

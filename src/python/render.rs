@@ -153,6 +153,8 @@ fn frame_dict<'py>(py: Python<'py>, info: &FrameInfo) -> PyResult<Bound<'py, PyD
     d.set_item("target_shells", info.target_shells)?;
     d.set_item("radius_pixels", info.radius_pixels)?;
     d.set_item("fur_pixels", info.fur_pixels)?;
+    d.set_item("mesh_level", info.mesh_level)?;
+    d.set_item("triangles", info.triangles)?;
     Ok(d)
 }
 
@@ -226,7 +228,7 @@ impl PyPreview {
     #[pyo3(signature = (
         view_matrix, projection_matrix, width, height, *, lighting=None, shells=None, fins=true,
         lod=false, linear=false, fur_depth=None, background=(0.0, 0.0, 0.0, 0.0), min_shells=2,
-        max_shells=64, shells_per_pixel=1.0, shell_method="instanced"
+        max_shells=64, shells_per_pixel=1.0, shell_method="instanced", mesh_error=1.0
     ))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
@@ -247,6 +249,7 @@ impl PyPreview {
         max_shells: u32,
         shells_per_pixel: f32,
         shell_method: &str,
+        mesh_error: f32,
     ) -> PyResult<Bound<'py, PyAny>> {
         let shell_method = match shell_method {
             "instanced" => ShellMethod::Instanced,
@@ -276,6 +279,7 @@ impl PyPreview {
             max_shells,
             fins,
             shell_method,
+            mesh_error,
             fur_depth: fur_depth.unwrap_or(self.fur_depth),
             background: [background.0, background.1, background.2, background.3],
             ..RenderSettings::default()

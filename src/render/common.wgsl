@@ -14,7 +14,8 @@ struct Frame {
     // x: fur depth (object units at length 1), y: layer spacing (share of the fur depth),
     // z: Banks self-shadow strength, w: alpha-test threshold of the shells.
     fur: vec4<f32>,
-    // x: fin opacity, y: LOD cross-fade toward the coarser level (0 without LOD).
+    // x: fin opacity, y: LOD cross-fade toward the coarser level (0 without LOD), z: the
+    // geometric level's fin spacing over the full mesh's (1 for the full mesh).
     fin: vec4<f32>,
     // x: shells drawn, y: layers of the volume (level 0), z: 1 when LOD picks the layers.
     counts: vec4<u32>,

@@ -5,6 +5,8 @@
 //! test, so this list only has to hold every fin the shader would draw; it errs on the side of
 //! keeping a fin, and the image is the same as drawing all of them.
 
+use std::ops::Range;
+
 use rayon::prelude::*;
 
 use crate::mesh::quad_triangles;
@@ -31,16 +33,17 @@ impl FinPlanes {
     }
 
     /// The index list (two triangles per fin, in fin order, so the blend order and thus the
-    /// image do not depend on the thread count) of the fins visible from `eye` (object space,
-    /// homogeneous: `w = 1` a position, `w = 0` a direction toward the viewer).
-    pub fn visible_indices(&self, eye: [f32; 4]) -> Vec<u32> {
-        let chunks: Vec<Vec<u32>> = self
-            .centers
+    /// image do not depend on the thread count) of the fins among `fins` (one geometric level's)
+    /// visible from `eye` (object space, homogeneous: `w = 1` a position, `w = 0` a direction
+    /// toward the viewer).
+    pub fn visible_indices(&self, eye: [f32; 4], fins: Range<u32>) -> Vec<u32> {
+        let range = fins.start as usize..fins.end as usize;
+        let chunks: Vec<Vec<u32>> = self.centers[range.clone()]
             .par_chunks(CHUNK)
-            .zip(self.normals.par_chunks(CHUNK))
+            .zip(self.normals[range].par_chunks(CHUNK))
             .enumerate()
             .map(|(chunk, (centers, normals))| {
-                let first = (chunk * CHUNK) as u32;
+                let first = fins.start + (chunk * CHUNK) as u32;
                 let mut out = Vec::new();
                 for (k, (c, n)) in centers.iter().zip(normals).enumerate() {
                     if faded_in(*c, *n, eye) {
@@ -76,7 +79,11 @@ mod tests {
         let normals: Vec<[f32; 3]> = angles.iter().map(|a| [a.sin(), 0.0, a.cos()]).collect();
         let planes = FinPlanes::new(vec![[0.0; 3]; normals.len()], normals);
         for eye in [[0.0, 0.0, 5.0, 1.0], [0.0, 0.0, 1.0, 0.0]] {
-            let kept: Vec<u32> = planes.visible_indices(eye).chunks(6).map(|t| t[0] / 4).collect();
+            let kept: Vec<u32> = planes
+                .visible_indices(eye, 0..angles.len() as u32)
+                .chunks(6)
+                .map(|t| t[0] / 4)
+                .collect();
             // |cos θ| > 1/2: θ < 60° or θ > 120°; the 60° and 120° fins sit on the fade's zero.
             let expected: Vec<u32> = (0..=180u32).filter(|&d| d <= 60 || d >= 120).collect();
             assert_eq!(kept, expected);
@@ -96,11 +103,16 @@ mod tests {
             })
             .collect();
         let planes = FinPlanes::new(vec![[0.0; 3]; n], normals);
-        let indices = planes.visible_indices([0.0, 0.0, 2.0, 1.0]);
+        let indices = planes.visible_indices([0.0, 0.0, 2.0, 1.0], 0..n as u32);
         let expected: Vec<u32> = (0..n as u32)
             .filter(|k| k % 3 != 0)
             .flat_map(quad_triangles)
             .collect();
+        assert_eq!(indices, expected);
+        // A level's range: the same fins, numbered as uploaded.
+        let level = (CHUNK as u32 + 5)..n as u32;
+        let indices = planes.visible_indices([0.0, 0.0, 2.0, 1.0], level.clone());
+        let expected: Vec<u32> = level.filter(|k| k % 3 != 0).flat_map(quad_triangles).collect();
         assert_eq!(indices, expected);
     }
 }

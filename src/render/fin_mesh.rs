@@ -7,8 +7,10 @@
 
 use bytemuck::{Pod, Zeroable};
 
+use std::ops::Range;
+
 use crate::FurMesh;
-use crate::mesh::{fin_quads, quad_triangles};
+use crate::mesh::{FinQuad, quad_triangles};
 
 /// One GPU vertex of a fin (vertex buffer 0 of the fin pass).
 #[repr(C)]
@@ -34,50 +36,59 @@ pub(super) struct FinVertex {
     pub along: f32,
 }
 
-/// All fins of a mesh.
+/// The fins of every geometric level of detail, one after another.
 #[derive(Debug, Clone)]
 pub(super) struct FinMesh {
     pub vertices: Vec<FinVertex>,
     /// The mesh vertex each fin corner stands on.
     pub source: Vec<u32>,
-    /// Two triangles per fin.
+    /// Two triangles per fin, as many as the largest level has: the index buffer's size, into
+    /// which each frame writes the fins it draws.
     pub indices: Vec<u32>,
+    /// The fins (numbered across levels) of each level.
+    pub levels: Vec<Range<u32>>,
 }
 
-/// Builds the fins of every edge that has a length and a well-defined fin plane; `uv_scale` is
-/// tile units per object unit, `surface_vertex[v]` a surface (GPU) vertex made from mesh vertex
-/// `v` (every edge end has one: edges come from triangles).
-pub(super) fn build(mesh: &FurMesh, uv_scale: f64, surface_vertex: &[u32]) -> FinMesh {
+/// Packs the fins of each level (`levels[k]`: the quads of level `k`'s edges), `surface_vertex[v]`
+/// a surface (GPU) vertex made from mesh vertex `v` (every edge end has one: edges come from
+/// triangles).
+pub(super) fn build(mesh: &FurMesh, levels: &[Vec<FinQuad>], surface_vertex: &[u32]) -> FinMesh {
     let (positions, normals) = (mesh.positions(), mesh.normals());
     let comb = mesh.comb();
-    let quads = fin_quads(mesh, uv_scale);
+    let total: usize = levels.iter().map(Vec::len).sum();
     let mut fins = FinMesh {
-        vertices: Vec::with_capacity(4 * quads.len()),
-        source: Vec::with_capacity(4 * quads.len()),
-        indices: Vec::with_capacity(6 * quads.len()),
+        vertices: Vec::with_capacity(4 * total),
+        source: Vec::with_capacity(4 * total),
+        indices: Vec::new(),
+        levels: Vec::with_capacity(levels.len()),
     };
-    for (k, quad) in quads.iter().enumerate() {
-        let [a, b] = quad.vertices;
-        let ends = [a, b].map(|v| surface_vertex[v as usize]);
-        for (vertex, u, v) in [
-            (a, quad.u0, 1.0),
-            (b, quad.u1, 1.0),
-            (a, quad.u0, 0.0),
-            (b, quad.u1, 0.0),
-        ] {
-            fins.vertices.push(FinVertex {
-                position: positions[vertex as usize],
-                normal: normals[vertex as usize],
-                comb: comb.map_or([0.0; 3], |c| c[vertex as usize]),
-                fin_normal: quad.normal,
-                center: quad.center,
-                uv: [u as f32, v],
-                ends,
-                along: if vertex == a { 0.0 } else { 1.0 },
-            });
-            fins.source.push(vertex);
+    for quads in levels {
+        let first = (fins.vertices.len() / 4) as u32;
+        for quad in quads {
+            let [a, b] = quad.vertices;
+            let ends = [a, b].map(|v| surface_vertex[v as usize]);
+            for (vertex, u, v) in [
+                (a, quad.u0, 1.0),
+                (b, quad.u1, 1.0),
+                (a, quad.u0, 0.0),
+                (b, quad.u1, 0.0),
+            ] {
+                fins.vertices.push(FinVertex {
+                    position: positions[vertex as usize],
+                    normal: normals[vertex as usize],
+                    comb: comb.map_or([0.0; 3], |c| c[vertex as usize]),
+                    fin_normal: quad.normal,
+                    center: quad.center,
+                    uv: [u as f32, v],
+                    ends,
+                    along: if vertex == a { 0.0 } else { 1.0 },
+                });
+                fins.source.push(vertex);
+            }
         }
-        fins.indices.extend(quad_triangles(k as u32));
+        fins.levels.push(first..first + quads.len() as u32);
     }
+    let most = levels.iter().map(Vec::len).max().unwrap_or(0) as u32;
+    fins.indices = (0..most).flat_map(quad_triangles).collect();
     fins
 }

@@ -40,5 +40,14 @@ fn vs_main(v: FinIn) -> FinOut {
 
 @fragment
 fn fs_main(f: FinOut) -> @location(0) vec4<f32> {
-    return fin_fragment(f);
+    let c = fin_fragment(f);
+    // A coarser geometric level stands its fins `spacing` times as far apart, so a ray through
+    // the fade band crosses 1/spacing as many: each lets through the transmittance of
+    // `spacing` fins of the full mesh, (1 - a)^spacing, its color kept per unit of opacity.
+    let spacing = frame.fin.z;
+    if (spacing == 1.0 || c.a <= 0.0) {
+        return c;
+    }
+    let a = 1.0 - pow(1.0 - min(c.a, 1.0), spacing);
+    return c * (a / c.a);
 }

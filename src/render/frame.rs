@@ -14,7 +14,7 @@ use super::prt_rotate::RotationUniforms;
 use super::readback::read_texels;
 use super::scene::FurScene;
 use super::settings::RenderSettings;
-use super::{Renderer, fins, scoped, shells, skin};
+use super::{Renderer, fins, geometry_lod, scoped, shells, skin};
 use crate::error::{PeltError, Result};
 
 /// The depth target of one size and, for offscreen frames, a color target of that size, kept
@@ -170,7 +170,14 @@ impl Renderer {
         }
         camera.frame(self.device.limits().max_texture_dimension_2d)?;
         let fixed = settings.shells_to_draw(scene.layers)?;
-        Ok(lod::choose(&scene.levels, settings, camera, &scene.extent, fixed))
+        let mut info = lod::choose(&scene.levels, settings, camera, &scene.extent, fixed);
+        let levels = scene.drawable_levels();
+        let errors: Vec<f64> = levels.iter().map(|l| l.error).collect();
+        let ppu = lod::nearest_pixels_per_unit(camera, scene.extent.center, scene.extent.radius);
+        let level = geometry_lod::choose(&errors, ppu, settings.mesh_error);
+        info.mesh_level = level as u32;
+        info.triangles = levels.get(level).map_or(0, |l| l.indices.len() as u32 / 3);
+        Ok(info)
     }
 
     fn check(
@@ -243,6 +250,10 @@ impl Renderer {
             Some(_) => Some(&self.fur_pipelines()?.prt(&self.device)?.rotate),
             None => None,
         };
+        let level = scene
+            .mesh_levels
+            .get(checked.info.mesh_level as usize)
+            .ok_or_else(|| PeltError::Render("the geometric level drawn is missing".into()))?;
         let uniforms = FrameUniforms::new(
             &checked.camera,
             &checked.light,
@@ -253,6 +264,7 @@ impl Renderer {
                 layers: scene.layers,
                 layer_spacing: scene.layer_spacing,
                 prt: transfer.map_or([0; 3], |t| [(t.order * t.order) as u32, t.textures, t.stride]),
+                fin_spacing: level.fin_spacing,
             },
         );
         // A panic elsewhere cannot leave the cached targets half-made, so a poisoned lock is fine.
@@ -276,7 +288,9 @@ impl Renderer {
         let [r, g, b, a] = settings.background.map(f64::from);
         let max_groups = self.device.limits().max_compute_workgroups_per_dimension;
         let fin_indices = if settings.fins && settings.fin_opacity > 0.0 {
-            scene.fin_planes.visible_indices(checked.camera.eye)
+            scene
+                .fin_planes
+                .visible_indices(checked.camera.eye, level.fins.clone())
         } else {
             Vec::new()
         };
@@ -334,12 +348,13 @@ impl Renderer {
                 if let Some(t) = transfer {
                     pass.set_bind_group(1, &t.render_group, &[]);
                 }
-                skin::draw(&mut pass, pipelines, scene, checked.model);
+                skin::draw(&mut pass, pipelines, scene, level, checked.model);
                 fins::draw(&mut pass, pipelines, scene, fin_indices.len() as u32);
                 shells::draw(
                     &mut pass,
                     pipelines,
                     scene,
+                    level,
                     checked.model,
                     checked.info.shells,
                     self.shell_method(settings.shell_method),

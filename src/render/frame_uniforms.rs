@@ -38,6 +38,8 @@ pub(super) struct SceneFrame<'a> {
     pub layer_spacing: f32,
     /// PRT: coefficients, transfer textures, array layers per texture (zero without PRT).
     pub prt: [u32; 3],
+    /// The drawn geometric level's fin spacing over the full mesh's ([`super::scene::MeshLevel`]).
+    pub fin_spacing: f32,
 }
 
 impl FrameUniforms {
@@ -64,7 +66,7 @@ impl FrameUniforms {
                 light.self_shadow,
                 settings.alpha_test,
             ],
-            fin: [settings.fin_opacity, info.blend, 0.0, 0.0],
+            fin: [settings.fin_opacity, info.blend, scene.fin_spacing, 0.0],
             counts: [info.shells, scene.layers, u32::from(settings.lod), 0],
             lod: [levels.bases[k], coarse, 1 << info.level, 0],
             prt: [scene.prt[0], scene.prt[1], scene.prt[2], scene.layers],

@@ -28,6 +28,10 @@ pub struct FrameInfo {
     pub radius_pixels: Option<f32>,
     /// Fur depth × the longest painted length in pixels at the sphere's centre; `None` as above.
     pub fur_pixels: Option<f32>,
+    /// Geometric level drawn ([`super::RenderSettings::mesh_error`]): 0 is the full mesh.
+    pub mesh_level: u32,
+    /// Triangles of that level (of the skin, and of each shell).
+    pub triangles: u32,
 }
 
 /// The shell array's levels: level `k` has `counts[k]` layers from array layer `bases[k]`.
@@ -73,6 +77,17 @@ pub(super) struct Extent {
 /// Pixels per object unit at `center` seen by `camera` (validated), or `None` when the camera
 /// is inside the sphere of `radius` (or behind its centre).
 fn pixels_per_unit(camera: &Camera, center: [f64; 3], radius: f64) -> Option<f64> {
+    projected_scale(camera, center, radius, 0.0)
+}
+
+/// The most pixels per object unit anywhere on the sphere of `radius` around `center` (at its
+/// point nearest the eye), or `None` as [`pixels_per_unit`].
+pub(super) fn nearest_pixels_per_unit(camera: &Camera, center: [f64; 3], radius: f64) -> Option<f64> {
+    projected_scale(camera, center, radius, radius)
+}
+
+/// Pixels per object unit at depth `center` moved `toward` object units toward the eye.
+fn projected_scale(camera: &Camera, center: [f64; 3], radius: f64, toward: f64) -> Option<f64> {
     let at = |m: &[f32; 16], r: usize, c: usize| f64::from(m[c * 4 + r]);
     let (view, proj) = (&camera.view, &camera.projection);
     let view_point: [f64; 4] =
@@ -81,8 +96,9 @@ fn pixels_per_unit(camera: &Camera, center: [f64; 3], radius: f64) -> Option<f64
     let scale = (0..3)
         .map(|c| (0..3).map(|r| at(view, r, c).powi(2)).sum::<f64>().sqrt())
         .fold(0.0, f64::max);
-    let w: f64 = (0..4).map(|k| at(proj, 3, k) * view_point[k]).sum();
     let perspective = at(proj, 3, 2) != 0.0;
+    let w: f64 =
+        (0..4).map(|k| at(proj, 3, k) * view_point[k]).sum::<f64>() - toward * scale * at(proj, 3, 2).abs();
     // The eye looks down −z: a centre closer than the radius has the camera inside the sphere.
     if perspective && -view_point[2] <= radius * scale {
         return None;
@@ -115,6 +131,8 @@ pub(super) fn choose(
         target_shells: fixed as f32,
         radius_pixels,
         fur_pixels,
+        mesh_level: 0,
+        triangles: 0,
     };
     if !settings.lod {
         return fixed_info;

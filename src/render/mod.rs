@@ -28,6 +28,7 @@ mod fin_mesh;
 mod fins;
 mod frame;
 mod frame_uniforms;
+mod geometry_lod;
 mod image;
 mod lighting;
 mod lod;

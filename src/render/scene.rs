@@ -4,16 +4,18 @@
 
 use wgpu::util::DeviceExt;
 
+use std::ops::Range;
+
 use super::fin_cull::FinPlanes;
 use super::frame_uniforms::FrameUniforms;
 use super::lod::{Extent, Levels};
 use super::pipelines::Model;
 use super::prt_rotate::RotationUniforms;
 use super::surface_mesh::expand;
-use super::{Renderer, fin_mesh, scoped, surface_mesh, textures, transfer};
+use super::{Renderer, fin_mesh, geometry_lod, scoped, surface_mesh, textures, transfer};
 use crate::FurMesh;
 use crate::error::{PeltError, Result};
-use crate::mesh::MAX_LENGTH;
+use crate::mesh::{MAX_LENGTH, fin_quads, fin_quads_of_edges};
 use crate::prt::pack::PackedF16;
 use crate::threads::pool;
 use crate::volume::HairVolume;
@@ -44,7 +46,6 @@ pub(super) struct GpuMesh {
     pub color: wgpu::Buffer,
     pub length: wgpu::Buffer,
     pub index: wgpu::Buffer,
-    pub index_count: u32,
 }
 
 impl GpuMesh {
@@ -72,7 +73,6 @@ impl GpuMesh {
             color: buffer("color", bytemuck::cast_slice(colors), dynamic),
             length: buffer("length", bytemuck::cast_slice(lengths), dynamic),
             index: buffer("index", bytemuck::cast_slice(indices), index),
-            index_count: indices.len() as u32,
         }
     }
 
@@ -84,17 +84,39 @@ impl GpuMesh {
         pass.set_index_buffer(self.index.slice(..), wgpu::IndexFormat::Uint32);
     }
 
-    /// Draws every triangle `instances` times: indexed from the vertex buffers, or for PRT one
-    /// vertex per corner that the shader pulls from the storage buffers (bind group 1).
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, model: Model, instances: std::ops::Range<u32>) {
+    /// Draws the triangles of `indices` (a range of the index buffer: one geometric level)
+    /// `instances` times: indexed from the vertex buffers, or for PRT one vertex per corner that
+    /// the shader pulls from the storage buffers (bind group 1; the vertex index counts from the
+    /// range's start).
+    pub fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        model: Model,
+        indices: Range<u32>,
+        instances: Range<u32>,
+    ) {
         match model {
             Model::KajiyaKay => {
                 self.bind(pass);
-                pass.draw_indexed(0..self.index_count, 0, instances);
+                pass.draw_indexed(indices, 0, instances);
             }
-            Model::Prt => pass.draw(0..self.index_count, instances),
+            Model::Prt => pass.draw(indices, instances),
         }
     }
+}
+
+/// One geometric level of detail of a scene ([`geometry_lod`]).
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct MeshLevel {
+    /// Object units the level may stray from the full mesh.
+    pub error: f64,
+    /// Its triangles in the surface index buffer.
+    pub indices: Range<u32>,
+    /// Its fins (numbered across levels).
+    pub fins: Range<u32>,
+    /// Its fins' mean edge length over the full mesh's: fins stand this many times as far
+    /// apart, and `fins.wgsl` makes each as opaque as that many of the full mesh's.
+    pub fin_spacing: f32,
 }
 
 /// A furred mesh on the GPU of one [`Renderer`].
@@ -105,6 +127,13 @@ pub struct FurScene {
     pub(super) fins: GpuMesh,
     /// The fins' planes, from which each frame collects the fins it draws.
     pub(super) fin_planes: FinPlanes,
+    /// The full mesh and its simplified versions, finest first.
+    pub(super) mesh_levels: Vec<MeshLevel>,
+    /// The colors and lengths (per mesh vertex) the levels were simplified with, and whether
+    /// the current ones are still those: once they differ, the coarser levels may smear what
+    /// was painted since.
+    built_attributes: (Vec<[f32; 4]>, Vec<f32>),
+    attributes_as_built: [bool; 2],
     pub(super) uniforms: wgpu::Buffer,
     pub(super) bind_group: wgpu::BindGroup,
     surface_source: Vec<u32>,
@@ -223,7 +252,6 @@ impl FurScene {
         let levels = Levels::new(volume.layers as u32);
         let surface = surface_mesh::build(mesh, corner_uvs)?;
         let first = surface_mesh::first_copies(&surface.source, mesh.vertex_count());
-        let fins = fin_mesh::build(mesh, surface.uv_scale, &first);
         let pipelines = renderer.fur_pipelines()?;
         let colors = mesh
             .color()
@@ -231,6 +259,58 @@ impl FurScene {
         let lengths = mesh
             .length()
             .map_or_else(|| vec![DEFAULT_LENGTH; mesh.vertex_count()], <[_]>::to_vec);
+        let levels_made = geometry_lod::simplify_levels(
+            &surface.vertices,
+            &surface.indices,
+            &expand(&colors, &surface.source),
+            &expand(&lengths, &surface.source),
+            1.0 / surface.uv_scale,
+        );
+        let level_fins: Vec<_> = levels_made
+            .iter()
+            .enumerate()
+            .map(|(k, level)| match k {
+                0 => fin_quads(mesh, surface.uv_scale),
+                _ => fin_quads_of_edges(
+                    mesh,
+                    geometry_lod::edges(&level.indices, &surface.source),
+                    surface.uv_scale,
+                ),
+            })
+            .collect();
+        let mean_edge = |quads: &[crate::mesh::FinQuad]| {
+            let sum: f64 = quads.iter().map(|q| q.u1 - q.u0).sum();
+            sum / quads.len().max(1) as f64
+        };
+        let full_edge = level_fins.first().map_or(0.0, |q| mean_edge(q));
+        let fin_spacing: Vec<f32> = level_fins
+            .iter()
+            .map(|q| match mean_edge(q) / full_edge {
+                r if r.is_finite() && r > 0.0 => r as f32,
+                _ => 1.0,
+            })
+            .collect();
+        let fins = fin_mesh::build(mesh, &level_fins, &first);
+        let surface_indices: Vec<u32> = levels_made
+            .iter()
+            .flat_map(|l| l.indices.iter().copied())
+            .collect();
+        let mut start = 0;
+        let mesh_levels: Vec<MeshLevel> = levels_made
+            .iter()
+            .zip(&fins.levels)
+            .zip(fin_spacing)
+            .map(|((level, fins), fin_spacing)| {
+                let indices = start..start + level.indices.len() as u32;
+                start = indices.end;
+                MeshLevel {
+                    error: level.error,
+                    indices,
+                    fins: fins.clone(),
+                    fin_spacing,
+                }
+            })
+            .collect();
 
         let (surface_gpu, fins_gpu, volume_gpu, uniforms, bind_group) =
             scoped(device, "uploading the scene", || {
@@ -238,7 +318,7 @@ impl FurScene {
                     device,
                     "surface",
                     bytemuck::cast_slice(&surface.vertices),
-                    &surface.indices,
+                    &surface_indices,
                     &expand(&colors, &surface.source),
                     &expand(&lengths, &surface.source),
                 );
@@ -295,10 +375,11 @@ impl FurScene {
             texture_bytes: volume_gpu.bytes,
             geometry_bytes: (size_of_val(surface.vertices.as_slice())
                 + size_of_val(fins.vertices.as_slice())
-                + 4 * (surface.indices.len() + fins.indices.len())) as u64,
+                + 4 * (surface_indices.len() + fins.indices.len())) as u64,
             attribute_bytes: attribute_rows * (16 + 4),
             transfer_bytes: 0,
         };
+        let extent = extent(mesh.positions(), &lengths);
         Ok(FurScene {
             renderer_id: renderer.id,
             queue: renderer.queue.clone(),
@@ -308,6 +389,9 @@ impl FurScene {
                 fins.vertices.iter().step_by(4).map(|v| v.center).collect(),
                 fins.vertices.iter().step_by(4).map(|v| v.fin_normal).collect(),
             ),
+            mesh_levels,
+            built_attributes: (colors, lengths),
+            attributes_as_built: [true; 2],
             uniforms,
             bind_group,
             surface_source: surface.source,
@@ -318,7 +402,7 @@ impl FurScene {
             resolution: volume.resolution,
             levels,
             alpha: volume.shells.chunks_exact(4).map(|px| px[3]).collect(),
-            extent: extent(mesh.positions(), &lengths),
+            extent,
             transfer: None,
             uploads,
         })
@@ -486,6 +570,12 @@ impl FurScene {
             }
         }
         self.uploads.attribute_bytes += bytes;
+        if let Some(c) = color {
+            self.attributes_as_built[0] = c == self.built_attributes.0.as_slice();
+        }
+        if let Some(l) = length {
+            self.attributes_as_built[1] = l == self.built_attributes.1.as_slice();
+        }
         Ok(())
     }
 
@@ -499,9 +589,36 @@ impl FurScene {
         self.surface_source.len()
     }
 
-    /// Fin quads (one per mesh edge that has a fin plane).
+    /// Fin quads of the full mesh (one per mesh edge that has a fin plane).
     pub fn fin_count(&self) -> usize {
+        self.mesh_levels.first().map_or(0, |l| l.fins.len())
+    }
+
+    /// Fin quads of every geometric level together (what the fin buffers hold).
+    pub fn uploaded_fin_count(&self) -> usize {
         self.fin_source.len() / 4
+    }
+
+    /// Triangles of each geometric level of detail, the full mesh first
+    /// ([`super::RenderSettings::mesh_error`]).
+    pub fn level_triangles(&self) -> Vec<usize> {
+        self.mesh_levels.iter().map(|l| l.indices.len() / 3).collect()
+    }
+
+    /// The object-space error bound of each geometric level (0 for the full mesh).
+    pub fn level_errors(&self) -> Vec<f64> {
+        self.mesh_levels.iter().map(|l| l.error).collect()
+    }
+
+    /// The geometric levels a frame may draw: all of them while the colors and lengths are
+    /// those they were made with, else the full mesh alone.
+    pub(super) fn drawable_levels(&self) -> &[MeshLevel] {
+        let n = if self.attributes_as_built == [true; 2] {
+            self.mesh_levels.len()
+        } else {
+            1
+        };
+        &self.mesh_levels[..n.min(self.mesh_levels.len())]
     }
 
     /// Layers of the shell texture, the skin included.

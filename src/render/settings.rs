@@ -8,6 +8,8 @@ use crate::error::{PeltError, Result};
 pub const MAX_FUR_DEPTH: f32 = 1e6;
 /// Largest [`RenderSettings::shells_per_pixel`].
 pub const MAX_SHELLS_PER_PIXEL: f32 = 1e3;
+/// Largest [`RenderSettings::mesh_error`], pixels.
+pub const MAX_MESH_ERROR: f32 = 1e6;
 
 /// How the shells are drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -67,6 +69,14 @@ pub struct RenderSettings {
     pub max_shells: u32,
     /// How the shells are drawn.
     pub shell_method: ShellMethod,
+    /// Geometric level of detail: the most a simplified version of the mesh, drawn by every pass
+    /// instead of the full one, may stray from it, in pixels where the object is nearest the
+    /// eye (its error bound, which also counts tile UVs, colors and lengths, times the pixels
+    /// per object unit there); `[0, MAX_MESH_ERROR]`, 0 always draws the full mesh. The
+    /// coarsest level within it is drawn ([`super::FrameInfo::mesh_level`]). Levels are made
+    /// with the colors and lengths the scene was uploaded with; after
+    /// [`super::FurScene::update_attributes`] changes them, the full mesh is drawn.
+    pub mesh_error: f32,
     /// Draw the fins (Lengyel §2.3, pass b).
     pub fins: bool,
     /// Fur depth in object units: the height of the volume's top at length multiplier 1
@@ -91,6 +101,7 @@ impl Default for RenderSettings {
             min_shells: 2,
             max_shells: 64,
             shell_method: ShellMethod::Instanced,
+            mesh_error: 1.0,
             fins: true,
             fur_depth: 0.05,
             fin_opacity: 1.0,
@@ -118,6 +129,7 @@ impl RenderSettings {
         check("settings.fur_depth", self.fur_depth, MAX_FUR_DEPTH)?;
         check("settings.fin_opacity", self.fin_opacity, 1.0)?;
         check("settings.alpha_test", self.alpha_test, 1.0)?;
+        check("settings.mesh_error", self.mesh_error, MAX_MESH_ERROR)?;
         for (i, &c) in self.background.iter().enumerate() {
             check(&format!("settings.background[{i}]"), c, 1.0)?;
         }

@@ -4,7 +4,7 @@
 //! written behind an alpha test, so empty texels write no depth.
 
 use super::pipelines::{Model, PassPipelines, PassState, VertexInput};
-use super::scene::FurScene;
+use super::scene::{FurScene, MeshLevel};
 use super::settings::ShellMethod;
 
 const KAJIYA_KAY: &str = concat!(
@@ -40,13 +40,14 @@ pub(super) fn state(model: Model) -> PassState<'static> {
     }
 }
 
-/// Draws `count` shells: instanced, a copy of the mesh per shell, or marched
-/// ([`super::marched`]), their hull once; `method` is resolved ([`ShellMethod::resolve`]), an
-/// `Auto` left over draws instanced.
+/// Draws `count` shells of geometric level `level`: instanced, a copy of the mesh per shell, or
+/// marched ([`super::marched`]), their hull once; `method` is resolved
+/// ([`ShellMethod::resolve`]), an `Auto` left over draws instanced.
 pub(super) fn draw(
     pass: &mut wgpu::RenderPass<'_>,
     pipelines: &PassPipelines,
     scene: &FurScene,
+    level: &MeshLevel,
     model: Model,
     count: u32,
     method: ShellMethod,
@@ -59,5 +60,7 @@ pub(super) fn draw(
         ShellMethod::Marched => (&pipelines.marched, 1),
     };
     pass.set_pipeline(pipeline);
-    scene.surface.draw(pass, model, 0..instances);
+    scene
+        .surface
+        .draw(pass, model, level.indices.clone(), 0..instances);
 }

@@ -2,7 +2,7 @@
 //! shell texture times the vertex color, filling the depth buffer that fins and shells test.
 
 use super::pipelines::{Model, PassPipelines, PassState, VertexInput};
-use super::scene::FurScene;
+use super::scene::{FurScene, MeshLevel};
 
 const KAJIYA_KAY: &str = concat!(
     include_str!("common.wgsl"),
@@ -37,13 +37,14 @@ pub(super) fn state(model: Model) -> PassState<'static> {
     }
 }
 
-/// Draws the skin (bind group 1 is set for PRT).
+/// Draws the skin of geometric level `level` (bind group 1 is set for PRT).
 pub(super) fn draw(
     pass: &mut wgpu::RenderPass<'_>,
     pipelines: &PassPipelines,
     scene: &FurScene,
+    level: &MeshLevel,
     model: Model,
 ) {
     pass.set_pipeline(&pipelines.skin);
-    scene.surface.draw(pass, model, 0..1);
+    scene.surface.draw(pass, model, level.indices.clone(), 0..1);
 }

@@ -233,7 +233,7 @@ fn vertices_split_only_where_uvs_differ_and_derivatives_match_the_map() {
 fn one_fin_per_edge_standing_on_it() {
     let mesh = square();
     // Surface vertex of mesh vertex v: 10 + v, to see that the fins name them.
-    let fins = fin_mesh::build(&mesh, 0.5, &[10, 11, 12, 13]);
+    let fins = fin_mesh::build(&mesh, &[crate::mesh::fin_quads(&mesh, 0.5)], &[10, 11, 12, 13]);
     assert_eq!(fins.vertices.len(), 4 * 5);
     assert_eq!(fins.indices.len(), 6 * 5);
     for quad in fins.vertices.chunks_exact(4) {

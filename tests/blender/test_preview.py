@@ -171,6 +171,32 @@ def test_lod_reports_the_level_it_drew(preview):
         preview.render(VIEW, PROJECTION, SIDE, SIDE, lod=True, shells=3)
 
 
+def test_a_far_dense_mesh_draws_a_coarser_level_and_mesh_error_zero_the_whole_mesh():
+    positions, triangles = uv_sphere(96, 48)
+    dense = pelt.Pipeline().bake(
+        pelt.FurMesh(positions, triangles),
+        tile_size=0.5,
+        hair=pelt.HairParams(density=1024),
+        layers=4,
+        resolution=32,
+        fin_size=(64, 16),
+        fur_depth=0.1,
+        transfer=False,
+    )
+    preview = pelt.Preview(dense, adapter="cpu")
+    far = look_at((0.0, -12.0, 3.0))
+    coarse = preview.render(far, PROJECTION, SIDE, SIDE)
+    info = preview.last_frame
+    assert info["mesh_level"] >= 1
+    assert 2 * info["triangles"] <= len(triangles)
+    whole = preview.render(far, PROJECTION, SIDE, SIDE, mesh_error=0.0)
+    assert (preview.last_frame["mesh_level"], preview.last_frame["triangles"]) == (0, len(triangles))
+    covered, covered_whole = (coarse[..., 3] > 0).sum(), (whole[..., 3] > 0).sum()
+    assert abs(int(covered) - int(covered_whole)) <= 0.03 * covered_whole
+    with pytest.raises(pelt.InvalidParameterError, match="mesh_error"):
+        preview.render(far, PROJECTION, SIDE, SIDE, mesh_error=-1.0)
+
+
 def test_updates_rewrite_only_colors_and_lengths(asset):
     preview = pelt.Preview(asset, adapter="cpu")
     vertices = asset.mesh.vertex_count

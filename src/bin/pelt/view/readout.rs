@@ -65,8 +65,8 @@ pub fn title(median: Option<f64>, shown: &Shown<'_>) -> String {
     let fins = if shown.fins { "fins" } else { "no fins" };
     let shells = if shown.marched { "shells marched" } else { "shells" };
     format!(
-        "pelt view: {} | {time} | {} {shells} | {lod} | {fins} | {} | {}",
-        shown.object, shown.info.shells, shown.model, shown.adapter
+        "pelt view: {} | {time} | {} {shells} | {lod} | {fins} | {} triangles | {} | {}",
+        shown.object, shown.info.shells, shown.info.triangles, shown.model, shown.adapter
     )
 }
 
@@ -105,6 +105,8 @@ mod tests {
             target_shells: 12.0,
             radius_pixels: None,
             fur_pixels: None,
+            mesh_level: 0,
+            triangles: 1000,
         }
     }
 
@@ -126,7 +128,7 @@ mod tests {
     }
 
     #[test]
-    fn the_title_shows_time_rate_shells_lod_and_adapter() {
+    fn the_title_shows_time_rate_shells_lod_triangles_and_adapter() {
         let info = info();
         let shown = Shown {
             object: "Suzanne",
@@ -145,6 +147,7 @@ mod tests {
             "12 shells",
             "LOD 2",
             "no fins",
+            "1000 triangles",
             "PRT",
             "llvmpipe",
         ] {

@@ -1,0 +1,182 @@
+//! Geometric level of detail on the CPU adapter (lavapipe): a dense furred torus seen from afar
+//! draws a simplified version of itself ([`RenderSettings::mesh_error`]), which must look like
+//! the full mesh's image; repainting after the upload falls back to the full mesh. The test fails
+//! (never skips) when no CPU adapter exists.
+#![cfg(feature = "render")]
+
+mod common;
+
+use std::sync::OnceLock;
+
+use pelt::hair::HairParams;
+use pelt::mesh::shapes::{torus, torus_uvs};
+use pelt::render::{AdapterChoice, Camera, FurScene, Lighting, RenderSettings, Renderer, RgbaImage};
+use pelt::volume::{HairVolume, VolumeParams, bake_volume};
+use pelt::{FurMesh, MeshInput, PeltError};
+
+use common::{column_major, look_at, perspective_rows};
+
+const AROUND: usize = 128;
+const ACROSS: usize = 64;
+const TRIANGLES: u32 = (2 * AROUND * ACROSS) as u32;
+const SIZE: u32 = 128;
+const FUR_DEPTH: f32 = 0.06;
+
+struct Fixture {
+    renderer: Renderer,
+    mesh: FurMesh,
+    uvs: Vec<[[f32; 2]; 3]>,
+    volume: HairVolume,
+}
+
+fn fixture() -> &'static Fixture {
+    static FIXTURE: OnceLock<Fixture> = OnceLock::new();
+    FIXTURE.get_or_init(|| {
+        let renderer =
+            Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe) must exist under make test");
+        let (positions, triangles) = torus(AROUND, ACROSS);
+        let mesh = FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap();
+        let uvs = torus_uvs(AROUND, ACROSS, [12.0, 4.0]);
+        let defaults = HairParams::default();
+        let mut hair = HairParams {
+            density: 3000,
+            ..defaults.clone()
+        };
+        hair.undercoat.width = defaults.undercoat.width.map(|w| w * 2.0);
+        hair.overcoat.width = defaults.overcoat.width.map(|w| w * 2.0);
+        let params = VolumeParams {
+            layers: 8,
+            resolution: 64,
+            fin_size: [128, 32],
+            trim: false,
+            ..VolumeParams::default()
+        };
+        let volume = bake_volume(&hair, &params, None).unwrap();
+        Fixture {
+            renderer,
+            mesh,
+            uvs,
+            volume,
+        }
+    })
+}
+
+fn scene() -> FurScene {
+    let f = fixture();
+    FurScene::new(&f.renderer, &f.mesh, &f.uvs, &f.volume).unwrap()
+}
+
+/// 30° field of view from `distance` away, above and to the side of the torus.
+fn camera(distance: f64) -> Camera {
+    let eye = [0.0, -0.8 * distance, 0.6 * distance];
+    Camera {
+        view: look_at(eye, [0.0, 0.0, 1.0]),
+        projection: column_major(perspective_rows(30.0, 0.1, 100.0)),
+        width: SIZE,
+        height: SIZE,
+    }
+}
+
+fn settings(mesh_error: f32) -> RenderSettings {
+    RenderSettings {
+        fur_depth: FUR_DEPTH,
+        mesh_error,
+        ..RenderSettings::default()
+    }
+}
+
+fn render(scene: &FurScene, camera: &Camera, settings: &RenderSettings) -> RgbaImage {
+    fixture()
+        .renderer
+        .render(scene, camera, &Lighting::default(), settings)
+        .unwrap()
+}
+
+fn covered(image: &RgbaImage) -> usize {
+    image.pixels.chunks_exact(4).filter(|p| p[3] > 0).count()
+}
+
+#[test]
+fn far_away_a_coarser_level_draws_nearly_the_same_image() {
+    let scene = scene();
+    let triangles = scene.level_triangles();
+    assert_eq!(triangles[0], TRIANGLES as usize);
+    assert!(triangles.len() >= 3, "levels {triangles:?}");
+    let renderer = &fixture().renderer;
+    let far = camera(12.0);
+    let info = renderer.frame_info(&scene, &far, &settings(1.0)).unwrap();
+    assert!(info.mesh_level >= 1, "{info:?}");
+    assert!(2 * info.triangles <= TRIANGLES);
+    assert_eq!(info.triangles as usize, triangles[info.mesh_level as usize]);
+    let full = renderer.frame_info(&scene, &far, &settings(0.0)).unwrap();
+    assert_eq!((full.mesh_level, full.triangles), (0, TRIANGLES));
+    // Nearer, the same error bound covers fewer object units: never a coarser level.
+    let near = renderer.frame_info(&scene, &camera(2.5), &settings(1.0)).unwrap();
+    assert!(near.mesh_level < info.mesh_level, "near {near:?}, far {info:?}");
+
+    let coarse = render(&scene, &far, &settings(1.0));
+    let exact = render(&scene, &far, &settings(0.0));
+    assert_ne!(coarse, exact, "the coarser level draws other triangles");
+    // Within a pixel of the silhouette and the same fur: coverage and mean color agree closely
+    // (the fur's texels and fins fall differently on other triangles, pixel by pixel).
+    let (a, b) = (covered(&coarse), covered(&exact));
+    assert!(a.abs_diff(b) * 50 <= b, "covered {a} against {b}");
+    let mean = |image: &RgbaImage, c: usize| {
+        let sum: u64 = image.pixels.chunks_exact(4).map(|p| u64::from(p[c])).sum();
+        sum as f64 / f64::from(SIZE * SIZE)
+    };
+    for c in 0..4 {
+        let (m, e) = (mean(&coarse, c), mean(&exact, c));
+        assert!(
+            (m - e).abs() <= 0.03 * e.max(1.0),
+            "channel {c}: mean {m:.2} against {e:.2}"
+        );
+    }
+}
+
+#[test]
+fn repainting_draws_the_full_mesh_until_the_attributes_are_as_uploaded() {
+    let mut scene = scene();
+    let renderer = &fixture().renderer;
+    let far = camera(12.0);
+    let level = |scene: &FurScene| {
+        renderer
+            .frame_info(scene, &far, &settings(1.0))
+            .unwrap()
+            .mesh_level
+    };
+    let coarse = level(&scene);
+    assert!(coarse >= 1);
+    let vertices = fixture().mesh.vertex_count();
+    scene
+        .update_attributes(Some(&vec![[1.0, 0.2, 0.2, 1.0]; vertices]), None)
+        .unwrap();
+    assert_eq!(level(&scene), 0, "the levels were simplified with other colors");
+    let red = render(&scene, &far, &settings(1.0));
+    assert_eq!(red, render(&scene, &far, &settings(0.0)));
+    // Back to the uploaded (default, white) colors; a length update to the uploaded ones too.
+    scene
+        .update_attributes(Some(&vec![[1.0; 4]; vertices]), None)
+        .unwrap();
+    assert_eq!(level(&scene), coarse);
+    scene.update_attributes(None, Some(&vec![0.5; vertices])).unwrap();
+    assert_eq!(level(&scene), 0);
+    scene.update_attributes(None, Some(&vec![1.0; vertices])).unwrap();
+    assert_eq!(level(&scene), coarse);
+}
+
+#[test]
+fn a_bad_mesh_error_is_named_and_the_renderer_survives() {
+    let scene = scene();
+    let far = camera(12.0);
+    for bad in [f32::NAN, -1.0, f32::INFINITY, 2e6] {
+        let result = fixture()
+            .renderer
+            .render(&scene, &far, &Lighting::default(), &settings(bad));
+        match result {
+            Err(PeltError::InvalidParameter { name, .. }) => assert_eq!(name, "settings.mesh_error"),
+            other => panic!("mesh_error {bad}: {:?}", other.map(|_| ())),
+        }
+    }
+    assert!(covered(&render(&scene, &far, &settings(1.0))) > 0);
+}
