@@ -10,8 +10,8 @@ mod common;
 use std::sync::OnceLock;
 
 use common::golden::{Tolerance, check};
+use common::volume::small_volume;
 use common::{column_major, look_at_rows, perspective_rows};
-use pelt::hair::HairParams;
 use pelt::lapped::{PatchParams, build_patches};
 use pelt::mesh::shapes::{uv_sphere, uv_sphere_polygons};
 use pelt::prt::pack::{PackedF16, pack_f16};
@@ -22,7 +22,7 @@ use pelt::render::{
     AdapterChoice, Camera, FurScene, LightModel, Lighting, Prt, RenderSettings, Renderer, RgbaImage,
     ShellMethod,
 };
-use pelt::volume::{HairVolume, VolumeParams, bake_volume};
+use pelt::volume::HairVolume;
 use pelt::{FurMesh, MeshInput};
 
 /// Image side: small, so lavapipe renders each in a blink.
@@ -49,26 +49,7 @@ fn fixture() -> &'static Fixture {
         let renderer = Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe) must exist");
         let (positions, triangles) = uv_sphere(SEGMENTS, RINGS);
         let polygons = uv_sphere_polygons(SEGMENTS, RINGS);
-        // Hairs twice the default width stay about a texel wide at 64².
-        let defaults = HairParams::default();
-        let mut hair = HairParams {
-            density: 3000,
-            ..defaults.clone()
-        };
-        hair.undercoat.width = defaults.undercoat.width.map(|w| w * 2.0);
-        hair.overcoat.width = defaults.overcoat.width.map(|w| w * 2.0);
-        let volume = bake_volume(
-            &hair,
-            &VolumeParams {
-                layers: 24,
-                resolution: 64,
-                fin_size: [128, 32],
-                trim: false,
-                ..VolumeParams::default()
-            },
-            None,
-        )
-        .unwrap();
+        let volume = small_volume(24);
         let input = VolumeInput::new(&volume, f64::from(FUR_DEPTH) / TILE);
         let transfer = bake_transfer(
             &input.transfer_volume(&volume),

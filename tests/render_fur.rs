@@ -10,14 +10,14 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 use pelt::export::{PngOptions, save_png};
-use pelt::hair::HairParams;
 use pelt::mesh::shapes::{torus, torus_uvs};
 use pelt::render::{
     AdapterChoice, Camera, FurScene, Lighting, RenderSettings, Renderer, RgbaImage, ShellMethod,
 };
-use pelt::volume::{HairVolume, VolumeParams, bake_volume};
+use pelt::volume::HairVolume;
 use pelt::{FurMesh, MeshInput, PeltError};
 
+use common::volume::small_volume;
 use common::{column_major, look_at};
 
 const AROUND: usize = 32;
@@ -44,23 +44,7 @@ fn fixture() -> &'static Fixture {
         let mesh = FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap();
         // Parametric UVs, split where the ring and the tube close (a seam, as between patches).
         let uvs = torus_uvs(AROUND, ACROSS, REPEATS);
-        // A small volume (64², 8 layers) keeps the bake quick in a debug build; hairs twice the
-        // default width stay about a texel wide at that resolution.
-        let defaults = HairParams::default();
-        let mut hair = HairParams {
-            density: 3000,
-            ..defaults.clone()
-        };
-        hair.undercoat.width = defaults.undercoat.width.map(|w| w * 2.0);
-        hair.overcoat.width = defaults.overcoat.width.map(|w| w * 2.0);
-        let params = VolumeParams {
-            layers: 8,
-            resolution: 64,
-            fin_size: [128, 32],
-            trim: false,
-            ..VolumeParams::default()
-        };
-        let volume = bake_volume(&hair, &params, None).unwrap();
+        let volume = small_volume(8);
         Fixture {
             renderer,
             mesh,

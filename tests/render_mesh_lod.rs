@@ -8,12 +8,12 @@ mod common;
 
 use std::sync::OnceLock;
 
-use pelt::hair::HairParams;
 use pelt::mesh::shapes::{torus, torus_uvs};
 use pelt::render::{AdapterChoice, Camera, FurScene, Lighting, RenderSettings, Renderer, RgbaImage};
-use pelt::volume::{HairVolume, VolumeParams, bake_volume};
+use pelt::volume::HairVolume;
 use pelt::{FurMesh, MeshInput, PeltError};
 
+use common::volume::small_volume;
 use common::{column_major, look_at, perspective_rows};
 
 const AROUND: usize = 128;
@@ -37,21 +37,7 @@ fn fixture() -> &'static Fixture {
         let (positions, triangles) = torus(AROUND, ACROSS);
         let mesh = FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap();
         let uvs = torus_uvs(AROUND, ACROSS, [12.0, 4.0]);
-        let defaults = HairParams::default();
-        let mut hair = HairParams {
-            density: 3000,
-            ..defaults.clone()
-        };
-        hair.undercoat.width = defaults.undercoat.width.map(|w| w * 2.0);
-        hair.overcoat.width = defaults.overcoat.width.map(|w| w * 2.0);
-        let params = VolumeParams {
-            layers: 8,
-            resolution: 64,
-            fin_size: [128, 32],
-            trim: false,
-            ..VolumeParams::default()
-        };
-        let volume = bake_volume(&hair, &params, None).unwrap();
+        let volume = small_volume(8);
         Fixture {
             renderer,
             mesh,

@@ -8,9 +8,9 @@ mod common;
 
 use std::sync::OnceLock;
 
+use common::volume::small_volume;
 use common::{column_major, look_at_rows, mul, orthographic, perspective_rows};
 use pelt::color::srgb_to_linear;
-use pelt::hair::HairParams;
 use pelt::prt::pack::{PackedF16, pack_f16, texel_index};
 use pelt::prt::sh;
 use pelt::prt::volume_input::VolumeInput;
@@ -18,7 +18,7 @@ use pelt::prt::{TransferParams, bake_transfer};
 use pelt::render::{
     AdapterChoice, Camera, FurScene, LightModel, Lighting, LinearImage, Prt, RenderSettings, Renderer,
 };
-use pelt::volume::{HairVolume, VolumeParams, bake_volume};
+use pelt::volume::HairVolume;
 use pelt::{FurMesh, MeshInput, PeltError};
 
 /// SH order of the test transfer.
@@ -36,21 +36,7 @@ fn fixture() -> &'static Fixture {
     static FIXTURE: OnceLock<Fixture> = OnceLock::new();
     FIXTURE.get_or_init(|| {
         let renderer = Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe) must exist");
-        let defaults = HairParams::default();
-        let mut hair = HairParams {
-            density: 3000,
-            ..defaults.clone()
-        };
-        hair.undercoat.width = defaults.undercoat.width.map(|w| w * 2.0);
-        hair.overcoat.width = defaults.overcoat.width.map(|w| w * 2.0);
-        let params = VolumeParams {
-            layers: 8,
-            resolution: 64,
-            fin_size: [128, 32],
-            trim: false,
-            ..VolumeParams::default()
-        };
-        let volume = bake_volume(&hair, &params, None).unwrap();
+        let volume = small_volume(8);
         let input = VolumeInput::new(&volume, f64::from(FUR_DEPTH) / 2.0);
         let transfer = bake_transfer(
             &input.transfer_volume(&volume),

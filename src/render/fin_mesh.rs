@@ -47,6 +47,15 @@ pub(super) struct FinMesh {
     pub indices: Vec<u32>,
     /// The fins (numbered across levels) of each level.
     pub levels: Vec<Range<u32>>,
+    /// Each level's mean fin (edge) length over level 0's, 1 where either has no fins: how many
+    /// times as far apart its fins stand ([`super::scene::MeshLevel::fin_spacing`]).
+    pub spacing: Vec<f32>,
+}
+
+/// Mean edge length of `quads` in fin texture units (their `u` interval), 0 for none.
+fn mean_length(quads: &[FinQuad]) -> f64 {
+    let sum: f64 = quads.iter().map(|q| q.u1 - q.u0).sum();
+    sum / quads.len().max(1) as f64
 }
 
 /// Packs the fins of each level (`levels[k]`: the quads of level `k`'s edges), `surface_vertex[v]`
@@ -61,7 +70,9 @@ pub(super) fn build(mesh: &FurMesh, levels: &[Vec<FinQuad>], surface_vertex: &[u
         source: Vec::with_capacity(4 * total),
         indices: Vec::new(),
         levels: Vec::with_capacity(levels.len()),
+        spacing: Vec::with_capacity(levels.len()),
     };
+    let full = levels.first().map_or(0.0, |q| mean_length(q));
     for quads in levels {
         let first = (fins.vertices.len() / 4) as u32;
         for quad in quads {
@@ -87,6 +98,10 @@ pub(super) fn build(mesh: &FurMesh, levels: &[Vec<FinQuad>], surface_vertex: &[u
             }
         }
         fins.levels.push(first..first + quads.len() as u32);
+        fins.spacing.push(match mean_length(quads) / full {
+            r if r.is_finite() && r > 0.0 => r as f32,
+            _ => 1.0,
+        });
     }
     let most = levels.iter().map(Vec::len).max().unwrap_or(0) as u32;
     fins.indices = (0..most).flat_map(quad_triangles).collect();

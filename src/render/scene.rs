@@ -278,18 +278,6 @@ impl FurScene {
                 ),
             })
             .collect();
-        let mean_edge = |quads: &[crate::mesh::FinQuad]| {
-            let sum: f64 = quads.iter().map(|q| q.u1 - q.u0).sum();
-            sum / quads.len().max(1) as f64
-        };
-        let full_edge = level_fins.first().map_or(0.0, |q| mean_edge(q));
-        let fin_spacing: Vec<f32> = level_fins
-            .iter()
-            .map(|q| match mean_edge(q) / full_edge {
-                r if r.is_finite() && r > 0.0 => r as f32,
-                _ => 1.0,
-            })
-            .collect();
         let fins = fin_mesh::build(mesh, &level_fins, &first);
         let surface_indices: Vec<u32> = levels_made
             .iter()
@@ -299,8 +287,8 @@ impl FurScene {
         let mesh_levels: Vec<MeshLevel> = levels_made
             .iter()
             .zip(&fins.levels)
-            .zip(fin_spacing)
-            .map(|((level, fins), fin_spacing)| {
+            .zip(&fins.spacing)
+            .map(|((level, fins), &fin_spacing)| {
                 let indices = start..start + level.indices.len() as u32;
                 start = indices.end;
                 MeshLevel {

@@ -1,10 +1,12 @@
 //! Helpers shared by the integration tests: camera matrices written out from their definitions,
-//! the golden-image check of DESIGN.md §3 and the command-line tests' small bake. Each test
+//! the golden-image check of DESIGN.md §3, the command-line tests' small bake and the render tests'
+//! small hair volume. Each test
 //! binary uses a part of them.
 #![allow(dead_code)]
 
 pub mod bake;
 pub mod golden;
+pub mod volume;
 
 /// Row-major `m[row][col]` to the column-major array the renderer takes.
 pub fn column_major(rows: [[f64; 4]; 4]) -> [f32; 16] {
