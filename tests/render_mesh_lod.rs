@@ -1,7 +1,7 @@
 //! Geometric level of detail on the CPU adapter (lavapipe): a dense furred torus seen from afar
 //! draws a simplified version of itself ([`RenderSettings::mesh_error`]), which must look like
-//! the full mesh's image; repainting after the upload falls back to the full mesh. The test fails
-//! (never skips) when no CPU adapter exists.
+//! the full mesh's image; a repaint the coarser levels cannot hold falls back to the full mesh.
+//! The test fails (never skips) when no CPU adapter exists.
 #![cfg(feature = "render")]
 
 mod common;
@@ -100,11 +100,18 @@ fn far_away_a_coarser_level_draws_nearly_the_same_image() {
     let near = renderer.frame_info(&scene, &camera(2.5), &settings(1.0)).unwrap();
     assert!(near.mesh_level < info.mesh_level, "near {near:?}, far {info:?}");
 
-    let coarse = render(&scene, &far, &settings(1.0));
-    let exact = render(&scene, &far, &settings(0.0));
+    // Measured: 1666 pixels covered against 1680, mean RGB 2.6%, 2.7% and 2.5% below.
+    assert_nearly_the_same(&scene, &far, 0.03);
+}
+
+/// The coarser level `camera` sees and the full mesh draw other triangles, but within a pixel of
+/// the silhouette and the same fur: coverage within 2% and each channel's mean within
+/// `tolerance` of the full mesh's (the fur's texels and fins fall differently on other
+/// triangles, pixel by pixel).
+fn assert_nearly_the_same(scene: &FurScene, camera: &Camera, tolerance: f64) {
+    let coarse = render(scene, camera, &settings(1.0));
+    let exact = render(scene, camera, &settings(0.0));
     assert_ne!(coarse, exact, "the coarser level draws other triangles");
-    // Within a pixel of the silhouette and the same fur: coverage and mean color agree closely
-    // (the fur's texels and fins fall differently on other triangles, pixel by pixel).
     let (a, b) = (covered(&coarse), covered(&exact));
     assert!(a.abs_diff(b) * 50 <= b, "covered {a} against {b}");
     let mean = |image: &RgbaImage, c: usize| {
@@ -114,14 +121,14 @@ fn far_away_a_coarser_level_draws_nearly_the_same_image() {
     for c in 0..4 {
         let (m, e) = (mean(&coarse, c), mean(&exact, c));
         assert!(
-            (m - e).abs() <= 0.03 * e.max(1.0),
+            (m - e).abs() <= tolerance * e.max(1.0),
             "channel {c}: mean {m:.2} against {e:.2}"
         );
     }
 }
 
 #[test]
-fn repainting_draws_the_full_mesh_until_the_attributes_are_as_uploaded() {
+fn a_repaint_the_levels_cannot_hold_draws_the_full_mesh_and_a_smooth_one_keeps_them() {
     let mut scene = scene();
     let renderer = &fixture().renderer;
     let far = camera(12.0);
@@ -133,21 +140,40 @@ fn repainting_draws_the_full_mesh_until_the_attributes_are_as_uploaded() {
     };
     let coarse = level(&scene);
     assert!(coarse >= 1);
-    let vertices = fixture().mesh.vertex_count();
+    let mesh = &fixture().mesh;
+    let vertices = mesh.vertex_count();
+    // Uniform colors and lengths other than the uploaded ones: every level draws them as the
+    // full mesh does.
     scene
-        .update_attributes(Some(&vec![[1.0, 0.2, 0.2, 1.0]; vertices]), None)
-        .unwrap();
-    assert_eq!(level(&scene), 0, "the levels were simplified with other colors");
-    let red = render(&scene, &far, &settings(1.0));
-    assert_eq!(red, render(&scene, &far, &settings(0.0)));
-    // Back to the uploaded (default, white) colors; a length update to the uploaded ones too.
-    scene
-        .update_attributes(Some(&vec![[1.0; 4]; vertices]), None)
+        .update_attributes(
+            Some(&vec![[1.0, 0.2, 0.2, 1.0]; vertices]),
+            Some(&vec![0.5; vertices]),
+        )
         .unwrap();
     assert_eq!(level(&scene), coarse);
-    scene.update_attributes(None, Some(&vec![0.5; vertices])).unwrap();
-    assert_eq!(level(&scene), 0);
-    scene.update_attributes(None, Some(&vec![1.0; vertices])).unwrap();
+    // Measured: red 3.4% below (7.21 against 7.47 over 1538 pixels against 1560), as near as
+    // the uploaded colors' 2.6% on the half as tall fur's smaller image.
+    assert_nearly_the_same(&scene, &far, 0.04);
+    // A bald ring one vertex wide across the tube: the coarser levels dropped most of its
+    // vertices and would draw fur there.
+    let step = std::f64::consts::TAU / AROUND as f64;
+    let ring: Vec<f32> = mesh
+        .positions()
+        .iter()
+        .map(|p| {
+            let angle = f64::from(p[1]).atan2(f64::from(p[0])) - 5.0 * step;
+            if angle.abs() < 0.5 * step { 0.0 } else { 0.5 }
+        })
+        .collect();
+    assert_eq!(ring.iter().filter(|&&l| l == 0.0).count(), ACROSS);
+    scene.update_attributes(None, Some(&ring)).unwrap();
+    assert_eq!(level(&scene), 0, "the levels would smear the bald ring");
+    let bald = render(&scene, &far, &settings(1.0));
+    assert_eq!(bald, render(&scene, &far, &settings(0.0)));
+    // Back to the uploaded colors and lengths, and to the coarse level.
+    scene
+        .update_attributes(Some(&vec![[1.0; 4]; vertices]), Some(&vec![1.0; vertices]))
+        .unwrap();
     assert_eq!(level(&scene), coarse);
 }
 

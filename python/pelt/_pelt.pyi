@@ -474,7 +474,8 @@ class Preview:
         pixel; ``"auto"`` marches on a CPU adapter and instances on a GPU. ``mesh_error``: the
         most pixels a simplified version of the mesh, drawn instead of the full one where the
         object is small on screen, may stray from it (0 always draws the full mesh; after
-        :meth:`update` changes colors or lengths the full mesh is drawn). ``fur_depth``
+        :meth:`update`, a simplified version that would smear the new colors or lengths, such
+        as a bald spot narrower than its triangles, is no longer drawn). ``fur_depth``
         defaults to the asset's. Bad input raises :class:`InvalidParameterError` naming it; the
         preview stays usable."""
     def update(self, *, color: npt.ArrayLike | None = None, length: npt.ArrayLike | None = None) -> None:

@@ -130,7 +130,7 @@ const CASES: &[Case] = &[
     },
     #[cfg(feature = "render")]
     Case {
-        name: "render.frame",
+        name: "render",
         run: render::render_frame,
     },
 ];
@@ -141,13 +141,16 @@ const CASES: &[Case] = &[
 /// Whatever a case's own work returns (none of the current cases fail on valid builds).
 pub fn run(options: &BenchOptions) -> Result<Report> {
     let prefix = options.only.as_deref().unwrap_or("");
+    // A group runs when its name starts with the prefix or the prefix names cases inside it
+    // ("render.scene" runs the "render" group); only the cases matching the prefix are kept.
     let cases = CASES
         .iter()
-        .filter(|c| c.name.starts_with(prefix))
+        .filter(|c| c.name.starts_with(prefix) || prefix.starts_with(c.name))
         .map(|c| (c.run)(options))
         .collect::<Result<Vec<_>>>()?
         .into_iter()
         .flatten()
+        .filter(|c| c.name.starts_with(prefix))
         .collect();
     Ok(Report {
         pelt: crate::VERSION,

@@ -25,7 +25,7 @@ use crate::render::{
 };
 use crate::threads::pool;
 use crate::vec3::{cross, dot};
-use crate::volume::{VolumeParams, bake_volume};
+use crate::volume::{HairVolume, VolumeParams, bake_volume};
 
 /// Name of the adapter the render cases ran on, for the report's `adapter` field.
 static ADAPTER: OnceLock<String> = OnceLock::new();
@@ -109,8 +109,9 @@ fn rotate_on_cpu(frames: &[[[f64; 3]; 3]], light: &[[f64; 3]]) -> Result<Vec<[f6
 /// 1920 × 1080, each drawing the coarsest geometric level within a pixel of the full mesh
 /// (`.marched.full_mesh` draws every triangle); the parts (`.skin`, `.no_fins`, `.tiny`);
 /// `.lod`, the same scene 4× as far with
-/// LOD on (baseline: the near frame); and PRT (`.prt` and `.marched.prt`, order 5, not in
-/// `--quick`) with the CPU rotation it avoids (`render.prt.rotate.cpu`).
+/// LOD on (baseline: the near frame); PRT (`.prt` and `.marched.prt`, order 5, not in
+/// `--quick`) with the CPU rotation it avoids (`render.prt.rotate.cpu`); and the scene's upload
+/// and a color update (`render.scene.upload`, `render.scene.update`).
 pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let renderer = Renderer::new(AdapterChoice::PreferHardware)?;
     let adapter = renderer.adapter();
@@ -137,6 +138,7 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     )?;
     let mut scene = FurScene::new(&renderer, &mesh, &patches.uv, &volume)?;
     let reps = if options.quick { 5 } else { 15 };
+    let upload_cases = scene_upload(&renderer, &mesh, &patches.uv, &volume, reps / 3)?;
     let settings = RenderSettings {
         fur_depth: FUR_DEPTH,
         ..RenderSettings::default()
@@ -280,6 +282,7 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
         ),
     )?;
     let speedup = base.seconds / far_case.seconds;
+    results.extend(upload_cases);
     results.extend([base.clone(), hd, skin, no_fins, tiny]);
     for case in [marched_near, marched_hd, marched_no_fins, marched_full_mesh] {
         results.push(CaseResult {
@@ -353,4 +356,49 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
         ));
     }
     Ok(results)
+}
+
+/// `render.scene.upload`: a whole [`FurScene::new`] (split at seams, geometric levels with their
+/// fins and vertex hosts, buffers and textures sent); `render.scene.update`: one
+/// [`FurScene::update_attributes`] of new colors, with the check of which levels still hold them.
+fn scene_upload(
+    renderer: &Renderer,
+    mesh: &FurMesh,
+    uvs: &[[[f32; 2]; 3]],
+    volume: &HairVolume,
+    reps: usize,
+) -> Result<Vec<CaseResult>> {
+    let timing = time_fallible(reps, || FurScene::new(renderer, mesh, uvs, volume))?;
+    let mut scene = FurScene::new(renderer, mesh, uvs, volume)?;
+    let size = format!(
+        "{} triangles, geometric levels of {:?} triangles, {} layers of {}²",
+        mesh.face_count(),
+        scene.level_triangles(),
+        volume.layers,
+        volume.resolution
+    );
+    let upload = CaseResult::timed("render.scene.upload", size, timing);
+    // Two smooth color ramps in turn, so that every update changes the colors.
+    let ramps: [Vec<[f32; 4]>; 2] = [0.5, -0.5].map(|slope| {
+        mesh.positions()
+            .iter()
+            .map(|p| [0.5 + slope * 0.2 * p[0], 0.5, 0.5, 1.0])
+            .collect()
+    });
+    let mut turn = 0;
+    let timing = time_fallible(reps.max(3) * 3, || {
+        turn ^= 1;
+        scene.update_attributes(Some(&ramps[turn]), None)
+    })?;
+    let update = CaseResult::timed(
+        "render.scene.update",
+        format!(
+            "{} vertices' colors, {} of {} geometric levels still drawable",
+            mesh.vertex_count(),
+            scene.drawable_level_count(),
+            scene.level_triangles().len()
+        ),
+        timing,
+    );
+    Ok(vec![upload, update])
 }

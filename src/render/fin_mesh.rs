@@ -48,7 +48,7 @@ pub(super) struct FinMesh {
     /// The fins (numbered across levels) of each level.
     pub levels: Vec<Range<u32>>,
     /// Each level's mean fin (edge) length over level 0's, 1 where either has no fins: how many
-    /// times as far apart its fins stand ([`super::scene::MeshLevel::fin_spacing`]).
+    /// times as far apart its fins stand ([`super::scene_levels::MeshLevel::fin_spacing`]).
     pub spacing: Vec<f32>,
 }
 

@@ -141,7 +141,7 @@ pub(super) fn edges(triangles: &[u32], source: &[u32]) -> Vec<[u32; 2]> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::mesh::shapes::{torus, torus_uvs};
     use crate::render::surface_mesh;
@@ -175,7 +175,8 @@ mod tests {
 
     const AROUND: usize = 128;
 
-    fn dense_torus() -> (FurMesh, surface_mesh::SurfaceMesh) {
+    /// A torus of 128 × 64 quads with tile UVs 12 × 4 tiles around, as the GPU vertices split.
+    pub(in crate::render) fn dense_torus() -> (FurMesh, surface_mesh::SurfaceMesh) {
         let (around, across) = (AROUND, 64);
         let (positions, triangles) = torus(around, across);
         let mesh = FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap();
@@ -183,7 +184,11 @@ mod tests {
         (mesh, surface)
     }
 
-    fn levels_of(surface: &surface_mesh::SurfaceMesh, lengths: &[f32]) -> Vec<GeometryLevel> {
+    /// The levels of `surface` under white and `lengths` (per surface vertex).
+    pub(in crate::render) fn levels_of(
+        surface: &surface_mesh::SurfaceMesh,
+        lengths: &[f32],
+    ) -> Vec<GeometryLevel> {
         let colors = vec![[1.0; 4]; surface.vertices.len()];
         simplify_levels(
             &surface.vertices,

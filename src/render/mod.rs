@@ -13,7 +13,9 @@
 //! §2.4). The smoke pass proves the device works end to end.
 //!
 //! Files: `camera.rs`, `lighting.rs`, `settings.rs` (the per-frame inputs, validated);
-//! `surface_mesh.rs`, `fin_mesh.rs` (CPU geometry); `textures.rs` (volume upload, premultiplied),
+//! `surface_mesh.rs`, `fin_mesh.rs` (CPU geometry); `geometry_lod.rs` (simplified levels of the
+//! mesh), `scene_levels.rs` (their indices and fins) and `level_hosts.rs` (whether they hold
+//! after a repaint); `textures.rs` (volume upload, premultiplied),
 //! `transfer.rs` (PRT textures); `scene.rs`; `pipelines.rs` (shared layouts, pipelines per
 //! lighting model and target) and one file per pass, `skin.rs`, `fins.rs`, `shells.rs`, with
 //! `common.wgsl`, `surface.wgsl` and the model's WGSL (`lighting.wgsl`, `surface_kk.wgsl`,
@@ -30,6 +32,7 @@ mod frame;
 mod frame_uniforms;
 mod geometry_lod;
 mod image;
+mod level_hosts;
 mod lighting;
 mod lod;
 mod marched;
@@ -38,6 +41,7 @@ mod prt_light;
 mod prt_rotate;
 mod readback;
 mod scene;
+mod scene_levels;
 mod settings;
 mod shells;
 mod skin;

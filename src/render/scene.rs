@@ -8,14 +8,16 @@ use std::ops::Range;
 
 use super::fin_cull::FinPlanes;
 use super::frame_uniforms::FrameUniforms;
+use super::level_hosts::LevelHosts;
 use super::lod::{Extent, Levels};
 use super::pipelines::Model;
 use super::prt_rotate::RotationUniforms;
+use super::scene_levels::{self, MeshLevel, SceneLevels};
 use super::surface_mesh::expand;
-use super::{Renderer, fin_mesh, geometry_lod, scoped, surface_mesh, textures, transfer};
+use super::{Renderer, scoped, surface_mesh, textures, transfer};
 use crate::FurMesh;
 use crate::error::{PeltError, Result};
-use crate::mesh::{MAX_LENGTH, fin_quads, fin_quads_of_edges};
+use crate::mesh::MAX_LENGTH;
 use crate::prt::pack::PackedF16;
 use crate::threads::pool;
 use crate::volume::HairVolume;
@@ -105,20 +107,6 @@ impl GpuMesh {
     }
 }
 
-/// One geometric level of detail of a scene ([`geometry_lod`]).
-#[derive(Debug, Clone, PartialEq)]
-pub(super) struct MeshLevel {
-    /// Object units the level may stray from the full mesh.
-    pub error: f64,
-    /// Its triangles in the surface index buffer.
-    pub indices: Range<u32>,
-    /// Its fins (numbered across levels).
-    pub fins: Range<u32>,
-    /// Its fins' mean edge length over the full mesh's: fins stand this many times as far
-    /// apart, and `fins.wgsl` makes each as opaque as that many of the full mesh's.
-    pub fin_spacing: f32,
-}
-
 /// A furred mesh on the GPU of one [`Renderer`].
 pub struct FurScene {
     renderer_id: u64,
@@ -129,11 +117,13 @@ pub struct FurScene {
     pub(super) fin_planes: FinPlanes,
     /// The full mesh and its simplified versions, finest first.
     pub(super) mesh_levels: Vec<MeshLevel>,
-    /// The colors and lengths (per mesh vertex) the levels were simplified with, and whether
-    /// the current ones are still those: once they differ, the coarser levels may smear what
-    /// was painted since.
-    built_attributes: (Vec<[f32; 4]>, Vec<f32>),
-    attributes_as_built: [bool; 2],
+    /// Where each coarser level stands: after a repaint, those that would smear it are not
+    /// drawn.
+    level_hosts: Vec<LevelHosts>,
+    /// The current colors and lengths, per mesh vertex.
+    attributes: (Vec<[f32; 4]>, Vec<f32>),
+    /// Levels, finest first, that a frame may draw under them.
+    drawable: usize,
     pub(super) uniforms: wgpu::Buffer,
     pub(super) bind_group: wgpu::BindGroup,
     surface_source: Vec<u32>,
@@ -251,7 +241,6 @@ impl FurScene {
         textures::validate(volume, &device.limits())?;
         let levels = Levels::new(volume.layers as u32);
         let surface = surface_mesh::build(mesh, corner_uvs)?;
-        let first = surface_mesh::first_copies(&surface.source, mesh.vertex_count());
         let pipelines = renderer.fur_pipelines()?;
         let colors = mesh
             .color()
@@ -259,46 +248,12 @@ impl FurScene {
         let lengths = mesh
             .length()
             .map_or_else(|| vec![DEFAULT_LENGTH; mesh.vertex_count()], <[_]>::to_vec);
-        let levels_made = geometry_lod::simplify_levels(
-            &surface.vertices,
-            &surface.indices,
-            &expand(&colors, &surface.source),
-            &expand(&lengths, &surface.source),
-            1.0 / surface.uv_scale,
-        );
-        let level_fins: Vec<_> = levels_made
-            .iter()
-            .enumerate()
-            .map(|(k, level)| match k {
-                0 => fin_quads(mesh, surface.uv_scale),
-                _ => fin_quads_of_edges(
-                    mesh,
-                    geometry_lod::edges(&level.indices, &surface.source),
-                    surface.uv_scale,
-                ),
-            })
-            .collect();
-        let fins = fin_mesh::build(mesh, &level_fins, &first);
-        let surface_indices: Vec<u32> = levels_made
-            .iter()
-            .flat_map(|l| l.indices.iter().copied())
-            .collect();
-        let mut start = 0;
-        let mesh_levels: Vec<MeshLevel> = levels_made
-            .iter()
-            .zip(&fins.levels)
-            .zip(&fins.spacing)
-            .map(|((level, fins), &fin_spacing)| {
-                let indices = start..start + level.indices.len() as u32;
-                start = indices.end;
-                MeshLevel {
-                    error: level.error,
-                    indices,
-                    fins: fins.clone(),
-                    fin_spacing,
-                }
-            })
-            .collect();
+        let SceneLevels {
+            levels: mesh_levels,
+            surface_indices,
+            fins,
+            hosts: level_hosts,
+        } = SceneLevels::new(mesh, &surface, &colors, &lengths);
 
         let (surface_gpu, fins_gpu, volume_gpu, uniforms, bind_group) =
             scoped(device, "uploading the scene", || {
@@ -377,9 +332,10 @@ impl FurScene {
                 fins.vertices.iter().step_by(4).map(|v| v.center).collect(),
                 fins.vertices.iter().step_by(4).map(|v| v.fin_normal).collect(),
             ),
+            drawable: mesh_levels.len(),
             mesh_levels,
-            built_attributes: (colors, lengths),
-            attributes_as_built: [true; 2],
+            level_hosts,
+            attributes: (colors, lengths),
             uniforms,
             bind_group,
             surface_source: surface.source,
@@ -514,7 +470,9 @@ impl FurScene {
     }
 
     /// Rewrites the per-vertex colors and/or lengths (one row per mesh vertex, like
-    /// [`crate::MeshInput`]'s) in place; nothing else is sent to the GPU.
+    /// [`crate::MeshInput`]'s) in place; nothing else is sent to the GPU. Geometric levels of
+    /// detail that cannot hold the new values (`super::level_hosts`) are not drawn until they
+    /// can again.
     ///
     /// # Errors
     /// [`PeltError::InvalidParameter`] naming `color` / `length` (wrong row count) or the first
@@ -559,11 +517,12 @@ impl FurScene {
         }
         self.uploads.attribute_bytes += bytes;
         if let Some(c) = color {
-            self.attributes_as_built[0] = c == self.built_attributes.0.as_slice();
+            self.attributes.0.copy_from_slice(c);
         }
         if let Some(l) = length {
-            self.attributes_as_built[1] = l == self.built_attributes.1.as_slice();
+            self.attributes.1.copy_from_slice(l);
         }
+        self.drawable = scene_levels::drawable(&self.level_hosts, &self.attributes.0, &self.attributes.1);
         Ok(())
     }
 
@@ -593,20 +552,21 @@ impl FurScene {
         self.mesh_levels.iter().map(|l| l.indices.len() / 3).collect()
     }
 
+    /// Geometric levels, the full mesh first, that frames may draw under the current colors and
+    /// lengths (all of them as uploaded; see [`FurScene::update_attributes`]).
+    pub fn drawable_level_count(&self) -> usize {
+        self.drawable_levels().len()
+    }
+
     /// The object-space error bound of each geometric level (0 for the full mesh).
     pub fn level_errors(&self) -> Vec<f64> {
         self.mesh_levels.iter().map(|l| l.error).collect()
     }
 
-    /// The geometric levels a frame may draw: all of them while the colors and lengths are
-    /// those they were made with, else the full mesh alone.
+    /// The geometric levels a frame may draw, finest first: those that stand for the full
+    /// mesh under the current colors and lengths ([`super::level_hosts`]).
     pub(super) fn drawable_levels(&self) -> &[MeshLevel] {
-        let n = if self.attributes_as_built == [true; 2] {
-            self.mesh_levels.len()
-        } else {
-            1
-        };
-        &self.mesh_levels[..n.min(self.mesh_levels.len())]
+        &self.mesh_levels[..self.drawable.min(self.mesh_levels.len())]
     }
 
     /// Layers of the shell texture, the skin included.

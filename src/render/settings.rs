@@ -75,7 +75,9 @@ pub struct RenderSettings {
     /// per object unit there); `[0, MAX_MESH_ERROR]`, 0 always draws the full mesh. The
     /// coarsest level within it is drawn ([`super::FrameInfo::mesh_level`]). Levels are made
     /// with the colors and lengths the scene was uploaded with; after
-    /// [`super::FurScene::update_attributes`] changes them, the full mesh is drawn.
+    /// [`super::FurScene::update_attributes`] changes them, a level that would draw them
+    /// further from the full mesh than its bound allows (a bald spot narrower than its
+    /// triangles) is no longer drawn, nor any coarser one.
     pub mesh_error: f32,
     /// Draw the fins (Lengyel §2.3, pass b).
     pub fins: bool,

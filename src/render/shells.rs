@@ -4,7 +4,8 @@
 //! written behind an alpha test, so empty texels write no depth.
 
 use super::pipelines::{Model, PassPipelines, PassState, VertexInput};
-use super::scene::{FurScene, MeshLevel};
+use super::scene::FurScene;
+use super::scene_levels::MeshLevel;
 use super::settings::ShellMethod;
 
 const KAJIYA_KAY: &str = concat!(

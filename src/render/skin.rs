@@ -2,7 +2,8 @@
 //! shell texture times the vertex color, filling the depth buffer that fins and shells test.
 
 use super::pipelines::{Model, PassPipelines, PassState, VertexInput};
-use super::scene::{FurScene, MeshLevel};
+use super::scene::FurScene;
+use super::scene_levels::MeshLevel;
 
 const KAJIYA_KAY: &str = concat!(
     include_str!("common.wgsl"),

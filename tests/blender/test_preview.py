@@ -195,6 +195,18 @@ def test_a_far_dense_mesh_draws_a_coarser_level_and_mesh_error_zero_the_whole_me
     assert abs(int(covered) - int(covered_whole)) <= 0.03 * covered_whole
     with pytest.raises(pelt.InvalidParameterError, match="mesh_error"):
         preview.render(far, PROJECTION, SIDE, SIDE, mesh_error=-1.0)
+    # A uniform repaint keeps the coarser level; one bald ring of latitude, narrower than its
+    # triangles, would be smeared by it: the whole mesh is drawn.
+    vertices = len(positions)
+    preview.update(color=np.tile(np.array([[1.0, 0.3, 0.2, 1.0]], np.float32), (vertices, 1)))
+    preview.render(far, PROJECTION, SIDE, SIDE)
+    assert preview.last_frame["mesh_level"] == info["mesh_level"]
+    latitudes = np.unique(positions[:, 2])
+    ring = positions[:, 2] == latitudes[len(latitudes) // 3]
+    assert 0 < ring.sum() < 0.05 * vertices
+    preview.update(length=np.where(ring, 0.0, 1.0).astype(np.float32))
+    preview.render(far, PROJECTION, SIDE, SIDE)
+    assert preview.last_frame["mesh_level"] == 0
 
 
 def test_updates_rewrite_only_colors_and_lengths(asset):
