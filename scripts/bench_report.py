@@ -15,7 +15,6 @@ GOALS = {
     "blender.transfer": 0.100,
     "blender.bake.overhead": 0.5,
     "render.frame@512x512": 0.040,
-    "render.frame.marched@512x512": 0.040,
     "volume.bake.exact@128x128x16": 0.050,
     "volume.bake.exact@1024x1024x64": 2.0,
     "prt.transfer.sweep": 1.0,

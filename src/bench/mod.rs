@@ -141,11 +141,9 @@ const CASES: &[Case] = &[
 /// Whatever a case's own work returns (none of the current cases fail on valid builds).
 pub fn run(options: &BenchOptions) -> Result<Report> {
     let prefix = options.only.as_deref().unwrap_or("");
-    // A group runs when its name starts with the prefix or the prefix names cases inside it
-    // ("render.scene" runs the "render" group); only the cases matching the prefix are kept.
     let cases = CASES
         .iter()
-        .filter(|c| c.name.starts_with(prefix) || prefix.starts_with(c.name))
+        .filter(|c| runs_group(c.name, prefix))
         .map(|c| (c.run)(options))
         .collect::<Result<Vec<_>>>()?
         .into_iter()
@@ -158,6 +156,13 @@ pub fn run(options: &BenchOptions) -> Result<Report> {
         adapter: adapter_used(),
         cases,
     })
+}
+
+/// Whether `--only prefix` runs the group of cases `group`: when its name starts with the
+/// prefix, or the prefix names cases inside it ("render.scene" runs the "render" group, whose
+/// other cases are then dropped).
+fn runs_group(group: &str, prefix: &str) -> bool {
+    group.starts_with(prefix) || prefix.starts_with(group)
 }
 
 /// The GPU adapter the render cases ran on, if any ran.
@@ -285,4 +290,19 @@ fn measure_peak<T>(work: &mut impl FnMut() -> T) -> Option<usize> {
     PEAK.store(base, Ordering::Relaxed);
     std::hint::black_box(work());
     Some(PEAK.load(Ordering::Relaxed).saturating_sub(base))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::runs_group;
+
+    #[test]
+    fn only_runs_the_groups_that_can_hold_the_prefixed_cases() {
+        assert!(runs_group("render", ""));
+        assert!(runs_group("render", "ren"));
+        assert!(runs_group("render", "render.scene"));
+        assert!(runs_group("volume.bake", "volume"));
+        assert!(!runs_group("volume.bake", "volume.coverage"));
+        assert!(!runs_group("render", "prt"));
+    }
 }

@@ -106,12 +106,14 @@ fn rotate_on_cpu(frames: &[[[f64; 3]; 3]], light: &[[f64; 3]]) -> Result<Vec<[f6
 
 /// `render.frame`: one frame of Suzanne subdivided three times (61,952 triangles; twice in
 /// `--quick`, 15,488) with lapped-patch UVs, 32 shells and fins, Kajiya–Kay, at 512² and
-/// 1920 × 1080, each drawing the coarsest geometric level within a pixel of the full mesh
-/// (`.marched.full_mesh` draws every triangle); the parts (`.skin`, `.no_fins`, `.tiny`);
-/// `.lod`, the same scene 4× as far with
-/// LOD on (baseline: the near frame); PRT (`.prt` and `.marched.prt`, order 5, not in
-/// `--quick`) with the CPU rotation it avoids (`render.prt.rotate.cpu`); and the scene's upload
-/// and a color update (`render.scene.upload`, `render.scene.update`).
+/// 1920 × 1080, drawn as a preview on this adapter draws it (`ShellMethod::Auto`: shells
+/// marched per pixel on a CPU adapter, instanced on a GPU) and each drawing the coarsest
+/// geometric level within a pixel of the full mesh (`.full_mesh` draws every triangle); the
+/// parts (`.skin`, `.no_fins`, `.tiny`); `.lod`, the same scene 4× as far with LOD on
+/// (baseline: the near frame); each shell method forced (`.instanced*`, `.marched*`); PRT
+/// (`.prt` and `.instanced.prt`, order 5, not in `--quick`) with the CPU rotation it avoids
+/// (`render.prt.rotate.cpu`); and the scene's upload and a color update
+/// (`render.scene.upload`, `render.scene.update`).
 pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let renderer = Renderer::new(AdapterChoice::PreferHardware)?;
     let adapter = renderer.adapter();
@@ -139,9 +141,21 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let mut scene = FurScene::new(&renderer, &mesh, &patches.uv, &volume)?;
     let reps = if options.quick { 5 } else { 15 };
     let upload_cases = scene_upload(&renderer, &mesh, &patches.uv, &volume, reps / 3)?;
+    // The frame as the renderer draws it for a preview on this adapter: shells marched per
+    // pixel on a CPU adapter, instanced on a GPU (`ShellMethod::Auto`); `.instanced` and
+    // `.marched` force one method.
     let settings = RenderSettings {
         fur_depth: FUR_DEPTH,
+        shell_method: ShellMethod::Auto,
         ..RenderSettings::default()
+    };
+    let instanced = RenderSettings {
+        shell_method: ShellMethod::Instanced,
+        ..settings
+    };
+    let marched = RenderSettings {
+        shell_method: ShellMethod::Marched,
+        ..settings
     };
     let lighting = Lighting::default();
     let what = format!(
@@ -159,106 +173,90 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
                  note: &str| {
         let timing = time_fallible(reps, || renderer.render(scene, camera, lighting, settings))?;
         let info = renderer.frame_info(scene, camera, settings)?;
+        let method = match renderer.shell_method(settings.shell_method) {
+            ShellMethod::Marched => "shells marched per pixel",
+            _ => "shells instanced",
+        };
+        let auto = if settings.shell_method == ShellMethod::Auto {
+            " (auto)"
+        } else {
+            ""
+        };
         // Which geometric level the frame drew (`RenderSettings::mesh_error`).
         let drawn = format!(
             ", {} triangles drawn (mesh level {})",
             info.triangles, info.mesh_level
         );
-        let size = format!("{}x{}, {what}{note}{drawn}; {name}", camera.width, camera.height);
+        let size = format!(
+            "{}x{}, {what}{note}, {method}{auto}{drawn}; {name}",
+            camera.width, camera.height
+        );
         Ok::<_, crate::PeltError>(CaseResult::timed(case, size, timing))
     };
     let near = camera(5.0, 512, 512);
-    let base = frame(
-        &scene,
-        "render.frame",
-        &near,
-        &settings,
-        &lighting,
-        ", Kajiya-Kay",
-    )?;
-    let hd = frame(
+    let hd = camera(5.0, 1920, 1080);
+    let versus = |baseline: &CaseResult, case: CaseResult| CaseResult {
+        baseline: Some(baseline.name.clone()),
+        speedup: Some(baseline.seconds / case.seconds),
+        ..case
+    };
+    let no_fins = |s: &RenderSettings| RenderSettings { fins: false, ..*s };
+    let kk = ", Kajiya-Kay";
+    let slow = frame(&scene, "render.frame.instanced", &near, &instanced, &lighting, kk)?;
+    let base = versus(
+        &slow,
+        frame(&scene, "render.frame", &near, &settings, &lighting, kk)?,
+    );
+    results.extend(upload_cases);
+    results.push(base.clone());
+    results.push(frame(
         &scene,
         "render.frame.1080p",
-        &camera(5.0, 1920, 1080),
+        &hd,
         &settings,
         &lighting,
-        ", Kajiya-Kay",
-    )?;
+        kk,
+    )?);
     let skin = RenderSettings {
         shell_count: Some(0),
-        fins: false,
-        ..settings
+        ..no_fins(&settings)
     };
-    let skin = frame(
+    results.push(frame(
         &scene,
         "render.frame.skin",
         &near,
         &skin,
         &lighting,
         ", skin only",
-    )?;
-    let no_fins = RenderSettings {
-        fins: false,
-        ..settings
-    };
-    let no_fins = frame(
+    )?);
+    results.push(frame(
         &scene,
         "render.frame.no_fins",
         &near,
-        &no_fins,
+        &no_fins(&settings),
         &lighting,
         ", fins off",
-    )?;
-    let marched = RenderSettings {
-        shell_method: ShellMethod::Marched,
+    )?);
+    let full_mesh = RenderSettings {
+        mesh_error: 0.0,
         ..settings
     };
-    let marched_near = frame(
+    results.push(frame(
         &scene,
-        "render.frame.marched",
+        "render.frame.full_mesh",
         &near,
-        &marched,
+        &full_mesh,
         &lighting,
-        ", Kajiya-Kay, shells marched per pixel",
-    )?;
-    let marched_hd = frame(
-        &scene,
-        "render.frame.marched.1080p",
-        &camera(5.0, 1920, 1080),
-        &marched,
-        &lighting,
-        ", Kajiya-Kay, shells marched per pixel",
-    )?;
-    let marched_no_fins = frame(
-        &scene,
-        "render.frame.marched.no_fins",
-        &near,
-        &RenderSettings {
-            fins: false,
-            ..marched
-        },
-        &lighting,
-        ", shells marched per pixel, fins off",
-    )?;
-    let marched_full_mesh = frame(
-        &scene,
-        "render.frame.marched.full_mesh",
-        &near,
-        &RenderSettings {
-            mesh_error: 0.0,
-            ..marched
-        },
-        &lighting,
-        ", shells marched per pixel, every triangle (mesh_error 0)",
-    )?;
-    let tiny = frame(
+        ", every triangle (mesh_error 0)",
+    )?);
+    results.push(frame(
         &scene,
         "render.frame.tiny",
         &camera(5.0, 64, 64),
         &settings,
         &lighting,
         ", 64² (vertex-bound)",
-    )?;
+    )?);
     let lod = RenderSettings {
         lod: true,
         min_shells: 1,
@@ -281,21 +279,40 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
             info.fur_pixels.unwrap_or(0.0)
         ),
     )?;
-    let speedup = base.seconds / far_case.seconds;
-    results.extend(upload_cases);
-    results.extend([base.clone(), hd, skin, no_fins, tiny]);
-    for case in [marched_near, marched_hd, marched_no_fins, marched_full_mesh] {
-        results.push(CaseResult {
-            baseline: Some("render.frame".into()),
-            speedup: Some(base.seconds / case.seconds),
-            ..case
-        });
-    }
-    results.push(CaseResult {
-        baseline: Some("render.frame".into()),
-        speedup: Some(speedup),
-        ..far_case
-    });
+    results.push(versus(&base, far_case));
+    results.push(slow);
+    results.push(frame(
+        &scene,
+        "render.frame.instanced.1080p",
+        &hd,
+        &instanced,
+        &lighting,
+        kk,
+    )?);
+    results.push(frame(
+        &scene,
+        "render.frame.instanced.no_fins",
+        &near,
+        &no_fins(&instanced),
+        &lighting,
+        ", fins off",
+    )?);
+    results.push(frame(
+        &scene,
+        "render.frame.marched",
+        &near,
+        &marched,
+        &lighting,
+        kk,
+    )?);
+    results.push(frame(
+        &scene,
+        "render.frame.marched.1080p",
+        &hd,
+        &marched,
+        &lighting,
+        kk,
+    )?);
     if !options.quick {
         let order = 5;
         let input = VolumeInput::new(&volume, f64::from(FUR_DEPTH) / TILE);
@@ -312,6 +329,14 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
             model: LightModel::Prt(Prt::default()),
             ..lighting
         };
+        let prt_instanced = frame(
+            &scene,
+            "render.frame.instanced.prt",
+            &near,
+            &instanced,
+            &prt,
+            ", PRT order 5",
+        )?;
         let prt_case = frame(
             &scene,
             "render.frame.prt",
@@ -319,14 +344,6 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
             &settings,
             &prt,
             ", PRT order 5",
-        )?;
-        let marched_prt = frame(
-            &scene,
-            "render.frame.marched.prt",
-            &near,
-            &marched,
-            &prt,
-            ", PRT order 5, shells marched per pixel",
         )?;
         let frames: Vec<[[f64; 3]; 3]> = (0..scene.surface_vertex_count())
             .map(|i| {
@@ -339,12 +356,8 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
             .map(|k| [1.0 / (1.0 + k as f64); 3])
             .collect();
         let timing = time_fallible(reps, || rotate_on_cpu(&frames, &light))?;
-        results.push(CaseResult {
-            baseline: Some("render.frame.prt".into()),
-            speedup: Some(prt_case.seconds / marched_prt.seconds),
-            ..marched_prt
-        });
-        results.push(prt_case);
+        results.push(versus(&prt_instanced, prt_case));
+        results.push(prt_instanced);
         results.push(CaseResult::timed(
             "render.prt.rotate.cpu",
             format!(

@@ -24,6 +24,10 @@ use crate::vec3::{cross, dot};
 const DEGENERATE: f64 = 1e-12;
 /// Cells per axis at most: the grid stays small for any mesh.
 const MAX_CELLS: usize = 128;
+/// Rings of cells (about a level edge each) searched around a vertex for its host: far enough
+/// for a facing triangle across a crease, near enough that a vertex whose part of the mesh the
+/// level dropped costs a bounded search.
+const MAX_RINGS: usize = 4;
 
 /// Where the vertices one level dropped lie on it.
 #[derive(Debug, Clone, Default)]
@@ -221,18 +225,13 @@ impl Faces {
         })
     }
 
-    /// The triangle `v` lies on and its weights there: the nearest facing the way `v`'s normal
-    /// does, else the nearest at all; `None` for a level without triangles.
+    /// The triangle `v` lies on and its weights there: the nearest that faces the way `v`'s
+    /// normal does, else the nearest at all, within [`MAX_RINGS`] rings of cells; `None` where
+    /// the level has no triangle that near (it dropped the part of the mesh `v` is on, which
+    /// its error bound already counts).
     fn host(&self, v: &SurfaceVertex) -> Option<(usize, [f64; 3])> {
         let p = v.position.map(f64::from);
         let n = v.normal.map(f64::from);
-        self.nearest(p, |f| dot(self.normals[f], n) > 0.0)
-            .or_else(|| self.nearest(p, |_| true))
-    }
-
-    /// The nearest triangle to `p` among those `accept` takes, searching shells of cells
-    /// outward until no unsearched cell can hold a nearer one; ties go to the lower triangle.
-    fn nearest(&self, p: [f64; 3], accept: impl Fn(usize) -> bool) -> Option<(usize, [f64; 3])> {
         let home = self.cell_of(p);
         // How far p lies inside its cell: a cell beyond ring r is at least this plus r cells
         // away (0 for a point outside the grid, clamped to its border cell).
@@ -243,49 +242,59 @@ impl Faces {
             })
             .fold(f64::MAX, f64::min)
             .max(0.0);
-        let mut best: Option<(f64, usize, [f64; 3])> = None;
-        let widest = *self.dims.iter().max()?;
-        for r in 0..widest {
+        // (squared distance, triangle, weights) of the nearest facing and of the nearest.
+        type Best = Option<(f64, usize, [f64; 3])>;
+        let (mut facing, mut any): (Best, Best) = (None, None);
+        let nearer =
+            |best: &Best, d: f64, f: usize| best.is_none_or(|(bd, bf, _)| d < bd || (d == bd && f < bf));
+        let rings = MAX_RINGS.min(*self.dims.iter().max()?);
+        for r in 0..rings {
             self.each_in_shell(home, r, |f| {
-                if !accept(f) {
-                    return;
-                }
                 let t = self.points[f];
                 let w = nearest_weights(p, t);
                 let q: [f64; 3] = std::array::from_fn(|i| w[0] * t[0][i] + w[1] * t[1][i] + w[2] * t[2][i]);
                 let d = dot(sub(q, p), sub(q, p));
-                if best.is_none_or(|(bd, bf, _)| d < bd || (d == bd && f < bf)) {
-                    best = Some((d, f, w));
+                if nearer(&any, d, f) {
+                    any = Some((d, f, w));
+                }
+                if dot(self.normals[f], n) > 0.0 && nearer(&facing, d, f) {
+                    facing = Some((d, f, w));
                 }
             });
             // Nothing in a cell beyond ring r is nearer.
-            if let Some((d, _, _)) = best
+            if let Some((d, _, _)) = facing
                 && d.sqrt() <= inside + r as f64 * self.cell
             {
                 break;
             }
         }
-        best.map(|(_, f, w)| (f, w))
+        facing.or(any).map(|(_, f, w)| (f, w))
     }
 
-    /// Calls `f` with the triangles of the cells at Chebyshev distance `r` from `home`.
+    /// Calls `f` with the triangles of the cells at Chebyshev distance `r` from `home` (each
+    /// cell once; a triangle in several cells is called for each).
     fn each_in_shell(&self, home: [usize; 3], r: usize, mut f: impl FnMut(usize)) {
-        let range = |i: usize| home[i].saturating_sub(r)..=(home[i] + r).min(self.dims[i] - 1);
-        for z in range(2) {
-            for y in range(1) {
-                for x in range(0) {
-                    let ring = [x, y, z]
-                        .iter()
-                        .zip(home)
-                        .map(|(&a, b)| a.abs_diff(b))
-                        .max()
-                        .unwrap_or(0);
-                    if ring != r {
-                        continue;
+        let low = home.map(|h| h as isize - r as isize);
+        let high = home.map(|h| h + r);
+        let inner = |i: usize| low[i].max(0) as usize..=high[i].min(self.dims[i] - 1);
+        let mut cell = |x: usize, y: usize, z: usize| {
+            let c = (z * self.dims[1] + y) * self.dims[0] + x;
+            for &t in &self.items[self.starts[c] as usize..self.starts[c + 1] as usize] {
+                f(t as usize);
+            }
+        };
+        for z in inner(2) {
+            for y in inner(1) {
+                let on_face = z as isize == low[2] || z == high[2] || y as isize == low[1] || y == high[1];
+                if on_face {
+                    inner(0).for_each(|x| cell(x, y, z));
+                } else {
+                    // Inside the cube's y-z extent: only its two x faces belong to the shell.
+                    if low[0] >= 0 {
+                        cell(low[0] as usize, y, z);
                     }
-                    let c = (z * self.dims[1] + y) * self.dims[0] + x;
-                    for &t in &self.items[self.starts[c] as usize..self.starts[c + 1] as usize] {
-                        f(t as usize);
+                    if r > 0 && high[0] < self.dims[0] {
+                        cell(high[0], y, z);
                     }
                 }
             }
@@ -425,6 +434,35 @@ mod tests {
             assert!(!hosts.holds(&white, &spot), "level {}", k + 1);
         }
         assert_eq!(super::super::scene_levels::drawable(&[], &white, &ones), 1);
+    }
+
+    #[test]
+    fn the_shells_of_cells_visit_every_cell_once_at_its_chebyshev_distance() {
+        // One "triangle" per cell, numbered as the cells are.
+        let dims = [5, 4, 3];
+        let cells = 5 * 4 * 3;
+        let grid = Faces {
+            corners: Vec::new(),
+            points: Vec::new(),
+            normals: Vec::new(),
+            lo: [0.0; 3],
+            cell: 1.0,
+            dims,
+            starts: (0..=cells as u32).collect(),
+            items: (0..cells as u32).collect(),
+        };
+        for home in [[0, 0, 0], [2, 1, 1], [4, 3, 2], [1, 3, 0]] {
+            let mut seen = vec![0; cells];
+            for r in 0..6 {
+                grid.each_in_shell(home, r, |c| {
+                    seen[c] += 1;
+                    let at = [c % 5, c / 5 % 4, c / 20];
+                    let ring = (0..3).map(|i| at[i].abs_diff(home[i])).max().unwrap();
+                    assert_eq!(ring, r, "cell {at:?} from {home:?}");
+                });
+            }
+            assert!(seen.iter().all(|&n| n == 1), "{home:?}: {seen:?}");
+        }
     }
 
     #[test]

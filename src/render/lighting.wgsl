@@ -8,9 +8,15 @@
 // around the terminator (wider than Lambert's, as light scatters through the fur).
 const TERMINATOR_WRAP: f32 = 0.3;
 
-// The hair lighting at one point (see `HairLight`); `height` is the share of the fur depth (0 at
-// the skin, 1 at the top of the volume).
-fn hair_light(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f32) -> HairLight {
+// The hair lighting at one point with its highlight left as a multiple of the light color:
+// `HairLight(scale, frame.light_color.rgb * shine)`, one float where a vertex passes it on.
+struct HairTerms {
+    scale: vec3<f32>,
+    shine: f32,
+};
+
+// `height` is the share of the fur depth (0 at the skin, 1 at the top of the volume).
+fn hair_terms(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f32) -> HairTerms {
     let l = frame.light_direction.xyz;
     let h = unit_or(l + view, normal);
     let u = dot(tangent, l);
@@ -19,10 +25,15 @@ fn hair_light(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f3
     let diffuse = pow(max(1.0 - u * u, 1e-8), 0.5 * frame.kajiya_kay.z);
     let specular = pow(max(1.0 - v * v, 1e-8), 0.5 * frame.kajiya_kay.w);
     let lit = clamp((dot(normal, l) + TERMINATOR_WRAP) / (1.0 + TERMINATOR_WRAP), 0.0, 1.0);
-    let light = frame.light_color.rgb * lit;
     let banks = 1.0 - frame.fur.z * (1.0 - clamp(height, 0.0, 1.0));
-    return HairLight((frame.ambient.rgb + light * (frame.kajiya_kay.x * diffuse)) * banks,
-                     light * (frame.kajiya_kay.y * specular) * banks);
+    return HairTerms((frame.ambient.rgb + frame.light_color.rgb * lit * (frame.kajiya_kay.x * diffuse)) * banks,
+                     lit * (frame.kajiya_kay.y * specular) * banks);
+}
+
+// The hair lighting at one point (see `HairLight` and `hair_terms`).
+fn hair_light(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f32) -> HairLight {
+    let k = hair_terms(tangent, normal, view, height);
+    return HairLight(k.scale, frame.light_color.rgb * k.shine);
 }
 
 // `albedo` is premultiplied by `alpha`; so is the result.
