@@ -44,9 +44,9 @@ pub(super) struct LevelHosts {
 
 impl LevelHosts {
     /// Places the surface `vertices` that `indices` (one level's triangles) dropped on it;
-    /// `source` maps surface vertices to mesh vertices, `colors` and `lengths` are per mesh
-    /// vertex as uploaded, `error` is the level's bound (object units) and `tile` a tile's size
-    /// in object units.
+    /// `source` maps surface vertices to mesh vertices, `attributes` are the colors and lengths
+    /// per mesh vertex as uploaded, `error` is the level's bound (object units) and `tile` a
+    /// tile's size in object units.
     pub fn new(
         vertices: &[SurfaceVertex],
         source: &[u32],

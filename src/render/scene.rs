@@ -248,12 +248,21 @@ impl FurScene {
         let lengths = mesh
             .length()
             .map_or_else(|| vec![DEFAULT_LENGTH; mesh.vertex_count()], <[_]>::to_vec);
+        let (surface_colors, surface_lengths) = (
+            expand(&colors, &surface.source),
+            expand(&lengths, &surface.source),
+        );
         let SceneLevels {
             levels: mesh_levels,
             surface_indices,
             fins,
             hosts: level_hosts,
-        } = SceneLevels::new(mesh, &surface, &colors, &lengths);
+        } = SceneLevels::new(
+            mesh,
+            &surface,
+            (&colors, &lengths),
+            (&surface_colors, &surface_lengths),
+        );
 
         let (surface_gpu, fins_gpu, volume_gpu, uniforms, bind_group) =
             scoped(device, "uploading the scene", || {
@@ -262,8 +271,8 @@ impl FurScene {
                     "surface",
                     bytemuck::cast_slice(&surface.vertices),
                     &surface_indices,
-                    &expand(&colors, &surface.source),
-                    &expand(&lengths, &surface.source),
+                    &surface_colors,
+                    &surface_lengths,
                 );
                 let fins_gpu = GpuMesh::new(
                     device,

@@ -8,7 +8,7 @@ use std::ops::Range;
 use super::fin_mesh::{self, FinMesh};
 use super::geometry_lod;
 use super::level_hosts::LevelHosts;
-use super::surface_mesh::{SurfaceMesh, expand, first_copies};
+use super::surface_mesh::{SurfaceMesh, first_copies};
 use crate::FurMesh;
 use crate::mesh::{fin_quads, fin_quads_of_edges};
 
@@ -38,15 +38,20 @@ pub(super) struct SceneLevels {
 }
 
 impl SceneLevels {
-    /// Simplifies `surface` (split from `mesh`) under the per-mesh-vertex `colors` and
-    /// `lengths` it is uploaded with.
-    pub fn new(mesh: &FurMesh, surface: &SurfaceMesh, colors: &[[f32; 4]], lengths: &[f32]) -> Self {
+    /// Simplifies `surface` (split from `mesh`) under the colors and lengths it is uploaded
+    /// with: `attributes` per mesh vertex, `surface_attributes` the same per surface vertex.
+    pub fn new(
+        mesh: &FurMesh,
+        surface: &SurfaceMesh,
+        attributes: (&[[f32; 4]], &[f32]),
+        surface_attributes: (&[[f32; 4]], &[f32]),
+    ) -> Self {
         let tile = 1.0 / surface.uv_scale;
         let made = geometry_lod::simplify_levels(
             &surface.vertices,
             &surface.indices,
-            &expand(colors, &surface.source),
-            &expand(lengths, &surface.source),
+            surface_attributes.0,
+            surface_attributes.1,
             tile,
         );
         let level_fins: Vec<_> = made
@@ -71,7 +76,7 @@ impl SceneLevels {
                     &surface.vertices,
                     &surface.source,
                     &level.indices,
-                    (colors, lengths),
+                    attributes,
                     level.error,
                     tile,
                 )
