@@ -100,8 +100,10 @@ fn far_away_a_coarser_level_draws_nearly_the_same_image() {
     let near = renderer.frame_info(&scene, &camera(2.5), &settings(1.0)).unwrap();
     assert!(near.mesh_level < info.mesh_level, "near {near:?}, far {info:?}");
 
-    // Measured: 1666 pixels covered against 1680, mean RGB 2.6%, 2.7% and 2.5% below.
-    assert_nearly_the_same(&scene, &far, 0.03);
+    // Measured: 1666 pixels covered against 1680, mean red 3.1% below (2.6% while fins were
+    // drawn unsorted; back to front, the coarser level's fins fall short a little more: each
+    // compounds one texture sample for the several fins of the full mesh it stands for).
+    assert_nearly_the_same(&scene, &far, 0.04);
 }
 
 /// The coarser level `camera` sees and the full mesh draw other triangles, but within a pixel of
@@ -151,8 +153,8 @@ fn a_repaint_the_levels_cannot_hold_draws_the_full_mesh_and_a_smooth_one_keeps_t
         )
         .unwrap();
     assert_eq!(level(&scene), coarse);
-    // Measured: red 3.4% below (7.21 against 7.47 over 1538 pixels against 1560), as near as
-    // the uploaded colors' 2.6% on the half as tall fur's smaller image.
+    // Measured: red 3.7% below (7.25 against 7.53 over 1538 pixels against 1560), as near as
+    // the uploaded colors' 3.1% on the half as tall fur's smaller image.
     assert_nearly_the_same(&scene, &far, 0.04);
     // A bald ring one vertex wide across the tube: the coarser levels dropped most of its
     // vertices and would draw fur there.

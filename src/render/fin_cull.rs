@@ -3,7 +3,8 @@
 //! the CPU collects the fins it leaves visible into the fin index buffer before the draw: the
 //! vertex shader then never runs for the (many) faded-out ones. The shader keeps its own fade
 //! test, so this list only has to hold every fin the shader would draw; it errs on the side of
-//! keeping a fin, and the image is the same as drawing all of them.
+//! keeping a fin, and the image is the same as drawing all of them. The list runs back to
+//! front, which the fins' "over" blending needs where they overlap.
 
 use std::ops::Range;
 
@@ -32,28 +33,55 @@ impl FinPlanes {
         FinPlanes { centers, normals }
     }
 
-    /// The index list (two triangles per fin, in fin order, so the blend order and thus the
-    /// image do not depend on the thread count) of the fins among `fins` (one geometric level's)
+    /// The index list (two triangles per fin) of the fins among `fins` (one geometric level's)
     /// visible from `eye` (object space, homogeneous: `w = 1` a position, `w = 0` a direction
-    /// toward the viewer).
+    /// toward the viewer), farthest first: fins are blended "over" without writing depth, so
+    /// drawn in any other order a farther fin would cover a nearer one where they overlap
+    /// (light patches where neighbouring fins cross at the silhouette). Ties go to the lower
+    /// fin, so the order, and thus the image, does not depend on the thread count.
     pub fn visible_indices(&self, eye: [f32; 4], fins: Range<u32>) -> Vec<u32> {
         let range = fins.start as usize..fins.end as usize;
-        let chunks: Vec<Vec<u32>> = self.centers[range.clone()]
+        let chunks: Vec<Vec<u64>> = self.centers[range.clone()]
             .par_chunks(CHUNK)
             .zip(self.normals[range].par_chunks(CHUNK))
             .enumerate()
             .map(|(chunk, (centers, normals))| {
                 let first = fins.start + (chunk * CHUNK) as u32;
-                let mut out = Vec::new();
-                for (k, (c, n)) in centers.iter().zip(normals).enumerate() {
-                    if faded_in(*c, *n, eye) {
-                        out.extend(quad_triangles(first + k as u32));
-                    }
-                }
-                out
+                centers
+                    .iter()
+                    .zip(normals)
+                    .enumerate()
+                    .filter(|(_, (c, n))| faded_in(**c, **n, eye))
+                    .map(|(k, (c, _))| order_key(distance(*c, eye), first + k as u32))
+                    .collect()
             })
             .collect();
-        chunks.concat()
+        let mut visible = chunks.concat();
+        visible.sort_unstable();
+        visible
+            .iter()
+            .flat_map(|&key| quad_triangles(key as u32))
+            .collect()
+    }
+}
+
+/// A key whose ascending order is farthest `distance` first, then the lower `fin`: one integer
+/// comparison per step of the sort (the distance's f32 bits mapped to an order-preserving u32,
+/// inverted, above the fin).
+fn order_key(distance: f32, fin: u32) -> u64 {
+    let bits = distance.to_bits();
+    // Negative floats order reversed by their bits, positive ones as their bits.
+    let ascending = if bits >> 31 == 1 { !bits } else { bits | 1 << 31 };
+    (u64::from(!ascending) << 32) | u64::from(fin)
+}
+
+/// How far `center` lies from `eye` (homogeneous, as in [`FinPlanes::visible_indices`]), for
+/// ordering: the squared distance from a position, the depth along a direction.
+fn distance(center: [f32; 3], eye: [f32; 4]) -> f32 {
+    if eye[3] == 0.0 {
+        -center.iter().zip(&eye).map(|(c, e)| c * e).sum::<f32>()
+    } else {
+        center.iter().zip(&eye).map(|(c, e)| (e - c) * (e - c)).sum()
     }
 }
 
@@ -91,6 +119,46 @@ mod tests {
     }
 
     #[test]
+    fn fins_come_farthest_first_for_an_eye_point_and_an_eye_direction() {
+        // Four fins facing +z at heights 0, 3, 1, 2 below an eye on the z axis.
+        let heights = [0.0, 3.0, 1.0, 2.0];
+        let planes = FinPlanes::new(
+            heights.iter().map(|&z| [0.0, 0.0, z]).collect(),
+            vec![[0.0, 0.0, 1.0]; 4],
+        );
+        for eye in [[0.0, 0.0, 10.0, 1.0], [0.0, 0.0, 1.0, 0.0]] {
+            let order: Vec<u32> = planes
+                .visible_indices(eye, 0..4)
+                .chunks(6)
+                .map(|t| t[0] / 4)
+                .collect();
+            assert_eq!(order, [0, 2, 3, 1], "eye {eye:?}");
+        }
+    }
+
+    #[test]
+    fn order_keys_sort_farthest_first_then_by_fin() {
+        let items = [
+            (-2.0f32, 0u32),
+            (3.0, 1),
+            (-0.5, 2),
+            (0.0, 3),
+            (3.0, 0),
+            (1e30, 9),
+        ];
+        let mut keys: Vec<u64> = items.iter().map(|&(d, f)| order_key(d, f)).collect();
+        keys.sort_unstable();
+        let order: Vec<(f32, u32)> = keys
+            .iter()
+            .map(|&k| *items.iter().find(|&&(d, f)| order_key(d, f) == k).unwrap())
+            .collect();
+        assert_eq!(
+            order,
+            [(1e30, 9), (3.0, 0), (3.0, 1), (0.0, 3), (-0.5, 2), (-2.0, 0)]
+        );
+    }
+
+    #[test]
     fn order_and_triangles_follow_the_fins_across_chunks() {
         let n = 3 * CHUNK + 17;
         let normals: Vec<[f32; 3]> = (0..n)
@@ -103,6 +171,7 @@ mod tests {
             })
             .collect();
         let planes = FinPlanes::new(vec![[0.0; 3]; n], normals);
+        // All at one distance: fin order.
         let indices = planes.visible_indices([0.0, 0.0, 2.0, 1.0], 0..n as u32);
         let expected: Vec<u32> = (0..n as u32)
             .filter(|k| k % 3 != 0)
