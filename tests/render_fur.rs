@@ -10,14 +10,12 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 use pelt::export::{PngOptions, save_png};
-use pelt::mesh::shapes::{torus, torus_uvs};
 use pelt::render::{
     AdapterChoice, Camera, FurScene, Lighting, RenderSettings, Renderer, RgbaImage, ShellMethod,
 };
-use pelt::volume::HairVolume;
 use pelt::{FurMesh, MeshInput, PeltError};
 
-use common::volume::small_volume;
+use common::torus::{FurredTorus, covered};
 use common::{column_major, look_at};
 
 const AROUND: usize = 32;
@@ -28,35 +26,13 @@ const SIZE: u32 = 128;
 /// Fur depth in object units: a few pixels at 128².
 const FUR_DEPTH: f32 = 0.08;
 
-struct Fixture {
-    renderer: Renderer,
-    mesh: FurMesh,
-    uvs: Vec<[[f32; 2]; 3]>,
-    volume: HairVolume,
-}
-
-fn fixture() -> &'static Fixture {
-    static FIXTURE: OnceLock<Fixture> = OnceLock::new();
-    FIXTURE.get_or_init(|| {
-        let renderer =
-            Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe) must exist under make test");
-        let (positions, triangles) = torus(AROUND, ACROSS);
-        let mesh = FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap();
-        // Parametric UVs, split where the ring and the tube close (a seam, as between patches).
-        let uvs = torus_uvs(AROUND, ACROSS, REPEATS);
-        let volume = small_volume(8);
-        Fixture {
-            renderer,
-            mesh,
-            uvs,
-            volume,
-        }
-    })
+fn fixture() -> &'static FurredTorus {
+    static FIXTURE: OnceLock<FurredTorus> = OnceLock::new();
+    FIXTURE.get_or_init(|| FurredTorus::new(AROUND, ACROSS, REPEATS))
 }
 
 fn scene() -> FurScene {
-    let f = fixture();
-    FurScene::new(&f.renderer, &f.mesh, &f.uvs, &f.volume).unwrap()
+    fixture().scene()
 }
 
 /// Perspective camera (60° field of view) looking at the torus from above and to the side.
@@ -110,14 +86,7 @@ fn skin_only() -> RenderSettings {
 }
 
 fn render(scene: &FurScene, camera: &Camera, settings: &RenderSettings) -> RgbaImage {
-    fixture()
-        .renderer
-        .render(scene, camera, &Lighting::default(), settings)
-        .unwrap()
-}
-
-fn covered(image: &RgbaImage) -> usize {
-    image.pixels.chunks_exact(4).filter(|p| p[3] > 0).count()
+    fixture().render(scene, camera, settings)
 }
 
 #[test]

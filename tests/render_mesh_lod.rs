@@ -8,12 +8,10 @@ mod common;
 
 use std::sync::OnceLock;
 
-use pelt::mesh::shapes::{torus, torus_uvs};
-use pelt::render::{AdapterChoice, Camera, FurScene, Lighting, RenderSettings, Renderer, RgbaImage};
-use pelt::volume::HairVolume;
-use pelt::{FurMesh, MeshInput, PeltError};
+use pelt::PeltError;
+use pelt::render::{Camera, FurScene, Lighting, RenderSettings, RgbaImage};
 
-use common::volume::small_volume;
+use common::torus::{FurredTorus, covered};
 use common::{column_major, look_at, perspective_rows};
 
 const AROUND: usize = 128;
@@ -22,34 +20,13 @@ const TRIANGLES: u32 = (2 * AROUND * ACROSS) as u32;
 const SIZE: u32 = 128;
 const FUR_DEPTH: f32 = 0.06;
 
-struct Fixture {
-    renderer: Renderer,
-    mesh: FurMesh,
-    uvs: Vec<[[f32; 2]; 3]>,
-    volume: HairVolume,
-}
-
-fn fixture() -> &'static Fixture {
-    static FIXTURE: OnceLock<Fixture> = OnceLock::new();
-    FIXTURE.get_or_init(|| {
-        let renderer =
-            Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe) must exist under make test");
-        let (positions, triangles) = torus(AROUND, ACROSS);
-        let mesh = FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap();
-        let uvs = torus_uvs(AROUND, ACROSS, [12.0, 4.0]);
-        let volume = small_volume(8);
-        Fixture {
-            renderer,
-            mesh,
-            uvs,
-            volume,
-        }
-    })
+fn fixture() -> &'static FurredTorus {
+    static FIXTURE: OnceLock<FurredTorus> = OnceLock::new();
+    FIXTURE.get_or_init(|| FurredTorus::new(AROUND, ACROSS, [12.0, 4.0]))
 }
 
 fn scene() -> FurScene {
-    let f = fixture();
-    FurScene::new(&f.renderer, &f.mesh, &f.uvs, &f.volume).unwrap()
+    fixture().scene()
 }
 
 /// 30° field of view from `distance` away, above and to the side of the torus.
@@ -72,14 +49,7 @@ fn settings(mesh_error: f32) -> RenderSettings {
 }
 
 fn render(scene: &FurScene, camera: &Camera, settings: &RenderSettings) -> RgbaImage {
-    fixture()
-        .renderer
-        .render(scene, camera, &Lighting::default(), settings)
-        .unwrap()
-}
-
-fn covered(image: &RgbaImage) -> usize {
-    image.pixels.chunks_exact(4).filter(|p| p[3] > 0).count()
+    fixture().render(scene, camera, settings)
 }
 
 #[test]

@@ -9,6 +9,7 @@
 //! would make the energy indefinite, and near-degenerate triangles would make it ill-conditioned.
 
 use crate::mesh::{FurMesh, NO_EDGE};
+use crate::vec3::{cross, dot, sub};
 
 /// Smallest edge weight; also the weight of an edge whose faces all have zero area.
 const MIN_WEIGHT: f64 = 1e-2;
@@ -23,22 +24,6 @@ pub(super) fn mul(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
 /// Complex conjugate.
 pub(super) fn conj(a: [f64; 2]) -> [f64; 2] {
     [a[0], -a[1]]
-}
-
-pub(super) fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-pub(super) fn cross3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-pub(super) fn sub3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
 pub(super) fn wide(a: [f32; 3]) -> [f64; 3] {
@@ -143,12 +128,12 @@ fn edge_weights(mesh: &FurMesh) -> Vec<f64> {
         }
         let p = tri.map(|v| wide(positions[v as usize]));
         for k in 0..3 {
-            let u = sub3(p[(k + 1) % 3], p[k]);
-            let v = sub3(p[(k + 2) % 3], p[k]);
-            let sine = dot3(cross3(u, v), cross3(u, v)).sqrt();
+            let u = sub(p[(k + 1) % 3], p[k]);
+            let v = sub(p[(k + 2) % 3], p[k]);
+            let sine = dot(cross(u, v), cross(u, v)).sqrt();
             let edge = topology.face_edges()[f][(k + 1) % 3];
             if edge != NO_EDGE && sine > 0.0 {
-                weights[edge as usize] += 0.5 * dot3(u, v) / sine;
+                weights[edge as usize] += 0.5 * dot(u, v) / sine;
             }
         }
     }
@@ -170,18 +155,18 @@ fn transport_angle(mesh: &FurMesh, a: usize, b: usize) -> f64 {
     let (na, nb) = (wide(mesh.normals()[a]), wide(mesh.normals()[b]));
     let ta = wide(mesh.tangents()[a]);
     let (tb, bb) = (wide(mesh.tangents()[b]), wide(mesh.bitangents()[b]));
-    let c = dot3(na, nb);
+    let c = dot(na, nb);
     let moved = if c > -1.0 + 1e-9 {
         // Rodrigues' formula with axis·sin = na × nb and 1 - cos folded into 1/(1 + c).
-        let v = cross3(na, nb);
-        let vxt = cross3(v, ta);
-        let k = dot3(v, ta) / (1.0 + c);
+        let v = cross(na, nb);
+        let vxt = cross(v, ta);
+        let k = dot(v, ta) / (1.0 + c);
         [0, 1, 2].map(|i| ta[i] * c + vxt[i] + v[i] * k)
     } else {
         // Opposite normals: no smallest rotation; project onto b's plane instead.
-        let d = dot3(ta, nb);
+        let d = dot(ta, nb);
         [0, 1, 2].map(|i| ta[i] - d * nb[i])
     };
-    let (x, y) = (dot3(moved, tb), dot3(moved, bb));
+    let (x, y) = (dot(moved, tb), dot(moved, bb));
     if x == 0.0 && y == 0.0 { 0.0 } else { y.atan2(x) }
 }

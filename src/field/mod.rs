@@ -36,7 +36,8 @@ use crate::cg;
 use crate::error::{PeltError, Result};
 use crate::mesh::{FurMesh, NO_COMPONENT, orthonormal_basis};
 use crate::threads::pool;
-use connection::{Connection, cross3, dot3, sub3, wide};
+use crate::vec3::{cross, dot, sub};
+use connection::{Connection, wide};
 
 /// A comb shorter than this share of the longest comb counts as unset.
 const TINY_COMB: f64 = 1e-6;
@@ -81,7 +82,7 @@ impl FieldParams {
     /// [`PeltError::InvalidParameter`] naming the first field out of range.
     pub fn validate(&self) -> Result<()> {
         let d = wide(self.down);
-        if !d.iter().all(|c| c.is_finite()) || dot3(d, d) == 0.0 {
+        if !d.iter().all(|c| c.is_finite()) || dot(d, d) == 0.0 {
             return Err(PeltError::parameter(
                 "down",
                 format!("must be a finite nonzero vector, got {:?}", self.down),
@@ -259,20 +260,20 @@ fn read_combs(mesh: &FurMesh) -> Vec<Option<([f64; 2], f64)>> {
     };
     let longest = combs
         .iter()
-        .map(|&c| dot3(wide(c), wide(c)).sqrt())
+        .map(|&c| dot(wide(c), wide(c)).sqrt())
         .fold(0.0, f64::max);
     (0..n)
         .map(|i| {
             let c = wide(combs[i]);
-            let length = dot3(c, c).sqrt();
+            let length = dot(c, c).sqrt();
             if length == 0.0 || length <= TINY_COMB * longest {
                 return None;
             }
             let normal = wide(mesh.normals()[i]);
-            let along = dot3(c, normal);
+            let along = dot(c, normal);
             let (x, y) = (
-                dot3(c, wide(mesh.tangents()[i])),
-                dot3(c, wide(mesh.bitangents()[i])),
+                dot(c, wide(mesh.tangents()[i])),
+                dot(c, wide(mesh.bitangents()[i])),
             );
             let tangential = x.hypot(y);
             if tangential <= NORMAL_PARALLEL * length {
@@ -289,15 +290,15 @@ fn read_combs(mesh: &FurMesh) -> Vec<Option<([f64; 2], f64)>> {
 /// has a preferred direction.
 fn default_directions(mesh: &FurMesh, down: [f32; 3]) -> Vec<[f64; 2]> {
     let d = wide(down);
-    let length = dot3(d, d).sqrt();
+    let length = dot(d, d).sqrt();
     let d = d.map(|c| c / length);
     let secondary = wide(orthonormal_basis(down.map(|c| (f64::from(c) / length) as f32))[1]);
     (0..mesh.vertex_count())
         .map(|i| {
             let (t, b) = (wide(mesh.tangents()[i]), wide(mesh.bitangents()[i]));
             [
-                dot3(d, t) + SECONDARY_WEIGHT * dot3(secondary, t),
-                dot3(d, b) + SECONDARY_WEIGHT * dot3(secondary, b),
+                dot(d, t) + SECONDARY_WEIGHT * dot(secondary, t),
+                dot(d, b) + SECONDARY_WEIGHT * dot(secondary, b),
             ]
         })
         .collect()
@@ -314,8 +315,8 @@ fn vertex_areas(mesh: &FurMesh, components: &[u32]) -> (Vec<f64>, Vec<f64>) {
             continue;
         }
         let p = tri.map(|v| wide(positions[v as usize]));
-        let n = cross3(sub3(p[1], p[0]), sub3(p[2], p[0]));
-        let a = 0.5 * dot3(n, n).sqrt();
+        let n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
+        let a = 0.5 * dot(n, n).sqrt();
         for &v in tri {
             area[v as usize] += a / 3.0;
         }

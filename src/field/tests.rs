@@ -10,13 +10,13 @@ fn mesh(shape: (Vec<[f32; 3]>, Vec<[u32; 3]>)) -> FurMesh {
 }
 
 fn angle_deg(a: [f64; 3], b: [f64; 3]) -> f64 {
-    let c = dot3(a, b) / (dot3(a, a).sqrt() * dot3(b, b).sqrt());
+    let c = dot(a, b) / (dot(a, a).sqrt() * dot(b, b).sqrt());
     c.clamp(-1.0, 1.0).acos().to_degrees()
 }
 
 /// `v` minus its component along the unit `n`.
 fn tangential(v: [f64; 3], n: [f64; 3]) -> [f64; 3] {
-    let d = dot3(v, n);
+    let d = dot(v, n);
     [0, 1, 2].map(|k| v[k] - d * n[k])
 }
 
@@ -30,11 +30,11 @@ fn assert_well_formed(m: &FurMesh, field: &DirectionField) {
         let d = wide(field.direction[i]);
         assert!(d.iter().all(|c| c.is_finite()), "vertex {i}: {d:?}");
         assert!(
-            (dot3(d, d).sqrt() - 1.0).abs() < 1e-5,
+            (dot(d, d).sqrt() - 1.0).abs() < 1e-5,
             "vertex {i} not unit: {d:?}"
         );
         assert!(
-            dot3(d, wide(m.normals()[i])).abs() < 1e-5,
+            dot(d, wide(m.normals()[i])).abs() < 1e-5,
             "vertex {i} not tangent"
         );
         assert!(field.slant[i].is_finite() && (0.0..=std::f32::consts::FRAC_PI_2).contains(&field.slant[i]));
@@ -117,7 +117,7 @@ fn a_painted_hemisphere_is_followed_within_two_degrees_and_keeps_singularities_a
                 return [0.0; 3];
             }
             let d = stereographic_x(q);
-            let l = dot3(d, d).sqrt();
+            let l = dot(d, d).sqrt();
             [0, 1, 2].map(|k| (d[k] / l + normal_part * q[k]) as f32)
         })
         .collect();

@@ -17,7 +17,7 @@
 use rayon::prelude::*;
 
 use super::surface_mesh::SurfaceVertex;
-use crate::vec3::{cross, dot};
+use crate::vec3::{cross, dot, sub};
 
 /// Faces whose area is below this fraction of the squared cell size hold no host: their
 /// nearest point is ill-defined, and the triangles around them cover the same place.
@@ -119,10 +119,6 @@ impl LevelHosts {
     pub fn len(&self) -> usize {
         self.vertices.len()
     }
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    std::array::from_fn(|i| a[i] - b[i])
 }
 
 /// One level's triangles in a uniform grid of cells, each listing the triangles whose bounding

@@ -1,11 +1,13 @@
 //! Helpers shared by the integration tests: camera matrices written out from their definitions,
 //! the golden-image check of DESIGN.md §3, the command-line tests' small bake and the render tests'
-//! small hair volume. Each test
+//! small hair volume and furred torus. Each test
 //! binary uses a part of them.
 #![allow(dead_code)]
 
 pub mod bake;
 pub mod golden;
+#[cfg(feature = "render")]
+pub mod torus;
 pub mod volume;
 
 /// Row-major `m[row][col]` to the column-major array the renderer takes.

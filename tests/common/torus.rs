@@ -1,0 +1,50 @@
+//! The render tests' furred torus on the CPU adapter: a torus mesh with parametric tile UVs
+//! (split where the ring and the tube close, a seam as between patches) and the small hair
+//! volume, for tests that render it with passes or settings changed.
+
+use pelt::mesh::shapes::{torus, torus_uvs};
+use pelt::render::{AdapterChoice, Camera, FurScene, Lighting, RenderSettings, Renderer, RgbaImage};
+use pelt::volume::HairVolume;
+use pelt::{FurMesh, MeshInput};
+
+use super::volume::small_volume;
+
+pub struct FurredTorus {
+    pub renderer: Renderer,
+    pub mesh: FurMesh,
+    pub uvs: Vec<[[f32; 2]; 3]>,
+    pub volume: HairVolume,
+}
+
+impl FurredTorus {
+    /// `around` × `across` quads, the tile repeating `repeats` times around the ring and the
+    /// tube, an 8-layer volume; the test fails (never skips) without a CPU adapter.
+    pub fn new(around: usize, across: usize, repeats: [f32; 2]) -> Self {
+        let renderer =
+            Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe) must exist under make test");
+        let (positions, triangles) = torus(around, across);
+        FurredTorus {
+            renderer,
+            mesh: FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap(),
+            uvs: torus_uvs(around, across, repeats),
+            volume: small_volume(8),
+        }
+    }
+
+    /// The torus uploaded.
+    pub fn scene(&self) -> FurScene {
+        FurScene::new(&self.renderer, &self.mesh, &self.uvs, &self.volume).unwrap()
+    }
+
+    /// `scene` under the default lighting.
+    pub fn render(&self, scene: &FurScene, camera: &Camera, settings: &RenderSettings) -> RgbaImage {
+        self.renderer
+            .render(scene, camera, &Lighting::default(), settings)
+            .unwrap()
+    }
+}
+
+/// Pixels with any coverage.
+pub fn covered(image: &RgbaImage) -> usize {
+    image.pixels.chunks_exact(4).filter(|p| p[3] > 0).count()
+}
