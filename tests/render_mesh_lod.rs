@@ -70,10 +70,11 @@ fn far_away_a_coarser_level_draws_nearly_the_same_image() {
     let near = renderer.frame_info(&scene, &camera(2.5), &settings(1.0)).unwrap();
     assert!(near.mesh_level < info.mesh_level, "near {near:?}, far {info:?}");
 
-    // Measured: 1666 pixels covered against 1680, mean red 3.1% below (2.6% while fins were
-    // drawn unsorted; back to front, the coarser level's fins fall short a little more: each
-    // compounds one texture sample for the several fins of the full mesh it stands for).
-    assert_nearly_the_same(&scene, &far, 0.04);
+    // Measured: 1666 pixels covered against 1680, mean red 2.0% below (3.1% while a coarser
+    // level's fins compounded their opacity, 1 - (1 - a)^spacing, instead of scaling it; what
+    // is left is mostly where `spacing` × a fin's opacity passes opaque: fewer fins cannot
+    // cover as much).
+    assert_nearly_the_same(&scene, &far, 0.03);
 }
 
 /// The coarser level `camera` sees and the full mesh draw other triangles, but within a pixel of
@@ -123,9 +124,9 @@ fn a_repaint_the_levels_cannot_hold_draws_the_full_mesh_and_a_smooth_one_keeps_t
         )
         .unwrap();
     assert_eq!(level(&scene), coarse);
-    // Measured: red 3.7% below (7.25 against 7.53 over 1538 pixels against 1560), as near as
-    // the uploaded colors' 3.1% on the half as tall fur's smaller image.
-    assert_nearly_the_same(&scene, &far, 0.04);
+    // Measured: red 2.9% below (7.31 against 7.53 over 1538 pixels against 1560), as near as
+    // the uploaded colors' 2.0% on the half as tall fur's smaller image.
+    assert_nearly_the_same(&scene, &far, 0.035);
     // A bald ring one vertex wide across the tube: the coarser levels dropped most of its
     // vertices and would draw fur there.
     let step = std::f64::consts::TAU / AROUND as f64;

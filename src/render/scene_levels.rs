@@ -22,7 +22,8 @@ pub(super) struct MeshLevel {
     /// Its fins (numbered across levels).
     pub fins: Range<u32>,
     /// Its fins' mean edge length over the full mesh's: fins stand this many times as far
-    /// apart, and `fins.wgsl` makes each as opaque as that many of the full mesh's.
+    /// apart, and `fins.wgsl` scales each one's opacity by it (up to opaque), so that as much
+    /// light passes them as the full mesh's fins.
     pub fin_spacing: f32,
 }
 
