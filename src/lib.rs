@@ -21,6 +21,7 @@ pub mod pipeline;
 pub mod presets;
 pub mod progress;
 pub mod prt;
+pub mod reference;
 mod rng;
 pub mod threads;
 mod vec3;

@@ -18,6 +18,7 @@ mod hair;
 mod lapped;
 mod mesh;
 mod prt;
+mod reference;
 #[cfg(feature = "render")]
 mod render;
 mod volume;
@@ -127,6 +128,10 @@ const CASES: &[Case] = &[
     Case {
         name: "prt.bands",
         run: prt::bands,
+    },
+    Case {
+        name: "reference",
+        run: reference::reference_render,
     },
     #[cfg(feature = "render")]
     Case {

@@ -1,4 +1,4 @@
-//! The `pelt` command line: `bench`, `bake`, `export`, `presets` and, with the `viewer` feature,
+//! The `pelt` command line: `bench`, `bake`, `export`, `presets`, `reference` and, with the `viewer` feature,
 //! `view`, one file (or folder) per subcommand. The commands parse their arguments and call the
 //! library; errors print as one line and exit with status 1.
 
@@ -7,6 +7,7 @@ mod bench;
 mod export;
 mod meshes;
 mod presets;
+mod reference;
 #[cfg(feature = "viewer")]
 mod view;
 
@@ -35,6 +36,8 @@ enum Command {
     Export(export::ExportArgs),
     /// List the fur presets.
     Presets(presets::PresetsArgs),
+    /// Render a ground-truth image of a baked folder or a canonical scene (ray traced strands).
+    Reference(reference::ReferenceArgs),
     /// Show a baked folder in a window: orbit, light, shells, fins, LOD, frame times.
     #[cfg(feature = "viewer")]
     View(view::ViewArgs),
@@ -53,6 +56,7 @@ fn main() -> ExitCode {
         Command::Bake(args) => bake::run(args),
         Command::Export(args) => export::run(args),
         Command::Presets(args) => presets::run(args),
+        Command::Reference(args) => reference::run(args),
         #[cfg(feature = "viewer")]
         Command::View(args) => view::run(args),
         #[cfg(not(feature = "viewer"))]

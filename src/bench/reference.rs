@@ -1,0 +1,49 @@
+//! Bench cases of the reference renderer.
+
+use std::time::Instant;
+
+use super::{BenchOptions, CaseResult, time_once};
+use crate::error::Result;
+use crate::hair::grow_strands;
+use crate::lapped::build_patches;
+use crate::reference::scenes::{FurLength, LightSetup, Shape, canonical_scene};
+use crate::reference::{FurGeometry, ReferenceScene, ReferenceSettings, render_reference};
+
+/// `reference.render`: the canonical sphere (short fur, side light) converged to 1% relative
+/// standard error of its mean radiance, placing the strands and building the BVH included
+/// (`reference.scene` times those alone); peak memory of the whole.
+pub(super) fn reference_render(options: &BenchOptions) -> Result<Vec<CaseResult>> {
+    let side = if options.quick { 128 } else { 512 };
+    let scene = canonical_scene(Shape::Sphere, FurLength::Short, LightSetup::Side, side)?;
+    let strands = grow_strands(&scene.params.hair)?;
+    let patches = build_patches(&scene.mesh, &scene.params.patches)?;
+    let fur_depth = scene.params.fur_depth();
+    let settings = ReferenceSettings::default();
+    let ((image, prepared, strand_count), timing) = time_once(|| {
+        let start = Instant::now();
+        let geometry = FurGeometry::from_bake(&scene.mesh, &patches, &strands, fur_depth)?;
+        let traced = ReferenceScene::new(geometry)?;
+        let prepared = start.elapsed().as_secs_f64();
+        let image = render_reference(&traced, &scene.camera, &scene.lights, &settings, None)?;
+        Ok((image, prepared, traced.strand_count()))
+    })?;
+    let mut render = CaseResult::timed(
+        "reference.render",
+        format!(
+            "{}, {side}x{side}, {strand_count} strands, {} samples/pixel",
+            scene.name, image.samples
+        ),
+        timing,
+    );
+    render.error = Some(image.relative_error);
+    render.error_metric = Some(format!(
+        "relative standard error of the mean radiance (per-pixel {:.3})",
+        image.pixel_error
+    ));
+    let place = CaseResult::timed(
+        "reference.scene",
+        format!("{}: strands placed and BVH built", scene.name),
+        (prepared, None),
+    );
+    Ok(vec![render, place])
+}

@@ -1,0 +1,359 @@
+//! Progressive rendering of the reference image: passes of a few jittered samples per pixel,
+//! each sample a view ray to the nearest hair or skin, lit by every light through a shadow ray;
+//! passes continue until the image's mean radiance is known to the target relative standard
+//! error (estimated from the spread of the passes' means), at least `min_samples` per pixel.
+//!
+//! Every sample draws from its own generator, seeded by the pixel and the sample's index, and
+//! each pixel sums its samples in order, so the image is bit-identical for any thread count.
+
+use std::f32::consts::PI;
+use std::time::Instant;
+
+use glam::{DVec4, Vec3, Vec3A};
+use rayon::prelude::*;
+
+use super::camera::{RayGenerator, ReferenceCamera};
+use super::light::{LightSample, Prepared, ReferenceLight, luminance};
+use super::scene::{Hit, ReferenceScene};
+use super::shade::HairShading;
+use crate::error::{PeltError, Result};
+use crate::progress::ProgressCallback;
+use crate::rng::Rng;
+use crate::threads::pool;
+
+/// Most samples per pixel.
+pub const MAX_SAMPLES: u32 = 1 << 16;
+/// Most pixels in one image (the accumulators hold 56 bytes a pixel).
+pub const MAX_PIXELS: u64 = 1 << 26;
+
+/// How long the reference renders and how it lights.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReferenceSettings {
+    /// Seed of every random choice.
+    pub seed: u64,
+    /// Samples per pixel in each pass, `[1, 1024]`.
+    pub samples_per_pass: u32,
+    /// Fewest samples per pixel, `[1, MAX_SAMPLES]`.
+    pub min_samples: u32,
+    /// Most samples per pixel, `[min_samples, MAX_SAMPLES]`: the render stops there even when
+    /// the target is not met (the achieved error is reported).
+    pub max_samples: u32,
+    /// Relative standard error of the image's mean radiance to reach, `(0, 1]`.
+    pub target_error: f64,
+    /// Shadow rays toward the lights; off, every light reaches every point (for checking the
+    /// composite against closed forms).
+    pub shadows: bool,
+    /// The hair and skin's Kajiya–Kay coefficients.
+    pub shading: HairShading,
+}
+
+impl Default for ReferenceSettings {
+    fn default() -> Self {
+        ReferenceSettings {
+            seed: 0,
+            samples_per_pass: 4,
+            min_samples: 16,
+            max_samples: 1024,
+            target_error: 0.01,
+            shadows: true,
+            shading: HairShading::default(),
+        }
+    }
+}
+
+impl ReferenceSettings {
+    fn validate(&self) -> Result<()> {
+        let range = |name: &str, v: u32, lo: u32, hi: u32| {
+            if (lo..=hi).contains(&v) {
+                Ok(())
+            } else {
+                Err(PeltError::parameter(
+                    name,
+                    format!("must be in [{lo}, {hi}], got {v}"),
+                ))
+            }
+        };
+        range("samples_per_pass", self.samples_per_pass, 1, 1024)?;
+        range("min_samples", self.min_samples, 1, MAX_SAMPLES)?;
+        range("max_samples", self.max_samples, self.min_samples, MAX_SAMPLES)?;
+        if !(self.target_error > 0.0 && self.target_error <= 1.0) {
+            return Err(PeltError::parameter(
+                "target_error",
+                format!("must be in (0, 1], got {}", self.target_error),
+            ));
+        }
+        self.shading.validate()
+    }
+}
+
+/// A converged reference image.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReferenceImage {
+    /// Width, pixels.
+    pub width: u32,
+    /// Height, pixels.
+    pub height: u32,
+    /// Rows top to bottom: linear RGB radiance premultiplied by coverage, and coverage (the
+    /// share of the pixel's samples that hit the fur or the skin). No tone mapping.
+    pub pixels: Vec<[f32; 4]>,
+    /// Samples per pixel taken.
+    pub samples: u32,
+    /// Relative standard error of the image's mean radiance (luminance) achieved.
+    pub relative_error: f64,
+    /// Root mean square of the covered pixels' own standard errors, relative to their mean
+    /// luminance: how noisy a single pixel still is.
+    pub pixel_error: f64,
+    /// Seconds spent rendering (the scene's BVH not included).
+    pub seconds: f64,
+}
+
+impl ReferenceImage {
+    /// The image for display: sRGB-encoded 8-bit RGBA with straight alpha (color divided by
+    /// coverage), rows top to bottom.
+    pub fn display_rgba8(&self) -> Vec<u8> {
+        let encoder = crate::color::srgb8_encoder();
+        self.pixels
+            .iter()
+            .flat_map(|p| {
+                let a = p[3];
+                let straight = |c: f32| if a > 0.0 { c / a } else { 0.0 };
+                [
+                    encoder.encode(straight(p[0])),
+                    encoder.encode(straight(p[1])),
+                    encoder.encode(straight(p[2])),
+                    crate::color::unit_to_u8(a),
+                ]
+            })
+            .collect()
+    }
+}
+
+/// Renders the reference image of `scene` seen by `camera` under `lights`.
+///
+/// `progress` hears the share of `min_samples` done (capped at 1) after each pass and cancels by
+/// returning `false`; nothing is returned then.
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] for a bad setting, camera or light, or an eye enclosed by the
+/// mesh (`camera.view`); [`PeltError::Cancelled`] when `progress` cancelled.
+pub fn render_reference(
+    scene: &ReferenceScene,
+    camera: &ReferenceCamera,
+    lights: &[ReferenceLight],
+    settings: &ReferenceSettings,
+    progress: Option<ProgressCallback<'_>>,
+) -> Result<ReferenceImage> {
+    let start = Instant::now();
+    settings.validate()?;
+    let rays = camera.rays()?;
+    let pixels = u64::from(camera.width) * u64::from(camera.height);
+    if pixels > MAX_PIXELS {
+        return Err(PeltError::parameter(
+            "camera.width",
+            format!(
+                "{} × {} is {pixels} pixels, the reference renders at most {MAX_PIXELS}",
+                camera.width, camera.height
+            ),
+        ));
+    }
+    let prepared = lights
+        .iter()
+        .enumerate()
+        .map(|(i, l)| l.prepare(i))
+        .collect::<Result<Vec<_>>>()?;
+    if let Some(eye) = rays.eye()
+        && scene.encloses(eye)
+    {
+        return Err(PeltError::parameter(
+            "camera.view",
+            format!(
+                "the eye at {eye} lies inside the mesh: the reference sees nothing but the skin's inside"
+            ),
+        ));
+    }
+    let (lo, hi) = scene.bounds();
+    let extent = (Vec3A::from(hi) - Vec3A::from(lo))
+        .length()
+        .max(f32::MIN_POSITIVE);
+    let tracer = Tracer {
+        scene,
+        rays,
+        lights: &prepared,
+        settings,
+        epsilon: extent * 1e-6,
+    };
+
+    let width = camera.width as usize;
+    let n = width * camera.height as usize;
+    let mut sums = vec![DVec4::ZERO; n];
+    let mut lum_sum = vec![0.0f64; n];
+    let mut lum_squares = vec![0.0f64; n];
+    let mut pass_lum = vec![0.0f64; n];
+    let mut pass_means = Vec::new();
+    let mut samples = 0u32;
+    let mut relative_error = f64::INFINITY;
+    while samples < settings.max_samples {
+        let count = settings.samples_per_pass.min(settings.max_samples - samples);
+        pool().install(|| {
+            sums.par_chunks_mut(width)
+                .zip(lum_sum.par_chunks_mut(width))
+                .zip(lum_squares.par_chunks_mut(width))
+                .zip(pass_lum.par_chunks_mut(width))
+                .enumerate()
+                .for_each(|(y, (((sum, ls), lq), pl))| {
+                    for x in 0..width {
+                        let pixel = (y * width + x) as u64;
+                        let mut pass = DVec4::ZERO;
+                        for s in samples..samples + count {
+                            pass += tracer.sample(x, y, pixel, s);
+                        }
+                        sum[x] += pass;
+                        let l = luminance(pass.truncate()) / f64::from(count);
+                        ls[x] += l;
+                        lq[x] += l * l;
+                        pl[x] = l;
+                    }
+                });
+        });
+        samples += count;
+        pass_means.push(pass_lum.iter().sum::<f64>() / n as f64);
+        relative_error = mean_error(&pass_means);
+        if let Some(callback) = progress
+            && !callback((f64::from(samples) / f64::from(settings.min_samples)).min(1.0))
+        {
+            return Err(PeltError::Cancelled);
+        }
+        if samples >= settings.min_samples && pass_means.len() >= 2 && relative_error <= settings.target_error
+        {
+            break;
+        }
+    }
+    let inv = 1.0 / f64::from(samples);
+    let out: Vec<[f32; 4]> = sums.iter().map(|s| (*s * inv).as_vec4().to_array()).collect();
+    let pixel_error = pixel_error(&out, &lum_sum, &lum_squares, pass_means.len());
+    Ok(ReferenceImage {
+        width: camera.width,
+        height: camera.height,
+        pixels: out,
+        samples,
+        relative_error,
+        pixel_error,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// Relative standard error of the mean of the passes' means (0 for a black image).
+fn mean_error(means: &[f64]) -> f64 {
+    let k = means.len() as f64;
+    if means.len() < 2 {
+        return f64::INFINITY;
+    }
+    let mean = means.iter().sum::<f64>() / k;
+    if mean <= 0.0 {
+        return 0.0;
+    }
+    let var = means.iter().map(|m| (m - mean) * (m - mean)).sum::<f64>() / (k - 1.0);
+    (var / k).sqrt() / mean
+}
+
+fn pixel_error(pixels: &[[f32; 4]], sums: &[f64], squares: &[f64], passes: usize) -> f64 {
+    if passes < 2 {
+        return f64::INFINITY;
+    }
+    let k = passes as f64;
+    let (mut var_total, mut lum_total, mut covered) = (0.0, 0.0, 0usize);
+    for ((p, &s), &q) in pixels.iter().zip(sums).zip(squares) {
+        if p[3] > 0.0 {
+            let mean = s / k;
+            let var = ((q / k - mean * mean) * k / (k - 1.0)).max(0.0);
+            var_total += var / k;
+            lum_total += mean;
+            covered += 1;
+        }
+    }
+    if covered == 0 || lum_total <= 0.0 {
+        return 0.0;
+    }
+    (var_total / covered as f64).sqrt() / (lum_total / covered as f64)
+}
+
+/// What one sample needs.
+struct Tracer<'a> {
+    scene: &'a ReferenceScene,
+    rays: RayGenerator,
+    lights: &'a [Prepared],
+    settings: &'a ReferenceSettings,
+    /// Offset of shadow rays off their surface, object units.
+    epsilon: f32,
+}
+
+impl Tracer<'_> {
+    /// Sample `s` of pixel `(x, y)`: premultiplied radiance and coverage.
+    fn sample(&self, x: usize, y: usize, pixel: u64, s: u32) -> DVec4 {
+        let mut rng = Rng::stream(self.settings.seed, pixel, u64::from(s));
+        let (jx, jy) = (rng.next_f64(), rng.next_f64());
+        let (origin, direction) = self.rays.ray(x as f64 + jx, y as f64 + jy);
+        let Some(hit) = self.scene.nearest(origin, direction, 0.0, f32::INFINITY) else {
+            return DVec4::ZERO;
+        };
+        let point = origin + hit.t() * direction;
+        let view = -direction;
+        let shading = &self.settings.shading;
+        let mut radiance = Vec3::ZERO;
+        match hit {
+            Hit::Hair {
+                strand, point: p, s, ..
+            } => {
+                let (tangent, albedo) = self.scene.hair_at(strand, p, s);
+                for light in self.lights {
+                    let l = self.light_sample(light, &mut rng);
+                    let f = shading.hair(tangent, l.direction, view, albedo);
+                    if f != Vec3::ZERO && !self.shadowed(point, l.direction, Some(strand)) {
+                        radiance += l.weight * f;
+                    }
+                }
+            }
+            Hit::Skin { triangle, b1, b2, .. } => {
+                let (mut normal, mut face, albedo) = self.scene.skin_at(triangle, b1, b2);
+                if face.dot(view) < 0.0 {
+                    normal = -normal;
+                    face = -face;
+                }
+                let lifted = point + face * self.epsilon;
+                for light in self.lights {
+                    let l = self.light_sample(light, &mut rng);
+                    if face.dot(l.direction) <= 0.0 {
+                        continue;
+                    }
+                    let f = shading.skin(normal, l.direction, albedo);
+                    if f != Vec3::ZERO && !self.shadowed(lifted, l.direction, None) {
+                        radiance += l.weight * f;
+                    }
+                }
+            }
+        }
+        (radiance.as_dvec3() / f64::from(PI)).extend(1.0)
+    }
+
+    fn light_sample(&self, light: &Prepared, rng: &mut Rng) -> LightSample {
+        match light {
+            Prepared::Sun {
+                direction,
+                radiance_scale,
+            } => LightSample {
+                direction: *direction,
+                weight: *radiance_scale,
+            },
+            Prepared::Environment(sampler) => {
+                sampler.sample([rng.next_f64(), rng.next_f64(), rng.next_f64()])
+            }
+        }
+    }
+
+    fn shadowed(&self, point: Vec3A, toward: Vec3A, skip_strand: Option<u32>) -> bool {
+        self.settings.shadows
+            && self
+                .scene
+                .blocked(point, toward, self.epsilon, f32::INFINITY, skip_strand)
+    }
+}
