@@ -11,6 +11,7 @@ VERSION := $(shell sed -n 's/^version = "\(.*\)"/\1/p' Cargo.toml | head -n 1)
 APT_PACKAGES := mesa-vulkan-drivers libvulkan1 libegl1 libegl-mesa0 libgl1-mesa-dri \
 	xvfb xauth libx11-xcb1 libxcursor1 libxi6 libxrandr2 libxkbcommon0 libxkbcommon-x11-0
 PY_REQUIREMENTS := bpy==5.0.1 pytest==9.2.0 maturin==1.16.0 ruff==0.17.6
+PLOT_REQUIREMENTS := matplotlib==3.11.2
 # The Khronos glTF-Validator (a JavaScript library), pinned; installed into build/node.
 GLTF_VALIDATOR := gltf-validator@2.0.0-dev.3.10
 VALIDATOR_STAMP := build/node/.validator-stamp
@@ -102,12 +103,20 @@ check-python: setup
 	$(VENV)/bin/ruff format --check addon blender_scripts scripts tests/blender python
 	$(PY) -m pytest tests/blender
 
-bench: setup
+# The full set (the image cases alone take about 35 minutes on 2 cores): docs/benchmarks.md, and
+# docs/accuracy.md with its plot and pictures under docs/accuracy/.
+bench: setup $(VENV)/.plotting
 	cargo build --release --features render --bin pelt
 	@mkdir -p out
-	./target/release/pelt bench --json out/bench.json
+	./target/release/pelt bench --json out/bench.json --pictures docs/accuracy
 	$(PY) blender_scripts/bench_transfer.py --json out/bench_blender.json
 	$(PY) scripts/bench_report.py out/bench.json out/bench_blender.json > docs/benchmarks.md
+	$(PY) scripts/accuracy_report.py docs/accuracy.md docs/accuracy out/bench.json
+
+# matplotlib, for the accuracy plot only (make bench).
+$(VENV)/.plotting: $(VENV)/.requirements
+	$(PY) -m pip install -q $(PLOT_REQUIREMENTS)
+	touch $@
 
 clean:
 	rm -rf build dist out $(VENV) addon/assets

@@ -22,6 +22,7 @@ GOALS = {
     "lapped.build.100k": 1.0,
     "export.gltf.engine": 1.0,
     "export.gltf.geometry": 3.0,
+    "reference.render@512x512": 60.0,
 }
 
 
@@ -53,18 +54,40 @@ def main() -> None:
     )
     print("| case | size | seconds | goal | peak MiB | error | error metric | speedup |")
     print("|---|---|---:|---:|---:|---:|---|---:|")
-    for report in reports:
-        for case in report["cases"]:
-            goal = goal_of(case)
-            verdict = "" if goal is None else (" ✓" if case["seconds"] <= goal else " ✗")
-            peak = None if case.get("peak_bytes") is None else case["peak_bytes"] / 2**20
-            speedup = case.get("speedup")
-            versus = "–" if speedup is None else f"{speedup:.1f}× vs `{case.get('baseline')}`"
-            print(
-                f"| `{case['name']}` | {text(case['size'])} | {case['seconds']:.4f}{verdict} | "
-                f"{cell(goal, '.3f')} | {cell(peak, '.1f')} | {cell(case.get('error'), '.2e')} | "
-                f"{text(case.get('error_metric'))} | {versus} |"
-            )
+    cases = [case for report in reports for case in report["cases"]]
+    images = [case for case in cases if case["name"].startswith("image.")]
+    for case in cases:
+        if case["name"].startswith("image."):
+            continue
+        goal = goal_of(case)
+        verdict = "" if goal is None else (" ✓" if case["seconds"] <= goal else " ✗")
+        peak = None if case.get("peak_bytes") is None else case["peak_bytes"] / 2**20
+        speedup = case.get("speedup")
+        versus = "–" if speedup is None else f"{speedup:.1f}× vs `{case.get('baseline')}`"
+        print(
+            f"| `{case['name']}` | {text(case['size'])} | {case['seconds']:.4f}{verdict} | "
+            f"{cell(goal, '.3f')} | {cell(peak, '.1f')} | {cell(case.get('error'), '.2e')} | "
+            f"{text(case.get('error_metric'))} | {versus} |"
+        )
+    if images:
+        image_table(images)
+
+
+def image_table(images):
+    """The preview against the reference (docs/accuracy.md has the plot and the pictures)."""
+    print("\n## Picture accuracy (`image.*`: preview against the reference renderer)\n")
+    print("Seconds: the preview's frame; error: relative MSE (linear); see docs/accuracy.md.\n")
+    print(
+        "| case | seconds | relative MSE | ꟻLIP | ꟻLIP 4× down | luminance ratio | alpha profile "
+        "| dolly jump |"
+    )
+    print("|---|---:|---:|---:|---:|---:|---:|---:|")
+    for case in images:
+        print(
+            f"| `{case['name']}` | {case['seconds']:.4f} | {case['error']:.3f} | {case['flip']:.3f} | "
+            f"{case['flip_down4']:.3f} | {case['luminance_ratio']:.2f} | {case['alpha_profile_error']:.2f} | "
+            f"{cell(case.get('dolly_jump'), '.3f')} |"
+        )
 
 
 if __name__ == "__main__":

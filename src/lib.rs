@@ -9,6 +9,7 @@
 //! (feature `render`) are thin layers on top. Start with [`FurMesh`].
 
 pub mod bench;
+pub mod camera;
 mod cg;
 pub mod color;
 pub mod error;

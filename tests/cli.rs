@@ -202,3 +202,52 @@ fn presets_equal_the_add_ons() {
         }
     }
 }
+
+#[test]
+fn reference_renders_a_baked_folder_and_writes_nothing_on_bad_input() {
+    let dir = out_dir("reference");
+    // A tile as wide as Suzanne's ears keeps the strands few.
+    assert_ok(&bake(&dir, 2, &["--tile-size", "1.0", "--formats", "png"]));
+    let exr = dir.join("reference.exr");
+    let exr_arg = exr.to_str().unwrap();
+    let zero = pelt(
+        &[
+            "reference",
+            dir.to_str().unwrap(),
+            "--out",
+            exr_arg,
+            "--samples",
+            "0",
+        ],
+        2,
+    );
+    assert!(!zero.status.success());
+    let message = String::from_utf8_lossy(&zero.stderr);
+    assert!(message.contains("min_samples"), "{message}");
+    let unknown = pelt(&["reference", "sphere.furry.side", "--out", exr_arg], 2);
+    assert!(!unknown.status.success());
+    assert!(String::from_utf8_lossy(&unknown.stderr).contains("canonical scene"));
+    assert!(!exr.exists());
+
+    let output = pelt(
+        &[
+            "reference",
+            dir.to_str().unwrap(),
+            "--out",
+            exr_arg,
+            "--size",
+            "24",
+            "--samples",
+            "2",
+        ],
+        2,
+    );
+    assert_ok(&output);
+    let written = files(&dir);
+    assert!(written.contains_key("reference.exr") && written.contains_key("reference.png"));
+    assert!(!written.keys().any(|name| name.ends_with(".part")));
+    let png = png::Decoder::new(std::io::Cursor::new(&written["reference.png"]))
+        .read_info()
+        .unwrap();
+    assert_eq!((png.info().width, png.info().height), (24, 24));
+}

@@ -568,3 +568,48 @@ def write_asset(
 ) -> Manifest:
     """:func:`write_texture_set` plus one ``<glb_stem>_<mode>.glb`` per mode (default engine and
     geometry), all listed in ``pelt.json``. Returns the manifest (GIL released)."""
+
+class SunLight(TypedDict, total=False):
+    type: Literal["sun"]
+    direction: tuple[float, float, float]
+    strength: float
+    color: tuple[float, float, float]
+
+class EnvironmentLight(TypedDict):
+    type: Literal["environment"]
+    sh: npt.ArrayLike
+
+class ReferenceInfo(TypedDict):
+    samples: int
+    relative_error: float
+    pixel_error: float
+    seconds: float
+
+def render_reference(
+    asset: FurAsset,
+    view_matrix: npt.ArrayLike,
+    projection_matrix: npt.ArrayLike,
+    width: int,
+    height: int,
+    *,
+    lights: Sequence[SunLight | EnvironmentLight] | None = None,
+    samples: int = 16,
+    max_samples: int = 1024,
+    target_error: float = 0.01,
+    seed: int = 0,
+    shadows: bool = True,
+    progress: Callable[[float], bool | None] | None = None,
+) -> tuple[npt.NDArray[np.float32], ReferenceInfo]:
+    """A ground-truth image of ``asset`` (GIL released): the tile's strands placed over the mesh
+    as the shells imply and ray traced with exact shadows. The camera is as in
+    :meth:`Preview.render`. Returns ``[height, width, 4]`` float32 linear RGB premultiplied by
+    coverage, and coverage (top row first, no tone mapping), with the samples per pixel taken,
+    the achieved relative standard error of the mean radiance and of single pixels, and seconds.
+
+    ``lights``: suns (``direction`` toward the light, ``strength`` in Blender's units, so a white
+    surface facing a sun of strength E has radiance E/π; ``color`` linear) and SH environments
+    (``sh`` ``[n², 3]`` radiance); default one sun of strength π from the upper right. Samples
+    per pixel: at least ``samples``, more until the mean radiance is within ``target_error``,
+    at most ``max_samples``. ``progress(fraction)`` returning ``False`` cancels
+    (:class:`BakeCancelled`); nothing is returned then. Bad input (a camera inside the mesh, zero
+    samples, an asset without strands) raises :class:`InvalidParameterError` naming it."""

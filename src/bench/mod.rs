@@ -15,6 +15,8 @@ use crate::error::Result;
 mod export;
 mod gltf;
 mod hair;
+#[cfg(feature = "render")]
+mod image;
 mod lapped;
 mod mesh;
 mod prt;
@@ -42,6 +44,28 @@ pub struct CaseResult {
     pub baseline: Option<String>,
     /// `baseline.seconds / seconds`, measured in the same run.
     pub speedup: Option<f64>,
+    /// The picture's error figures, for `image.*` cases.
+    #[serde(flatten)]
+    pub image: Option<ImageFigures>,
+}
+
+/// What an `image.*` case measures besides its relative MSE (`reference::metrics`).
+#[derive(Debug, Clone, Serialize)]
+pub struct ImageFigures {
+    /// Mean ꟻLIP over the fur's pixels.
+    pub flip: f64,
+    /// Mean ꟻLIP with both images 4× downsampled.
+    pub flip_down4: f64,
+    /// Mean fur luminance, preview over reference.
+    pub luminance_ratio: f64,
+    /// Largest difference of the silhouette's mean coverage per distance bin.
+    pub alpha_profile_error: f64,
+    /// LOD cases: the largest frame-to-frame change of mean luminance along a dolly out to 30×.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dolly_jump: Option<f64>,
+    /// LOD cases: the largest difference from the all-shells image along the dolly.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dolly_drift: Option<f64>,
 }
 
 impl CaseResult {
@@ -56,6 +80,7 @@ impl CaseResult {
             error_metric: None,
             baseline: None,
             speedup: None,
+            image: None,
         }
     }
 }
@@ -80,6 +105,8 @@ pub struct BenchOptions {
     pub quick: bool,
     /// Only cases whose name starts with this.
     pub only: Option<String>,
+    /// Where `image.*` cases write their pictures (reference | preview | ꟻLIP), if anywhere.
+    pub pictures: Option<std::path::PathBuf>,
 }
 
 struct Case {
@@ -137,6 +164,11 @@ const CASES: &[Case] = &[
     Case {
         name: "render",
         run: render::render_frame,
+    },
+    #[cfg(feature = "render")]
+    Case {
+        name: "image",
+        run: image::image_cases,
     },
 ];
 

@@ -30,6 +30,15 @@ use crate::volume::{HairVolume, VolumeParams, bake_volume};
 /// Name of the adapter the render cases ran on, for the report's `adapter` field.
 static ADAPTER: OnceLock<String> = OnceLock::new();
 
+/// Records `renderer`'s adapter as the one the render cases ran on.
+pub(super) fn note_adapter(renderer: &Renderer) {
+    let adapter = renderer.adapter();
+    let _ = ADAPTER.set(format!(
+        "{} ({}, {})",
+        adapter.name, adapter.backend, adapter.device_type
+    ));
+}
+
 /// The adapter used by the render cases, if any ran.
 pub(super) fn adapter() -> Option<String> {
     ADAPTER.get().cloned()

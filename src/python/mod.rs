@@ -13,6 +13,8 @@ mod pipeline;
 mod progress;
 mod prt;
 #[cfg(feature = "render")]
+mod reference;
+#[cfg(feature = "render")]
 mod render;
 mod volume;
 
@@ -94,6 +96,8 @@ fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<pipeline::PyFurAsset>()?;
     #[cfg(feature = "render")]
     m.add_class::<render::PyPreview>()?;
+    #[cfg(feature = "render")]
+    m.add_function(wrap_pyfunction!(reference::render_reference_py, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     Ok(())
 }

@@ -45,7 +45,7 @@ fn parse_adapter(adapter: &str) -> PyResult<AdapterChoice> {
 }
 
 /// A 4 × 4 matrix given as rows (numpy or nested sequences).
-fn matrix(obj: &Bound<'_, PyAny>, name: &'static str) -> PyResult<[[f32; 4]; 4]> {
+pub(super) fn matrix(obj: &Bound<'_, PyAny>, name: &'static str) -> PyResult<[[f32; 4]; 4]> {
     let (array, _) = float_ndarray(obj, name, "[4, 4]", |s| s == [4, 4])?;
     let values = flat(&array)?;
     Ok(std::array::from_fn(|r| {

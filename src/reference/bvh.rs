@@ -5,6 +5,7 @@
 
 use std::time::Duration;
 
+use glam::Vec3A;
 use obvhs::BvhBuildParams;
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::CwBvh;
@@ -23,6 +24,12 @@ impl Bvh {
         let tree =
             pool().install(|| build_cwbvh(boxes, BvhBuildParams::fast_build(), &mut Duration::default()));
         Bvh { tree }
+    }
+
+    /// A ray for the traversal. Signed zeros become +0: the traversal picks its octant from the
+    /// sign bits, and a −0 component sent every ray along that axis down the wrong children.
+    pub(crate) fn ray(origin: Vec3A, direction: Vec3A, t_min: f32, t_max: f32) -> Ray {
+        Ray::new(origin, direction + Vec3A::ZERO, t_min, t_max)
     }
 
     pub(crate) fn bounds(&self) -> Aabb {

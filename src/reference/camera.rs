@@ -1,27 +1,10 @@
-//! The reference's camera: the same matrices as the preview's (`render::Camera`), turned into a
-//! ray per image point.
+//! The reference's rays: the preview's camera ([`Camera`], the same matrices) turned into a ray
+//! per image point.
 
 use glam::{DMat4, DVec3, DVec4, Vec3A};
 
+use crate::camera::{Camera, MAX_IMAGE_SIDE};
 use crate::error::{PeltError, Result};
-
-/// Largest image side, pixels.
-pub const MAX_SIDE: u32 = 16384;
-
-/// A camera: column-major 4 × 4 matrices as the preview takes them. `view` maps object space to
-/// view space (right-handed, looking down −z); `projection` maps view space to clip space with
-/// depth in `[0, 1]` and y up (perspective or orthographic).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ReferenceCamera {
-    /// Object to view space, column-major.
-    pub view: [f32; 16],
-    /// View to clip space, column-major.
-    pub projection: [f32; 16],
-    /// Image width, pixels, `[1, MAX_SIDE]`.
-    pub width: u32,
-    /// Image height, pixels, `[1, MAX_SIDE]`.
-    pub height: u32,
-}
 
 /// Rays through image points, in object space.
 #[derive(Debug, Clone, Copy)]
@@ -32,7 +15,7 @@ pub(crate) struct RayGenerator {
     height: f64,
 }
 
-impl ReferenceCamera {
+impl Camera {
     /// Checks the camera and prepares its rays.
     ///
     /// # Errors
@@ -41,10 +24,10 @@ impl ReferenceCamera {
     /// view` cannot be inverted.
     pub(crate) fn rays(&self) -> Result<RayGenerator> {
         for (name, side) in [("camera.width", self.width), ("camera.height", self.height)] {
-            if !(1..=MAX_SIDE).contains(&side) {
+            if !(1..=MAX_IMAGE_SIDE).contains(&side) {
                 return Err(PeltError::parameter(
                     name,
-                    format!("must be in [1, {MAX_SIDE}], got {side}"),
+                    format!("must be in [1, {MAX_IMAGE_SIDE}], got {side}"),
                 ));
             }
         }

@@ -35,7 +35,6 @@ pub mod shade;
 #[cfg(test)]
 mod tests;
 
-pub use camera::ReferenceCamera;
 pub use geometry::{FurGeometry, WorldStrand};
 pub use light::ReferenceLight;
 pub use render::{ReferenceImage, ReferenceSettings, render_reference};

@@ -12,10 +12,11 @@ use std::time::Instant;
 use glam::{DVec4, Vec3, Vec3A};
 use rayon::prelude::*;
 
-use super::camera::{RayGenerator, ReferenceCamera};
+use super::camera::RayGenerator;
 use super::light::{LightSample, Prepared, ReferenceLight, luminance};
 use super::scene::{Hit, ReferenceScene};
 use super::shade::HairShading;
+use crate::camera::Camera;
 use crate::error::{PeltError, Result};
 use crate::progress::ProgressCallback;
 use crate::rng::Rng;
@@ -62,7 +63,11 @@ impl Default for ReferenceSettings {
 }
 
 impl ReferenceSettings {
-    fn validate(&self) -> Result<()> {
+    /// Checks every field, so a caller can refuse bad settings before the slow scene build.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming the first field out of range.
+    pub fn validate(&self) -> Result<()> {
         let range = |name: &str, v: u32, lo: u32, hi: u32| {
             if (lo..=hi).contains(&v) {
                 Ok(())
@@ -138,7 +143,7 @@ impl ReferenceImage {
 /// mesh (`camera.view`); [`PeltError::Cancelled`] when `progress` cancelled.
 pub fn render_reference(
     scene: &ReferenceScene,
-    camera: &ReferenceCamera,
+    camera: &Camera,
     lights: &[ReferenceLight],
     settings: &ReferenceSettings,
     progress: Option<ProgressCallback<'_>>,

@@ -4,7 +4,6 @@
 
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
-use obvhs::ray::Ray;
 
 use super::bvh::Bvh;
 use super::geometry::FurGeometry;
@@ -96,9 +95,7 @@ impl ReferenceScene {
                 b
             }));
         }
-        let t0 = std::time::Instant::now();
         let bvh = Bvh::new(&boxes);
-        eprintln!("TIMING bvh {:?} for {} boxes", t0.elapsed(), boxes.len());
         Ok(ReferenceScene {
             geometry,
             chunks,
@@ -140,7 +137,7 @@ impl ReferenceScene {
     /// The nearest hit along `origin + t · direction` (`direction` unit), `t` in `(t_min, t_max)`.
     pub(crate) fn nearest(&self, origin: Vec3A, direction: Vec3A, t_min: f32, t_max: f32) -> Option<Hit> {
         let mut best: Option<Hit> = None;
-        let ray = Ray::new(origin, direction, t_min, t_max);
+        let ray = Bvh::ray(origin, direction, t_min, t_max);
         self.bvh.nearest(ray, |ray, prim| {
             match self.test(prim, ray.origin, ray.direction, ray.tmin, ray.tmax, None) {
                 Some(h) => {
@@ -164,7 +161,7 @@ impl ReferenceScene {
         t_max: f32,
         skip_strand: Option<u32>,
     ) -> bool {
-        let ray = Ray::new(origin, direction, t_min, t_max);
+        let ray = Bvh::ray(origin, direction, t_min, t_max);
         self.bvh.any(ray, |ray, prim| {
             self.test(prim, ray.origin, ray.direction, ray.tmin, ray.tmax, skip_strand)
                 .is_some()
@@ -235,8 +232,8 @@ impl ReferenceScene {
     /// outline the alpha profile measures from. Every pixel is `false` without a skin.
     ///
     /// # Errors
-    /// As [`ReferenceCamera`]'s checks in [`super::render_reference`].
-    pub fn skin_mask(&self, camera: &super::ReferenceCamera) -> Result<Vec<bool>> {
+    /// As [`Camera`]'s checks in [`super::render_reference`].
+    pub fn skin_mask(&self, camera: &crate::camera::Camera) -> Result<Vec<bool>> {
         let rays = camera.rays()?;
         let width = camera.width as usize;
         let mut mask = vec![false; width * camera.height as usize];
@@ -257,7 +254,7 @@ impl ReferenceScene {
 
     /// The nearest skin triangle along a ray, the hair ignored.
     fn nearest_skin(&self, origin: Vec3A, direction: Vec3A) -> Option<(f32, usize)> {
-        let ray = Ray::new(origin, direction, 0.0, f32::INFINITY);
+        let ray = Bvh::ray(origin, direction, 0.0, f32::INFINITY);
         let mut nearest = None;
         self.bvh.nearest(ray, |ray, prim| {
             if prim < self.chunks.len() {

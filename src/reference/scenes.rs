@@ -12,7 +12,8 @@ use glam::Vec3;
 use glam::camera::rh::proj::directx::perspective;
 use glam::camera::rh::view::look_at_mat4;
 
-use super::{ReferenceCamera, ReferenceLight};
+use super::ReferenceLight;
+use crate::camera::Camera;
 use crate::error::Result;
 use crate::mesh::{FurMesh, MeshInput, shapes};
 use crate::pipeline::BakeParams;
@@ -47,7 +48,8 @@ pub enum LightSetup {
     Eye,
     /// A sun from the camera's right.
     Side,
-    /// A sun behind the object, a little above: the rim.
+    /// A sun behind the object, about level with it (2° below the horizon as the camera sees
+    /// it): the fur's rim catches the light, little else does.
     Back,
     /// A sun straight above.
     Top,
@@ -171,11 +173,13 @@ pub struct CanonicalScene {
     /// The bake: default hair, tile `0.3 R`, fur depth `0.05 R` or `0.2 R`.
     pub params: BakeParams,
     /// Square image of `side` pixels, 30° field of view, the object filling about 80%.
-    pub camera: ReferenceCamera,
+    pub camera: Camera,
     /// One sun, or the sky.
     pub lights: Vec<ReferenceLight>,
     /// Where the camera is, object space.
     pub eye: [f32; 3],
+    /// Radius of the sphere around the origin the camera frames (the object and its fur).
+    pub reach: f32,
 }
 
 /// From the front (−y, as Blender's front view), a little above.
@@ -199,7 +203,8 @@ pub fn canonical_scene(
     params.patches.tile_size = f64::from(0.3 * radius);
     params.fur_depth = Some(f64::from(length.share() * radius));
 
-    let (camera, eye) = framing([0.0; 3], radius * (1.0 + length.share()), side, side);
+    let reach = radius * (1.0 + length.share());
+    let (camera, eye) = framing([0.0; 3], reach, side, side);
     let toward_eye = VIEW_DIRECTION.normalize();
     let sun = |d: Vec3| ReferenceLight::Sun {
         direction: d.normalize().to_array(),
@@ -221,6 +226,7 @@ pub fn canonical_scene(
         camera,
         lights,
         eye,
+        reach,
     })
 }
 
@@ -239,14 +245,14 @@ impl CanonicalScene {
 /// A camera looking at the sphere of `radius` around `centre` from the front (−y, as Blender's
 /// front view) and a little above, the sphere filling about 80% of a `width × height` image
 /// (30° vertical field of view); and where the eye is.
-pub fn framing(centre: [f32; 3], radius: f32, width: u32, height: u32) -> (ReferenceCamera, [f32; 3]) {
+pub fn framing(centre: [f32; 3], radius: f32, width: u32, height: u32) -> (Camera, [f32; 3]) {
     let centre = Vec3::from(centre);
     let distance = radius / 0.8 / (0.5 * FIELD_OF_VIEW).tan();
     let eye = centre + VIEW_DIRECTION.normalize() * distance;
     let view = look_at_mat4(eye, centre, Vec3::Z);
     let aspect = width as f32 / height.max(1) as f32;
     let projection = perspective(FIELD_OF_VIEW, aspect, 0.05 * distance, 4.0 * distance);
-    let camera = ReferenceCamera {
+    let camera = Camera {
         view: view.to_cols_array(),
         projection: projection.to_cols_array(),
         width,

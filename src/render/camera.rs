@@ -1,30 +1,9 @@
-//! The camera of a frame: view and projection matrices, the image size, and the viewer's position
-//! in object space that lighting (Lengyel et al. 2001, §2.4: the half vector) and the fin fade
-//! (§2.3: fin normal · view direction) need.
+//! What a frame needs from the camera ([`crate::camera::Camera`]): the checked matrices and the
+//! viewer's position in object space that lighting (Lengyel et al. 2001, §2.4: the half vector)
+//! and the fin fade (§2.3: fin normal · view direction) need.
 
+pub use crate::camera::{Camera, MAX_IMAGE_SIDE};
 use crate::error::{PeltError, Result};
-
-/// Largest image side accepted before the adapter's own limit is asked.
-pub const MAX_IMAGE_SIDE: u32 = 16384;
-
-/// A camera. Matrices are column-major 4 × 4 (`m[col * 4 + row]`, as numpy's `matrix.T.ravel()`
-/// and Blender's `Matrix` columns give them).
-///
-/// `view` maps object space to view space (right-handed, the camera looking down −z);
-/// `projection` maps view space to wgpu's clip space (depth in `[0, 1]`, y up). A projection whose
-/// last row is `(0, 0, −1, 0)` is a perspective one (the eye sits at the view-space origin); one
-/// whose last row is `(0, 0, 0, 1)` is orthographic (the eye is at infinity along +z).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Camera {
-    /// Object to view space, column-major.
-    pub view: [f32; 16],
-    /// View to clip space, column-major.
-    pub projection: [f32; 16],
-    /// Image width in pixels, `[1, MAX_IMAGE_SIDE]` (and the adapter's limit).
-    pub width: u32,
-    /// Image height in pixels, `[1, MAX_IMAGE_SIDE]` (and the adapter's limit).
-    pub height: u32,
-}
 
 /// What the shaders need from the camera, computed in f64 once per frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -37,15 +16,6 @@ pub(super) struct CameraFrame {
 }
 
 type M4 = [[f64; 4]; 4];
-
-/// OpenGL clip depth `[-1, 1]` to wgpu's `[0, 1]`: `z' = (z + w) / 2`, as a matrix applied after
-/// the projection.
-const GL_TO_WGPU_DEPTH: M4 = [
-    [1.0, 0.0, 0.0, 0.0],
-    [0.0, 1.0, 0.0, 0.0],
-    [0.0, 0.0, 0.5, 0.5],
-    [0.0, 0.0, 0.0, 1.0],
-];
 
 /// Column-major f32 to `m[row][col]` in f64.
 fn rows(m: &[f32; 16]) -> M4 {
@@ -82,23 +52,6 @@ pub(super) fn invert(m: &M4) -> Option<M4> {
 }
 
 impl Camera {
-    /// A camera from matrices in the math convention (row-major `m[row][col]`, applied as
-    /// `M · v`, as numpy's `np.array(mathutils.Matrix)` gives them) with an OpenGL projection
-    /// (clip depth `[-1, 1]`, as Blender's `region_3d.window_matrix` and
-    /// `camera.calc_matrix_camera` give), remapped to wgpu's depth `[0, 1]`. `view` maps the
-    /// mesh's object space to view space (in Blender: `view_matrix @ object.matrix_world`).
-    /// Nothing is checked here; [`super::Renderer::render`] checks the result.
-    pub fn from_gl(view: [[f32; 4]; 4], projection: [[f32; 4]; 4], width: u32, height: u32) -> Camera {
-        let gl: M4 = projection.map(|row| row.map(f64::from));
-        let wgpu_projection = mul(&GL_TO_WGPU_DEPTH, &gl);
-        Camera {
-            view: std::array::from_fn(|i| view[i % 4][i / 4]),
-            projection: std::array::from_fn(|i| wgpu_projection[i % 4][i / 4] as f32),
-            width,
-            height,
-        }
-    }
-
     /// Checks the sizes against `max_side` (the adapter's limit) and the matrices, and derives
     /// what the shaders need.
     pub(super) fn frame(&self, max_side: u32) -> Result<CameraFrame> {

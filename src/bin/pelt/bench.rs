@@ -13,6 +13,9 @@ pub struct BenchArgs {
     /// Run only the cases whose name starts with this prefix.
     #[arg(long, value_name = "PREFIX")]
     only: Option<String>,
+    /// Write the image cases' pictures (reference | preview | FLIP) into this folder.
+    #[arg(long, value_name = "DIR")]
+    pictures: Option<PathBuf>,
     /// Also write the results as JSON to this file.
     #[arg(long, value_name = "PATH")]
     json: Option<PathBuf>,
@@ -23,6 +26,7 @@ pub fn run(args: BenchArgs) -> Result<(), String> {
     let options = BenchOptions {
         quick: args.quick,
         only: args.only,
+        pictures: args.pictures,
     };
     let report = bench::run(&options).map_err(|e| e.to_string())?;
     println!("pelt {} bench, {} threads", report.pelt, report.threads);

@@ -8,12 +8,11 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
+use pelt::camera::Camera;
 use pelt::export::{ExrOptions, ImageRef, PngOptions, save_exr, save_png};
 use pelt::hair::grow_strands;
 use pelt::reference::scenes::{FurLength, LightSetup, Shape, canonical_scene, framing};
-use pelt::reference::{
-    FurGeometry, ReferenceCamera, ReferenceLight, ReferenceScene, ReferenceSettings, render_reference,
-};
+use pelt::reference::{FurGeometry, ReferenceLight, ReferenceScene, ReferenceSettings, render_reference};
 
 use crate::bake::{bake_object, load_record, prepare};
 
@@ -41,6 +40,13 @@ pub struct ReferenceArgs {
 }
 
 pub fn run(args: ReferenceArgs) -> Result<(), String> {
+    let settings = ReferenceSettings {
+        min_samples: args.samples,
+        max_samples: args.samples.max(1024),
+        target_error: args.target_error,
+        ..ReferenceSettings::default()
+    };
+    settings.validate().map_err(|e| e.to_string())?;
     let (geometry, camera, lights) = if Path::new(&args.source).is_dir() {
         baked_folder(&args)?
     } else {
@@ -48,12 +54,6 @@ pub fn run(args: ReferenceArgs) -> Result<(), String> {
     };
     let scene = ReferenceScene::new(geometry).map_err(|e| e.to_string())?;
     eprintln!("reference: {} strands", scene.strand_count());
-    let settings = ReferenceSettings {
-        min_samples: args.samples,
-        max_samples: args.samples.max(1024),
-        target_error: args.target_error,
-        ..ReferenceSettings::default()
-    };
     let progress = |done: f64| {
         eprint!("\rreference: {:3.0}%", 100.0 * done);
         let _ = std::io::stderr().flush();
@@ -106,7 +106,7 @@ fn part(path: &Path) -> PathBuf {
     path.with_file_name(name)
 }
 
-type Prepared = (FurGeometry, ReferenceCamera, Vec<ReferenceLight>);
+type Prepared = (FurGeometry, Camera, Vec<ReferenceLight>);
 
 fn canonical(args: &ReferenceArgs) -> Result<Prepared, String> {
     let parts: Vec<&str> = args.source.split('.').collect();

@@ -9,16 +9,17 @@ use glam::camera::rh::proj::directx::{orthographic, perspective as perspective_p
 use glam::camera::rh::view::look_at_mat4;
 
 use super::*;
+use crate::camera::Camera;
 use crate::error::PeltError;
 use crate::mesh::{FurMesh, MeshInput, shapes};
 use crate::pipeline::{BakeParams, Pipeline};
 use crate::rng::Rng;
 
 /// An orthographic camera looking down −z at the square `[-half, half]²` of the plane z = 0.
-fn top_camera(half: f32, side: u32) -> ReferenceCamera {
+fn top_camera(half: f32, side: u32) -> Camera {
     let view = look_at_mat4(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y);
     let projection = orthographic(-half, half, -half, half, 0.1, 10.0);
-    ReferenceCamera {
+    Camera {
         view: view.to_cols_array(),
         projection: projection.to_cols_array(),
         width: side,
@@ -232,10 +233,10 @@ fn furred_sphere(density: u32) -> (Arc<FurMesh>, crate::pipeline::FurAsset) {
     (mesh, asset)
 }
 
-fn perspective(eye: Vec3, side: u32) -> ReferenceCamera {
+fn perspective(eye: Vec3, side: u32) -> Camera {
     let view = look_at_mat4(eye, Vec3::ZERO, Vec3::Z);
     let projection = perspective_projection(0.6, 1.0, 0.1, 50.0);
-    ReferenceCamera {
+    Camera {
         view: view.to_cols_array(),
         projection: projection.to_cols_array(),
         width: side,
@@ -319,3 +320,20 @@ fn bad_input_is_named_and_a_cancelled_render_returns_nothing() {
 }
 
 mod metrics;
+
+#[test]
+fn shadows_fall_for_axis_aligned_lights_with_signed_zeros() {
+    // −0.0 in a direction once sent the BVH's traversal down the wrong octant, and no shadow
+    // ray from a sun along an axis ever hit anything.
+    let scene = scene_of(&slab(3000, false, 5));
+    let camera = top_camera(0.5, 32);
+    for direction in [[1.0, -0.0, 0.5], [-0.0, 1.0, 0.5], [-0.0, 1.0, -0.0]] {
+        let mut settings = fixed_samples(2);
+        settings.shadows = false;
+        let open = render_reference(&scene, &camera, &[sun(direction, 1.0)], &settings, None).unwrap();
+        settings.shadows = true;
+        let shadowed = render_reference(&scene, &camera, &[sun(direction, 1.0)], &settings, None).unwrap();
+        let (a, b) = (covered_radiance(&open)[0], covered_radiance(&shadowed)[0]);
+        assert!(b < 0.97 * a, "{direction:?}: shadows {b} against {a}");
+    }
+}
