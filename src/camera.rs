@@ -3,6 +3,8 @@
 
 use glam::DMat4;
 
+use crate::error::{PeltError, Result};
+
 /// Largest image side accepted before the adapter's own limit is asked.
 pub const MAX_IMAGE_SIDE: u32 = 16384;
 
@@ -35,6 +37,36 @@ const GL_TO_WGPU_DEPTH: DMat4 = DMat4::from_cols_array(&[
 ]);
 
 impl Camera {
+    /// Checks the sides against `max_side` (and [`MAX_IMAGE_SIDE`]) and that every matrix
+    /// element is finite.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming `camera.width`, `camera.height`, `camera.view` or
+    /// `camera.projection`.
+    pub fn check(&self, max_side: u32) -> Result<()> {
+        let limit = max_side.min(MAX_IMAGE_SIDE);
+        for (name, side) in [("camera.width", self.width), ("camera.height", self.height)] {
+            if !(1..=limit).contains(&side) {
+                return Err(PeltError::parameter(
+                    name,
+                    format!("must be in [1, {limit}], got {side}"),
+                ));
+            }
+        }
+        for (name, m) in [
+            ("camera.view", &self.view),
+            ("camera.projection", &self.projection),
+        ] {
+            if let Some(i) = m.iter().position(|v| !v.is_finite()) {
+                return Err(PeltError::parameter(
+                    name,
+                    format!("element {i} (column {}, row {}) is not finite", i / 4, i % 4),
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// A camera from matrices in the math convention (row-major `m[row][col]`, applied as
     /// `M · v`, as numpy's `np.array(mathutils.Matrix)` gives them) with an OpenGL projection
     /// (clip depth `[-1, 1]`, as Blender's `region_3d.window_matrix` and

@@ -23,25 +23,7 @@ impl Camera {
     /// `camera.projection` when a side is out of range, a value is not finite or `projection ·
     /// view` cannot be inverted.
     pub(crate) fn rays(&self) -> Result<RayGenerator> {
-        for (name, side) in [("camera.width", self.width), ("camera.height", self.height)] {
-            if !(1..=MAX_IMAGE_SIDE).contains(&side) {
-                return Err(PeltError::parameter(
-                    name,
-                    format!("must be in [1, {MAX_IMAGE_SIDE}], got {side}"),
-                ));
-            }
-        }
-        for (name, m) in [
-            ("camera.view", &self.view),
-            ("camera.projection", &self.projection),
-        ] {
-            if let Some(v) = m.iter().find(|v| !v.is_finite()) {
-                return Err(PeltError::parameter(
-                    name,
-                    format!("must hold finite values, got {v}"),
-                ));
-            }
-        }
+        self.check(MAX_IMAGE_SIDE)?;
         let view = DMat4::from_cols_array(&self.view.map(f64::from));
         let projection = DMat4::from_cols_array(&self.projection.map(f64::from));
         let clip = projection * view;

@@ -55,26 +55,7 @@ impl Camera {
     /// Checks the sizes against `max_side` (the adapter's limit) and the matrices, and derives
     /// what the shaders need.
     pub(super) fn frame(&self, max_side: u32) -> Result<CameraFrame> {
-        let limit = max_side.min(MAX_IMAGE_SIDE);
-        for (name, side) in [("camera.width", self.width), ("camera.height", self.height)] {
-            if !(1..=limit).contains(&side) {
-                return Err(PeltError::parameter(
-                    name,
-                    format!("must be in [1, {limit}], got {side}"),
-                ));
-            }
-        }
-        for (name, m) in [
-            ("camera.view", &self.view),
-            ("camera.projection", &self.projection),
-        ] {
-            if let Some(i) = m.iter().position(|v| !v.is_finite()) {
-                return Err(PeltError::parameter(
-                    name,
-                    format!("element {i} (column {}, row {}) is not finite", i / 4, i % 4),
-                ));
-            }
-        }
+        self.check(max_side)?;
         let (view, proj) = (rows(&self.view), rows(&self.projection));
         let inverse_view = invert(&view)
             .ok_or_else(|| PeltError::parameter("camera.view", "is singular (not invertible)"))?;

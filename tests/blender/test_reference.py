@@ -44,29 +44,18 @@ def test_light_strength_scales_the_image_linearly_and_a_bald_asset_is_refused(as
     with pytest.raises(pelt.InvalidParameterError, match="strands"):
         pelt.render_reference(bald, VIEW, PROJECTION, 8, 8)
     eye = np.array([0.0, -4.0, 1.0])
-    strength = 2.0
-    image, _ = pelt.render_reference(
-        asset,
-        look_at(eye),
-        PROJECTION,
-        SIDE,
-        SIDE,
-        samples=4,
-        lights=[{"type": "sun", "direction": tuple(eye), "strength": strength}],
-        shadows=False,
-    )
+
+    def lit_by(strength):
+        sun = {"type": "sun", "direction": tuple(eye), "strength": strength}
+        image, _ = pelt.render_reference(
+            asset, look_at(eye), PROJECTION, SIDE, SIDE, samples=4, lights=[sun], shadows=False
+        )
+        return image
+
+    image = lit_by(2.0)
     assert image[..., :3].max() > 0
     # Doubling the strength doubles every pixel exactly (the estimator is linear in the light).
-    doubled, _ = pelt.render_reference(
-        asset,
-        look_at(eye),
-        PROJECTION,
-        SIDE,
-        SIDE,
-        samples=4,
-        lights=[{"type": "sun", "direction": tuple(eye), "strength": 2 * strength}],
-        shadows=False,
-    )
+    doubled = lit_by(4.0)
     np.testing.assert_allclose(doubled[..., :3], 2 * image[..., :3], rtol=1e-5, atol=1e-7)
 
 
