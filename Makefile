@@ -8,7 +8,7 @@ PYTHON ?= python3
 VENV := .venv
 PY := $(VENV)/bin/python
 VERSION := $(shell sed -n 's/^version = "\(.*\)"/\1/p' Cargo.toml | head -n 1)
-APT_PACKAGES := mesa-vulkan-drivers libvulkan1 libegl1 libegl-mesa0 libgl1-mesa-dri \
+APT_PACKAGES := g++ mesa-vulkan-drivers libvulkan1 libegl1 libegl-mesa0 libgl1-mesa-dri \
 	xvfb xauth libx11-xcb1 libxcursor1 libxi6 libxrandr2 libxkbcommon0 libxkbcommon-x11-0
 PY_REQUIREMENTS := bpy==5.0.1 pytest==9.2.0 maturin==1.16.0 ruff==0.17.6
 PLOT_REQUIREMENTS := matplotlib==3.11.2
@@ -43,7 +43,9 @@ test: setup $(ZIP) check-rust check-gltf check-python
 setup: system-deps $(INSTALL_STAMP) $(TEMPLATES)
 	@mkdir -p -m 700 $(XDG_RUNTIME_DIR)
 
-# Mesa's Vulkan (lavapipe) and GL drivers: a real GPU device on machines without a GPU; a virtual
+# A C++ compiler (meshopt's library, and ꟻLIP's for the image metrics, feature `metrics`);
+# Mesa's Vulkan (lavapipe)
+# and GL drivers: a real GPU device on machines without a GPU; a virtual
 # X server and the X libraries winit loads, for the `pelt view` test (tests/viewer.rs); Node.js
 # and npm for the glTF validator when no npm is on the PATH.
 system-deps:
@@ -106,7 +108,7 @@ check-python: setup
 # The full set (the image cases alone take about 35 minutes on 2 cores): docs/benchmarks.md, and
 # docs/accuracy.md with its plot and pictures under docs/accuracy/.
 bench: setup $(VENV)/.plotting
-	cargo build --release --features render --bin pelt
+	cargo build --release --features render,metrics --bin pelt
 	@mkdir -p out
 	./target/release/pelt bench --json out/bench.json --pictures docs/accuracy
 	$(PY) blender_scripts/bench_transfer.py --json out/bench_blender.json

@@ -126,7 +126,7 @@ fn configs(quick: bool, study: bool) -> Vec<Config> {
 /// from the eye and the side, three configurations, 128²).
 pub(super) fn image_cases(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let renderer = Renderer::new(AdapterChoice::PreferHardware)?;
-    note_adapter(&renderer);
+    let _ = note_adapter(&renderer);
     let side = if options.quick { 128 } else { 256 };
     let objects: Vec<(Shape, FurLength)> = if options.quick {
         vec![(Shape::Sphere, FurLength::Short)]

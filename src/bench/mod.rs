@@ -15,7 +15,7 @@ use crate::error::Result;
 mod export;
 mod gltf;
 mod hair;
-#[cfg(feature = "render")]
+#[cfg(all(feature = "render", feature = "metrics"))]
 mod image;
 mod lapped;
 mod mesh;
@@ -165,7 +165,7 @@ const CASES: &[Case] = &[
         name: "render",
         run: render::render_frame,
     },
-    #[cfg(feature = "render")]
+    #[cfg(all(feature = "render", feature = "metrics"))]
     Case {
         name: "image",
         run: image::image_cases,

@@ -30,13 +30,12 @@ use crate::volume::{HairVolume, VolumeParams, bake_volume};
 /// Name of the adapter the render cases ran on, for the report's `adapter` field.
 static ADAPTER: OnceLock<String> = OnceLock::new();
 
-/// Records `renderer`'s adapter as the one the render cases ran on.
-pub(super) fn note_adapter(renderer: &Renderer) {
+/// Records `renderer`'s adapter as the one the render cases ran on, and returns its name.
+pub(super) fn note_adapter(renderer: &Renderer) -> String {
     let adapter = renderer.adapter();
-    let _ = ADAPTER.set(format!(
-        "{} ({}, {})",
-        adapter.name, adapter.backend, adapter.device_type
-    ));
+    let name = format!("{} ({}, {})", adapter.name, adapter.backend, adapter.device_type);
+    let _ = ADAPTER.set(name.clone());
+    name
 }
 
 /// The adapter used by the render cases, if any ran.
@@ -125,9 +124,7 @@ fn rotate_on_cpu(frames: &[[[f64; 3]; 3]], light: &[[f64; 3]]) -> Result<Vec<[f6
 /// (`render.scene.upload`, `render.scene.update`).
 pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let renderer = Renderer::new(AdapterChoice::PreferHardware)?;
-    let adapter = renderer.adapter();
-    let name = format!("{} ({}, {})", adapter.name, adapter.backend, adapter.device_type);
-    let _ = ADAPTER.set(name.clone());
+    let name = note_adapter(&renderer);
     let levels = if options.quick { 2 } else { 3 };
     let data = subdivide(&suzanne(), levels);
     let mesh = FurMesh::new(data.input())?;

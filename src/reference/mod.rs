@@ -26,6 +26,7 @@ pub mod camera;
 pub mod geometry;
 mod intersect;
 pub mod light;
+#[cfg(feature = "metrics")]
 pub mod metrics;
 pub mod render;
 pub mod scene;

@@ -319,6 +319,7 @@ fn bad_input_is_named_and_a_cancelled_render_returns_nothing() {
     }
 }
 
+#[cfg(feature = "metrics")]
 mod metrics;
 
 #[test]
