@@ -9,9 +9,10 @@ use crate::lapped::build_patches;
 use crate::reference::scenes::{FurLength, LightSetup, Shape, canonical_scene};
 use crate::reference::{FurGeometry, ReferenceScene, ReferenceSettings, render_reference};
 
-/// `reference.render`: the canonical sphere (short fur, side light) converged to 1% relative
-/// standard error of its mean radiance, placing the strands and building the BVH included
-/// (`reference.scene` times those alone); median of three runs, peak memory of the first.
+/// `reference.render`: the canonical sphere (short fur, side light) at 512² converged to 1%
+/// relative standard error of its mean radiance, placing the strands and building the BVH
+/// included (`reference.scene` times those alone); median of three runs, peak memory of the
+/// first.
 pub(super) fn reference_render(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let side = if options.quick { 128 } else { 512 };
     let scene = canonical_scene(Shape::Sphere, FurLength::Short, LightSetup::Side, side)?;
