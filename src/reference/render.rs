@@ -17,7 +17,7 @@ use super::light::{LightSample, Prepared, ReferenceLight, luminance};
 use super::scene::{Hit, ReferenceScene};
 use super::shade::HairShading;
 use crate::camera::Camera;
-use crate::error::{PeltError, Result};
+use crate::error::{PeltError, Result, check_range};
 use crate::progress::ProgressCallback;
 use crate::rng::Rng;
 use crate::threads::pool;
@@ -69,14 +69,7 @@ impl ReferenceSettings {
     /// [`PeltError::InvalidParameter`] naming the first field out of range.
     pub fn validate(&self) -> Result<()> {
         let range = |name: &str, v: u32, lo: u32, hi: u32| {
-            if (lo..=hi).contains(&v) {
-                Ok(())
-            } else {
-                Err(PeltError::parameter(
-                    name,
-                    format!("must be in [{lo}, {hi}], got {v}"),
-                ))
-            }
+            check_range(name, f64::from(v), f64::from(lo), f64::from(hi))
         };
         range("samples_per_pass", self.samples_per_pass, 1, 1024)?;
         range("min_samples", self.min_samples, 1, MAX_SAMPLES)?;
