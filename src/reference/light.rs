@@ -6,7 +6,7 @@ use std::f64::consts::PI;
 
 use glam::{DVec3, Vec3, Vec3A};
 
-use crate::error::{PeltError, Result};
+use crate::error::{PeltError, Result, check_range};
 use crate::prt::sh;
 
 /// Largest light strength or environment coefficient accepted.
@@ -47,14 +47,7 @@ pub(crate) struct LightSample {
 }
 
 fn check(name: &str, v: f32) -> Result<()> {
-    if v.is_finite() && (0.0..=MAX_STRENGTH).contains(&v) {
-        Ok(())
-    } else {
-        Err(PeltError::parameter(
-            name,
-            format!("must be in [0, {MAX_STRENGTH}], got {v}"),
-        ))
-    }
+    check_range(name, f64::from(v), 0.0, f64::from(MAX_STRENGTH))
 }
 
 impl ReferenceLight {
