@@ -250,4 +250,25 @@ fn reference_renders_a_baked_folder_and_writes_nothing_on_bad_input() {
         .read_info()
         .unwrap();
     assert_eq!((png.info().width, png.info().height), (24, 24));
+
+    // The volume mode renders the same folder's baked volume.
+    let volume = dir.join("volume.exr");
+    let output = pelt(
+        &[
+            "reference",
+            dir.to_str().unwrap(),
+            "--out",
+            volume.to_str().unwrap(),
+            "--size",
+            "16",
+            "--samples",
+            "2",
+            "--mode",
+            "volume",
+        ],
+        2,
+    );
+    assert_ok(&output);
+    assert!(String::from_utf8_lossy(&output.stderr).contains("prisms"));
+    assert!(volume.exists() && dir.join("volume.png").exists());
 }

@@ -598,6 +598,7 @@ def render_reference(
     target_error: float = 0.01,
     seed: int = 0,
     shadows: bool = True,
+    mode: Literal["strands", "volume"] = "strands",
     progress: Callable[[float], bool | None] | None = None,
 ) -> tuple[npt.NDArray[np.float32], ReferenceInfo]:
     """A ground-truth image of ``asset`` (GIL released): the tile's strands placed over the mesh
@@ -611,5 +612,8 @@ def render_reference(
     (``sh`` ``[n², 3]`` radiance); default one sun of strength π from the upper right. Samples
     per pixel: at least ``samples``, more until the mean radiance is within ``target_error``,
     at most ``max_samples``. ``progress(fraction)`` returning ``False`` cancels
-    (:class:`BakeCancelled`); nothing is returned then. Bad input (a camera inside the mesh, zero
-    samples, an asset without strands) raises :class:`InvalidParameterError` naming it."""
+    (:class:`BakeCancelled`); nothing is returned then. ``mode="volume"`` ray marches the baked
+    density volume through the triangles' prisms instead of tracing the strands (the hybrid
+    paper's method: single scattering, attenuation toward light and eye). Bad input (a camera
+    inside the mesh, zero samples, an asset without strands) raises
+    :class:`InvalidParameterError` naming it."""

@@ -21,7 +21,8 @@ use crate::reference::metrics::{
 };
 use crate::reference::scenes::{CanonicalScene, FurLength, LightSetup, Shape, canonical_scene, framing};
 use crate::reference::{
-    FurGeometry, ReferenceImage, ReferenceLight, ReferenceScene, ReferenceSettings, render_reference,
+    FurGeometry, ReferenceImage, ReferenceLight, ReferenceScene, ReferenceSettings, VolumeScene,
+    render_reference, render_volume_reference,
 };
 use crate::render::{
     AdapterChoice, FurScene, KajiyaKay, LightModel, Lighting, Prt, RenderSettings, Renderer, ShellMethod,
@@ -29,6 +30,9 @@ use crate::render::{
 
 /// Layers of the volume: the skin and 64 shells.
 const LAYERS: usize = 65;
+/// The configuration name of the volume mode's cases: the hybrid paper's density volume
+/// rendered by the reference, its time and its error against the strands.
+const VOLUME: &str = "volume";
 /// Steps of the dolly, from the framed distance out to 30 times as far.
 const DOLLY_STEPS: usize = 24;
 
@@ -188,11 +192,43 @@ fn object_cases(
         "{group}: scene and references {:.1} s",
         started.elapsed().as_secs_f64()
     );
+    let mut results = Vec::new();
+    let volume_scene = VolumeScene::from_bake(
+        &asset.mesh,
+        &asset.patches,
+        &asset.volume,
+        &strands,
+        params.fur_depth(),
+    )?;
+    let mut volumes = Vec::with_capacity(scenes.len());
+    for (scene, reference) in scenes.iter().zip(&references) {
+        let volume = render_volume_reference(
+            &volume_scene,
+            &scene.camera,
+            &scene.lights,
+            &ReferenceSettings::default(),
+            None,
+        )?;
+        let errors = compare(
+            view(&volume.pixels, width, height),
+            view(&reference.pixels, width, height),
+            &distance,
+            fur_depth_pixels,
+        )?;
+        let name = format!("{group}.{}.{VOLUME}", light_name(scene));
+        if let Some(dir) = &options.pictures
+            && light_name(scene) == "side"
+        {
+            picture(dir, &format!("{group}.side.{VOLUME}"), &volume.pixels, reference)?;
+        }
+        results.push(case(&name, scene, &volume, &errors, None, (volume.seconds, None)));
+        volumes.push(volume);
+    }
+    eprintln!("{group}.*.{VOLUME}: {:.1} s", started.elapsed().as_secs_f64());
 
     // One timed frame after a warm-up: hundreds of cases, and the frame-time goals live in the
     // `render.*` cases.
     let reps = 1;
-    let mut results = Vec::new();
     let mut transfer_order = None;
     for config in configs(options.quick, study) {
         if let Some(order) = config.prt_order
@@ -219,7 +255,7 @@ fn object_cases(
         }
         let settings = preview_settings(&config, params.fur_depth() as f32);
         let started = std::time::Instant::now();
-        for (scene, reference) in scenes.iter().zip(&references) {
+        for ((scene, reference), volume) in scenes.iter().zip(&references).zip(&volumes) {
             let name = format!("{group}.{}.{}", light_name(scene), config.name);
             let lighting = preview_lighting(&scene.lights, config.prt_order.is_some());
             let timing = time_fallible(reps, || {
@@ -233,6 +269,12 @@ fn object_cases(
             let errors = compare(
                 view(&preview, width, height),
                 view(&reference.pixels, width, height),
+                &distance,
+                fur_depth_pixels,
+            )?;
+            let against_volume = compare(
+                view(&preview, width, height),
+                view(&volume.pixels, width, height),
                 &distance,
                 fur_depth_pixels,
             )?;
@@ -251,7 +293,12 @@ fn object_cases(
                     reference,
                 )?;
             }
-            results.push(case(&name, scene, reference, &errors, dolly, timing));
+            let mut result = case(&name, scene, reference, &errors, dolly, timing);
+            if let Some(figures) = result.image.as_mut() {
+                figures.volume_error = Some(against_volume.relative_mse);
+                figures.volume_luminance_ratio = Some(against_volume.luminance_ratio);
+            }
+            results.push(result);
         }
         eprintln!(
             "{group}.*.{}: {:.1} s",
@@ -291,6 +338,8 @@ fn case(
             alpha_profile_error: errors.alpha_profile_error,
             dolly_jump: dolly.map(|d| d.0),
             dolly_drift: dolly.map(|d| d.1),
+            volume_error: None,
+            volume_luminance_ratio: None,
         }),
         ..CaseResult::timed(name, size, timing)
     }

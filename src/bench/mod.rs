@@ -66,6 +66,13 @@ pub struct ImageFigures {
     /// LOD cases: the largest difference from the all-shells image along the dolly.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dolly_drift: Option<f64>,
+    /// Preview cases: the relative MSE against the reference's volume mode (the volume against
+    /// the shells, where the `error` is the strands against the shells).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub volume_error: Option<f64>,
+    /// Preview cases: mean fur luminance, preview over the reference's volume mode.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub volume_luminance_ratio: Option<f64>,
 }
 
 impl CaseResult {

@@ -1,6 +1,6 @@
 //! `pelt.render_reference`: a ground-truth image of a baked asset ([`crate::reference`]) with the
-//! same camera matrices as `Preview.render`, the GIL released while the strands are placed and
-//! traced.
+//! same camera matrices as `Preview.render`, of its strands or (`mode="volume"`) its density
+//! volume, the GIL released while the scene is built and traced.
 
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
@@ -14,7 +14,10 @@ use super::render::matrix;
 use crate::camera::Camera;
 use crate::error::PeltError;
 use crate::hair::grow_strands;
-use crate::reference::{FurGeometry, ReferenceLight, ReferenceScene, ReferenceSettings, render_reference};
+use crate::reference::{
+    FurGeometry, ReferenceLight, ReferenceScene, ReferenceSettings, VolumeScene, render_reference,
+    render_volume_reference,
+};
 
 fn triple(item: &Bound<'_, PyDict>, key: &str, name: &str, default: Option<[f32; 3]>) -> PyResult<[f32; 3]> {
     match item.get_item(key)? {
@@ -85,7 +88,7 @@ fn parse_lights(lights: Option<&Bound<'_, PyList>>) -> PyResult<Vec<ReferenceLig
 #[pyfunction]
 #[pyo3(name = "render_reference", signature = (
     asset, view_matrix, projection_matrix, width, height, *, lights=None, samples=16,
-    max_samples=1024, target_error=0.01, seed=0, shadows=true, progress=None
+    max_samples=1024, target_error=0.01, seed=0, shadows=true, mode="strands", progress=None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn render_reference_py<'py>(
@@ -101,8 +104,20 @@ pub(super) fn render_reference_py<'py>(
     target_error: f64,
     seed: u64,
     shadows: bool,
+    mode: &str,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
+    let volume_mode = match mode {
+        "strands" => false,
+        "volume" => true,
+        other => {
+            return Err(PeltError::parameter(
+                "mode",
+                format!("must be \"strands\" or \"volume\", got {other:?}"),
+            )
+            .into());
+        }
+    };
     let camera = Camera::from_gl(
         matrix(view_matrix, "view_matrix")?,
         matrix(projection_matrix, "projection_matrix")?,
@@ -125,8 +140,13 @@ pub(super) fn render_reference_py<'py>(
     let callback: Option<crate::progress::ProgressCallback<'_>> = reporter.is_some().then_some(&report);
     let result = detached(py, || {
         let strands = grow_strands(&asset.params.hair)?;
-        let geometry =
-            FurGeometry::from_bake(&asset.mesh, &asset.patches, &strands, asset.params.fur_depth())?;
+        let fur_depth = asset.params.fur_depth();
+        if volume_mode {
+            let scene =
+                VolumeScene::from_bake(&asset.mesh, &asset.patches, &asset.volume, &strands, fur_depth)?;
+            return render_volume_reference(&scene, &camera, &lights, &settings, callback);
+        }
+        let geometry = FurGeometry::from_bake(&asset.mesh, &asset.patches, &strands, fur_depth)?;
         let scene = ReferenceScene::new(geometry)?;
         render_reference(&scene, &camera, &lights, &settings, callback)
     });

@@ -209,7 +209,7 @@ impl FurGeometry {
         Ok(FurGeometry {
             points,
             strands: spans,
-            skin: Some(placer.skin(mesh, mean_root)),
+            skin: Some(skin_of(mesh, mean_root)),
         })
     }
 
@@ -242,7 +242,7 @@ fn check_points(total: usize) -> Result<()> {
     Ok(())
 }
 
-fn mean_root_color(strands: &[Strand]) -> Vec3 {
+pub(crate) fn mean_root_color(strands: &[Strand]) -> Vec3 {
     if strands.is_empty() {
         return Vec3::ZERO;
     }
@@ -348,15 +348,7 @@ struct Placer<'a> {
 
 impl<'a> Placer<'a> {
     fn new(mesh: &'a FurMesh, patches: &'a Patches, fur_depth: f32) -> Self {
-        let normals = mesh.normals();
-        let up = (0..mesh.vertex_count())
-            .map(|v| {
-                let comb = mesh.comb().map_or([0.0; 3], |c| c[v]);
-                let g = growth(normals[v], comb);
-                let length = mesh.length().map_or(1.0, |l| l[v]);
-                Vec3A::new(g[0] as f32, g[1] as f32, g[2] as f32) * (fur_depth * length)
-            })
-            .collect();
+        let up = growth_vectors(mesh, fur_depth);
         Placer {
             positions: mesh.positions(),
             triangles: mesh.triangles(),
@@ -500,20 +492,36 @@ impl<'a> Placer<'a> {
         let same = |v: u32| uv_of(t, v).is_some_and(|x| uv_of(n, v) == Some(x));
         (same(a) && same(b)).then_some(n)
     }
+}
 
-    fn skin(&self, mesh: &FurMesh, mean_root: Vec3) -> Skin {
-        let albedo = (0..mesh.vertex_count())
-            .map(|v| {
-                let c = self.colors.map_or([1.0; 4], |c| c[v]);
-                mean_root * Vec3::new(c[0], c[1], c[2])
-            })
-            .collect();
-        Skin {
-            positions: self.positions.iter().map(|&p| Vec3A::from(p)).collect(),
-            normals: mesh.normals().iter().map(|&n| Vec3A::from(n)).collect(),
-            albedo,
-            triangles: self.triangles.to_vec(),
-        }
+/// Per vertex: the growth direction × `fur_depth` × the vertex's length, the height a tile
+/// point at `z = 1` stands above the skin (as `mesh::shell_offset` lifts the shells).
+pub(crate) fn growth_vectors(mesh: &FurMesh, fur_depth: f32) -> Vec<Vec3A> {
+    let normals = mesh.normals();
+    (0..mesh.vertex_count())
+        .map(|v| {
+            let comb = mesh.comb().map_or([0.0; 3], |c| c[v]);
+            let g = growth(normals[v], comb);
+            let length = mesh.length().map_or(1.0, |l| l[v]);
+            Vec3A::new(g[0] as f32, g[1] as f32, g[2] as f32) * (fur_depth * length)
+        })
+        .collect()
+}
+
+/// The skin of `mesh`: its albedo the strands' mean root color `mean_root` times `pelt_color`
+/// (the shells' opaque layer 0).
+pub(crate) fn skin_of(mesh: &FurMesh, mean_root: Vec3) -> Skin {
+    let albedo = (0..mesh.vertex_count())
+        .map(|v| {
+            let c = mesh.color().map_or([1.0; 4], |c| c[v]);
+            mean_root * Vec3::new(c[0], c[1], c[2])
+        })
+        .collect();
+    Skin {
+        positions: mesh.positions().iter().map(|&p| Vec3A::from(p)).collect(),
+        normals: mesh.normals().iter().map(|&n| Vec3A::from(n)).collect(),
+        albedo,
+        triangles: mesh.triangles().to_vec(),
     }
 }
 
@@ -522,7 +530,7 @@ fn w_dot(w: Vec3, v: [f32; 3]) -> f32 {
 }
 
 /// Object units per tile unit across a triangle: √(object area / UV area).
-fn lateral_scale(uv: &[[f32; 2]; 3], p: &[Vec3A; 3]) -> f32 {
+pub(crate) fn lateral_scale(uv: &[[f32; 2]; 3], p: &[Vec3A; 3]) -> f32 {
     let [a, b, c] = uv.map(Vec2::from);
     let uv_area = (b - a).perp_dot(c - a).abs();
     let area = (p[1] - p[0]).cross(p[2] - p[0]).length();

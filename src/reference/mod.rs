@@ -3,11 +3,10 @@
 //! against what its approximations stand for.
 //!
 //! - Geometry ([`geometry`]): each strand of the tile is instantiated wherever a triangle's patch
-//!   UVs cover its root, every point carried to the surface by the root triangle's own affine
-//!   UV-to-object map, lifted along the same growth direction and by the same per-vertex length
-//!   as the shells (`mesh::shell_offset`), as a tapered cylinder of the strand's width. A strand
-//!   leaning over a triangle edge keeps its root triangle's map: the error is second order in the
-//!   lean (the change of the map's slope across the edge), a small share of a triangle.
+//!   UVs cover its root, every point carried to the surface by the map of the triangle whose UVs
+//!   hold it (found by walking across edges inside the patch), lifted along the same growth
+//!   direction and by the same per-vertex length as the shells (`mesh::shell_offset`), as a
+//!   tapered cylinder of the strand's width.
 //! - Tracing ([`scene`]): one compressed wide BVH (the `obvhs` crate: a PLOC build, 8-wide SIMD
 //!   traversal; no BVH crate intersects tapered hair, so the primitive tests are ours,
 //!   [`intersect`]) over chunks of strand segments and the skin's triangles.
@@ -18,11 +17,17 @@
 //! - Convergence ([`render`]): progressive passes until the relative standard error of the
 //!   image's mean radiance is within a target; the achieved error comes with every image.
 //!
+//! - Volume mode ([`volume`], [`density`]): the hybrid paper's own method, the bake's density
+//!   volume ray marched through the prisms the triangles extrude, with single scattering and
+//!   attenuation toward light and eye, rendered by the same loop
+//!   ([`render::render_volume_reference`]).
+//!
 //! The renderer shares nothing with the shells, fins, PRT or the wgpu passes beyond the mesh, the
-//! patches and the strand list.
+//! patches, the strand list and (volume mode) the baked volume.
 
 mod bvh;
 pub mod camera;
+mod density;
 pub mod geometry;
 mod intersect;
 pub mod light;
@@ -32,12 +37,14 @@ pub mod render;
 pub mod scene;
 pub mod scenes;
 pub mod shade;
+pub mod volume;
 
 #[cfg(test)]
 mod tests;
 
 pub use geometry::{FurGeometry, WorldStrand};
 pub use light::ReferenceLight;
-pub use render::{ReferenceImage, ReferenceSettings, render_reference};
+pub use render::{ReferenceImage, ReferenceSettings, render_reference, render_volume_reference};
 pub use scene::ReferenceScene;
 pub use shade::HairShading;
+pub use volume::VolumeScene;

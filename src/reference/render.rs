@@ -14,8 +14,9 @@ use rayon::prelude::*;
 
 use super::camera::RayGenerator;
 use super::light::{LightSample, Prepared, ReferenceLight, luminance};
-use super::scene::{Hit, ReferenceScene};
+use super::scene::ReferenceScene;
 use super::shade::HairShading;
+use super::volume::VolumeScene;
 use crate::camera::Camera;
 use crate::error::{PeltError, Result, check_range};
 use crate::progress::ProgressCallback;
@@ -141,6 +142,31 @@ pub fn render_reference(
     settings: &ReferenceSettings,
     progress: Option<ProgressCallback<'_>>,
 ) -> Result<ReferenceImage> {
+    render_with(scene, camera, lights, settings, progress)
+}
+
+/// Renders `scene`'s density volume (the hybrid paper's mode, [`super::volume`]) as
+/// [`render_reference`] renders the strands: same camera, lights, settings and convergence.
+///
+/// # Errors
+/// As [`render_reference`].
+pub fn render_volume_reference(
+    scene: &VolumeScene,
+    camera: &Camera,
+    lights: &[ReferenceLight],
+    settings: &ReferenceSettings,
+    progress: Option<ProgressCallback<'_>>,
+) -> Result<ReferenceImage> {
+    render_with(scene, camera, lights, settings, progress)
+}
+
+fn render_with<S: Sampler>(
+    scene: &S,
+    camera: &Camera,
+    lights: &[ReferenceLight],
+    settings: &ReferenceSettings,
+    progress: Option<ProgressCallback<'_>>,
+) -> Result<ReferenceImage> {
     let start = Instant::now();
     settings.validate()?;
     let rays = camera.rays()?;
@@ -176,9 +202,12 @@ pub fn render_reference(
     let tracer = Tracer {
         scene,
         rays,
-        lights: &prepared,
-        settings,
-        epsilon: extent * 1e-6,
+        lights: Lights {
+            prepared: &prepared,
+            settings,
+            epsilon: extent * 1e-6,
+        },
+        seed: settings.seed,
     };
 
     let width = camera.width as usize;
@@ -275,65 +304,18 @@ fn pixel_error(pixels: &[[f32; 4]], sums: &[f64], squares: &[f64], passes: usize
     (var_total / covered as f64).sqrt() / (lum_total / covered as f64)
 }
 
-/// What one sample needs.
-struct Tracer<'a> {
-    scene: &'a ReferenceScene,
-    rays: RayGenerator,
-    lights: &'a [Prepared],
-    settings: &'a ReferenceSettings,
+/// The lights of one render, ready to sample, with what shading needs besides the scene.
+pub(crate) struct Lights<'a> {
+    pub prepared: &'a [Prepared],
+    pub settings: &'a ReferenceSettings,
     /// Offset of shadow rays off their surface, object units.
-    epsilon: f32,
+    pub epsilon: f32,
 }
 
-impl Tracer<'_> {
-    /// Sample `s` of pixel `(x, y)`: premultiplied radiance and coverage.
-    fn sample(&self, x: usize, y: usize, pixel: u64, s: u32) -> DVec4 {
-        let mut rng = Rng::stream(self.settings.seed, pixel, u64::from(s));
-        let (jx, jy) = (rng.next_f64(), rng.next_f64());
-        let (origin, direction) = self.rays.ray(x as f64 + jx, y as f64 + jy);
-        let Some(hit) = self.scene.nearest(origin, direction, 0.0, f32::INFINITY) else {
-            return DVec4::ZERO;
-        };
-        let point = origin + hit.t() * direction;
-        let view = -direction;
-        let shading = &self.settings.shading;
-        let mut radiance = Vec3::ZERO;
-        match hit {
-            Hit::Hair {
-                strand, point: p, s, ..
-            } => {
-                let (tangent, albedo) = self.scene.hair_at(strand, p, s);
-                for light in self.lights {
-                    let l = self.light_sample(light, &mut rng);
-                    let f = shading.hair(tangent, l.direction, view, albedo);
-                    if f != Vec3::ZERO && !self.shadowed(point, l.direction, Some(strand)) {
-                        radiance += l.weight * f;
-                    }
-                }
-            }
-            Hit::Skin { triangle, b1, b2, .. } => {
-                let (mut normal, mut face, albedo) = self.scene.skin_at(triangle, b1, b2);
-                if face.dot(view) < 0.0 {
-                    normal = -normal;
-                    face = -face;
-                }
-                let lifted = point + face * self.epsilon;
-                for light in self.lights {
-                    let l = self.light_sample(light, &mut rng);
-                    if face.dot(l.direction) <= 0.0 {
-                        continue;
-                    }
-                    let f = shading.skin(normal, l.direction, albedo);
-                    if f != Vec3::ZERO && !self.shadowed(lifted, l.direction, None) {
-                        radiance += l.weight * f;
-                    }
-                }
-            }
-        }
-        (radiance.as_dvec3() / f64::from(PI)).extend(1.0)
-    }
-
-    fn light_sample(&self, light: &Prepared, rng: &mut Rng) -> LightSample {
+impl Lights<'_> {
+    /// A direction toward `light` with its weight (a sun's own; one importance sample of an
+    /// environment).
+    pub(crate) fn sample(&self, light: &Prepared, rng: &mut Rng) -> LightSample {
         match light {
             Prepared::Sun {
                 direction,
@@ -348,10 +330,37 @@ impl Tracer<'_> {
         }
     }
 
-    fn shadowed(&self, point: Vec3A, toward: Vec3A, skip_strand: Option<u32>) -> bool {
-        self.settings.shadows
-            && self
-                .scene
-                .blocked(point, toward, self.epsilon, f32::INFINITY, skip_strand)
+    pub(crate) fn shading(&self) -> &HairShading {
+        &self.settings.shading
+    }
+}
+
+/// What the progressive loop needs of a traceable scene (the strands, or their density volume).
+pub(crate) trait Sampler: Sync {
+    /// Lowest and highest corner.
+    fn bounds(&self) -> ([f32; 3], [f32; 3]);
+    /// Whether `eye` lies inside the skin.
+    fn encloses(&self, eye: Vec3A) -> bool;
+    /// One sample along the unit ray `origin + t · direction`: radiance × π (premultiplied by
+    /// coverage) and coverage.
+    fn sample(&self, origin: Vec3A, direction: Vec3A, lights: &Lights<'_>, rng: &mut Rng) -> (Vec3, f32);
+}
+
+/// What one sample needs.
+struct Tracer<'a, S> {
+    scene: &'a S,
+    rays: RayGenerator,
+    lights: Lights<'a>,
+    seed: u64,
+}
+
+impl<S: Sampler> Tracer<'_, S> {
+    /// Sample `s` of pixel `(x, y)`: premultiplied radiance and coverage.
+    fn sample(&self, x: usize, y: usize, pixel: u64, s: u32) -> DVec4 {
+        let mut rng = Rng::stream(self.seed, pixel, u64::from(s));
+        let (jx, jy) = (rng.next_f64(), rng.next_f64());
+        let (origin, direction) = self.rays.ray(x as f64 + jx, y as f64 + jy);
+        let (radiance, coverage) = self.scene.sample(origin, direction, &self.lights, &mut rng);
+        (radiance.as_dvec3() / f64::from(PI)).extend(f64::from(coverage))
     }
 }

@@ -8,7 +8,9 @@ use obvhs::aabb::Aabb;
 use super::bvh::Bvh;
 use super::geometry::FurGeometry;
 use super::intersect::{HairSegment, ray_segment, ray_triangle};
+use super::render::{Lights, Sampler};
 use crate::error::{PeltError, Result};
+use crate::rng::Rng;
 
 /// Segments per BVH primitive: a chunk's box stays close to its hair while the tree holds a
 /// quarter of the boxes a primitive per segment would.
@@ -294,5 +296,66 @@ impl ReferenceScene {
                 (p[1] - p[0]).cross(p[2] - p[0]).dot(d) > 0.0
             })
         })
+    }
+}
+
+impl Sampler for ReferenceScene {
+    fn bounds(&self) -> ([f32; 3], [f32; 3]) {
+        ReferenceScene::bounds(self)
+    }
+
+    fn encloses(&self, eye: Vec3A) -> bool {
+        ReferenceScene::encloses(self, eye)
+    }
+
+    /// The nearest hair or skin, lit by every light through a shadow ray.
+    fn sample(&self, origin: Vec3A, direction: Vec3A, lights: &Lights<'_>, rng: &mut Rng) -> (Vec3, f32) {
+        let Some(hit) = self.nearest(origin, direction, 0.0, f32::INFINITY) else {
+            return (Vec3::ZERO, 0.0);
+        };
+        let point = origin + hit.t() * direction;
+        let view = -direction;
+        let shading = lights.shading();
+        let shadows = lights.settings.shadows;
+        let mut radiance = Vec3::ZERO;
+        match hit {
+            Hit::Hair {
+                strand, point: p, s, ..
+            } => {
+                let (tangent, albedo) = self.hair_at(strand, p, s);
+                for light in lights.prepared {
+                    let l = lights.sample(light, rng);
+                    let f = shading.hair(tangent, l.direction, view, albedo);
+                    if f != Vec3::ZERO
+                        && !(shadows
+                            && self.blocked(point, l.direction, lights.epsilon, f32::INFINITY, Some(strand)))
+                    {
+                        radiance += l.weight * f;
+                    }
+                }
+            }
+            Hit::Skin { triangle, b1, b2, .. } => {
+                let (mut normal, mut face, albedo) = self.skin_at(triangle, b1, b2);
+                if face.dot(view) < 0.0 {
+                    normal = -normal;
+                    face = -face;
+                }
+                let lifted = point + face * lights.epsilon;
+                for light in lights.prepared {
+                    let l = lights.sample(light, rng);
+                    if face.dot(l.direction) <= 0.0 {
+                        continue;
+                    }
+                    let f = shading.skin(normal, l.direction, albedo);
+                    if f != Vec3::ZERO
+                        && !(shadows
+                            && self.blocked(lifted, l.direction, lights.epsilon, f32::INFINITY, None))
+                    {
+                        radiance += l.weight * f;
+                    }
+                }
+            }
+        }
+        (radiance, 1.0)
     }
 }

@@ -1,18 +1,26 @@
 //! `pelt reference SOURCE --out IMAGE.exr`: renders a ground-truth image with the reference
 //! renderer (`pelt::reference`) of a baked folder (from `pelt bake`) or of a canonical scene
 //! (`sphere.short.side`, …), as linear OpenEXR (premultiplied RGBA) and an sRGB PNG beside it.
-//! Both files appear only when the render finished (written under a temporary name, then
-//! renamed); Ctrl+C or an error leaves nothing.
+//! `--mode volume` renders the bake's density volume instead of its strands (the hybrid paper's
+//! method). Both files appear only when the render finished (written under a temporary name,
+//! then renamed); Ctrl+C or an error leaves nothing.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-use clap::Args;
+use clap::{Args, ValueEnum};
 use pelt::camera::Camera;
 use pelt::export::{ExrOptions, ImageRef, PngOptions, save_exr, save_png};
-use pelt::hair::grow_strands;
+use pelt::hair::{Strand, grow_strands};
+use pelt::lapped::Patches;
+use pelt::mesh::FurMesh;
 use pelt::reference::scenes::{FurLength, LightSetup, Shape, canonical_scene, framing};
-use pelt::reference::{FurGeometry, ReferenceLight, ReferenceScene, ReferenceSettings, render_reference};
+use pelt::reference::{
+    FurGeometry, ReferenceImage, ReferenceLight, ReferenceScene, ReferenceSettings, VolumeScene,
+    render_reference, render_volume_reference,
+};
+use pelt::volume::{HairVolume, bake_strands};
 
 use crate::bake::{bake_object, load_record, prepare};
 
@@ -37,6 +45,59 @@ pub struct ReferenceArgs {
     /// The object of a baked folder to render (default: the first).
     #[arg(long)]
     pub object: Option<String>,
+    /// What to trace: the strands, or the density volume baked from them.
+    #[arg(long, value_enum, default_value_t = Mode::Strands)]
+    pub mode: Mode,
+}
+
+/// The reference's two modes.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Mode {
+    /// The tile's strands placed over the mesh.
+    Strands,
+    /// The baked hair volume ray marched through the triangles' prisms.
+    Volume,
+}
+
+/// What both modes are built from.
+struct Fur {
+    mesh: Arc<FurMesh>,
+    patches: Arc<Patches>,
+    strands: Vec<Strand>,
+    volume: Arc<HairVolume>,
+    fur_depth: f64,
+}
+
+impl Fur {
+    fn render(
+        &self,
+        mode: Mode,
+        camera: &Camera,
+        lights: &[ReferenceLight],
+        settings: &ReferenceSettings,
+        progress: pelt::progress::ProgressCallback<'_>,
+    ) -> pelt::Result<ReferenceImage> {
+        match mode {
+            Mode::Strands => {
+                let geometry =
+                    FurGeometry::from_bake(&self.mesh, &self.patches, &self.strands, self.fur_depth)?;
+                let scene = ReferenceScene::new(geometry)?;
+                eprintln!("reference: {} strands", scene.strand_count());
+                render_reference(&scene, camera, lights, settings, Some(progress))
+            }
+            Mode::Volume => {
+                let scene = VolumeScene::from_bake(
+                    &self.mesh,
+                    &self.patches,
+                    &self.volume,
+                    &self.strands,
+                    self.fur_depth,
+                )?;
+                eprintln!("reference: the volume in {} prisms", scene.prism_count());
+                render_volume_reference(&scene, camera, lights, settings, Some(progress))
+            }
+        }
+    }
 }
 
 pub fn run(args: ReferenceArgs) -> Result<(), String> {
@@ -47,20 +108,19 @@ pub fn run(args: ReferenceArgs) -> Result<(), String> {
         ..ReferenceSettings::default()
     };
     settings.validate().map_err(|e| e.to_string())?;
-    let (geometry, camera, lights) = if Path::new(&args.source).is_dir() {
+    let (fur, camera, lights) = if Path::new(&args.source).is_dir() {
         baked_folder(&args)?
     } else {
         canonical(&args)?
     };
-    let scene = ReferenceScene::new(geometry).map_err(|e| e.to_string())?;
-    eprintln!("reference: {} strands", scene.strand_count());
     let progress = |done: f64| {
         eprint!("\rreference: {:3.0}%", 100.0 * done);
         let _ = std::io::stderr().flush();
         true
     };
-    let image =
-        render_reference(&scene, &camera, &lights, &settings, Some(&progress)).map_err(|e| e.to_string())?;
+    let image = fur
+        .render(args.mode, &camera, &lights, &settings, &progress)
+        .map_err(|e| e.to_string())?;
     eprintln!(
         "\rreference: {} samples/pixel, mean radiance within {:.2}% (pixels {:.1}%), {:.1} s",
         image.samples,
@@ -106,7 +166,7 @@ fn part(path: &Path) -> PathBuf {
     path.with_file_name(name)
 }
 
-type Prepared = (FurGeometry, Camera, Vec<ReferenceLight>);
+type Prepared = (Fur, Camera, Vec<ReferenceLight>);
 
 fn canonical(args: &ReferenceArgs) -> Result<Prepared, String> {
     let parts: Vec<&str> = args.source.split('.').collect();
@@ -133,9 +193,15 @@ fn canonical(args: &ReferenceArgs) -> Result<Prepared, String> {
     let strands = grow_strands(&scene.params.hair).map_err(|e| e.to_string())?;
     let patches =
         pelt::lapped::build_patches(&scene.mesh, &scene.params.patches).map_err(|e| e.to_string())?;
-    let geometry = FurGeometry::from_bake(&scene.mesh, &patches, &strands, scene.params.fur_depth())
-        .map_err(|e| e.to_string())?;
-    Ok((geometry, scene.camera, scene.lights))
+    let volume = bake_strands(&strands, &scene.params.volume, None).map_err(|e| e.to_string())?;
+    let fur = Fur {
+        mesh: scene.mesh.clone(),
+        patches: Arc::new(patches),
+        strands,
+        volume: Arc::new(volume),
+        fur_depth: scene.params.fur_depth(),
+    };
+    Ok((fur, scene.camera, scene.lights))
 }
 
 /// A baked folder: the object baked again from its record (the bake is deterministic), framed
@@ -154,8 +220,6 @@ fn baked_folder(args: &ReferenceArgs) -> Result<Prepared, String> {
     without_transfer.transfer = None;
     let asset = bake_object(&record, &without_transfer, name, data)?;
     let strands = grow_strands(&asset.params.hair).map_err(|e| e.to_string())?;
-    let geometry = FurGeometry::from_bake(&asset.mesh, &asset.patches, &strands, asset.params.fur_depth())
-        .map_err(|e| e.to_string())?;
     let (lo, hi) = bounds(asset.mesh.positions());
     let centre = std::array::from_fn(|k| 0.5 * (lo[k] + hi[k]));
     let radius = 0.5 * (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f32>().sqrt();
@@ -167,7 +231,14 @@ fn baked_folder(args: &ReferenceArgs) -> Result<Prepared, String> {
         strength: std::f32::consts::PI,
         color: [1.0; 3],
     }];
-    Ok((geometry, camera, lights))
+    let fur = Fur {
+        mesh: asset.mesh.clone(),
+        patches: asset.patches.clone(),
+        strands,
+        volume: asset.volume.clone(),
+        fur_depth: asset.params.fur_depth(),
+    };
+    Ok((fur, camera, lights))
 }
 
 fn bounds(positions: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {

@@ -338,3 +338,4 @@ fn shadows_fall_for_axis_aligned_lights_with_signed_zeros() {
         assert!(b < 0.97 * a, "{direction:?}: shadows {b} against {a}");
     }
 }
+mod volume;
