@@ -81,12 +81,20 @@ def finish(obj, job: bake_job.BakeJob, build_material=None) -> str:
     if job.error is not None:
         raise job.error
     start = time.perf_counter()
-    writer.write_asset(obj, job.asset, build_material=build_material)
+    written = writer.write_asset(obj, job.asset, build_material=build_material)
+    changes = []
+    if build_material is not None:
+        # After everything else succeeded: a failed bake leaves the scene as it was.
+        changes = fur.prepare_scene(bpy.context.scene, fur_settings(obj, written["info"], job.asset))
+        writer.note_scene_changes(obj, changes)
     stages = ", ".join(
         f"{s['stage']} {s['seconds']:.2f} s" if s["ran"] else f"{s['stage']} skipped"
         for s in job.asset.report
     )
-    return f"Pelt: baked {obj.name}: {stages}, written in {time.perf_counter() - start:.2f} s"
+    report = f"Pelt: baked {obj.name}: {stages}, written in {time.perf_counter() - start:.2f} s"
+    if changes:
+        report += f"; so that the fur renders: {', '.join(changes)} (Ctrl+Z undoes)"
+    return report
 
 
 class PELT_OT_bake(bpy.types.Operator):
@@ -171,15 +179,20 @@ class PELT_OT_bake(bpy.types.Operator):
 def build_material(obj, images, info, asset):
     """The fur material, fin material and Geometry Nodes modifier, so EEVEE and Cycles render
     the bake (``fur.build_fur``); every check runs before anything is created."""
-    settings = fur_layout.FurSettings.for_volume(
+    settings = fur_settings(obj, info, asset)
+    fur.build_fur(obj, images, info["layout"], settings, fin_height=info["fin_height"])
+    return []
+
+
+def fur_settings(obj, info, asset) -> fur_layout.FurSettings:
+    """The Blender fur's layout for the written bake ``info`` of ``asset``."""
+    return fur_layout.FurSettings.for_volume(
         info,
         depth=asset.fur_depth,
         shells=max(1, min(obj.pelt.max_shells, info["layers"])),
         fins=obj.pelt.fins,
         tile_size=asset.tile_size,
     )
-    fur.build_fur(obj, images, info["layout"], settings, fin_height=info["fin_height"])
-    return []
 
 
 CLASSES = (PELT_OT_bake,)

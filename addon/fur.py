@@ -61,9 +61,14 @@ def remove_fur(obj, *, images: bool = False) -> list[str]:
     return removed
 
 
-def prepare_scene(scene, settings: FurSettings) -> None:
+def prepare_scene(scene, settings: FurSettings) -> list[str]:
     """Lets ``scene`` render the fur: Cycles' transparent bounces raised (never lowered) to what
     a ray through every shell and a fin on both sides of the object needs (otherwise rays stop,
-    black, after the default 8 surfaces)."""
+    black, after the default 8 surfaces). Returns a line per setting it changed, for the report
+    (the bake's undo step takes them back)."""
     needed = 4 * settings.shells + 4
-    scene.cycles.transparent_max_bounces = max(scene.cycles.transparent_max_bounces, needed)
+    before = scene.cycles.transparent_max_bounces
+    if before >= needed:
+        return []
+    scene.cycles.transparent_max_bounces = needed
+    return [f"Cycles transparent bounces {before} → {needed}"]

@@ -82,8 +82,9 @@ def light_arrival(obj, target):
 
 
 def key_light(scene, target=(0.0, 0.0, 0.0)):
-    """``(direction toward the light, RGB)`` of the strongest light at ``target`` (Kajiya-Kay),
-    or a soft light from the upper front when the scene has none."""
+    """``(direction toward the light, RGB irradiance)`` of the strongest light at ``target``
+    (Kajiya-Kay; a sun's strength × color, as ``pelt.Preview.render`` takes it), or a light from
+    the upper front when the scene has none."""
     best = None
     for obj in scene.objects:
         if obj.type != "LIGHT" or obj.hide_render:
@@ -92,7 +93,8 @@ def key_light(scene, target=(0.0, 0.0, 0.0)):
         if radiance is not None and (best is None or radiance.sum() > best[1].sum()):
             best = (direction, radiance)
     if best is None:
-        return (0.3, -0.5, 0.8), np.ones(3, np.float32)
+        # A sun of strength π: a white surface facing it shows 1.
+        return (0.3, -0.5, 0.8), np.full(3, math.pi, np.float32)
     return best
 
 

@@ -60,6 +60,8 @@ class VIEW3D_PT_pelt(_PeltPanel, bpy.types.Panel):
             for stage in bake.get("stages", []):
                 text = f"{stage['seconds']:.2f} s" if stage["ran"] else "skipped (unchanged)"
                 box.label(text=f"{stage['stage'].title()}: {text}")
+            for change in bake.get("scene_changes", []):
+                box.label(text=f"Set for the fur: {change}", icon="SCENE_DATA")
         stats = _json(settings.last_check)
         if stats:
             box = layout.box()

@@ -56,8 +56,10 @@ def object_lighting(scene, obj, model: str, order: int | None) -> dict:
     target = tuple(world.translation)
     if model == "prt" and order:
         environment = lighting.world_sh(scene, order, target)
-        # g(d_object) = f(R d_object): the world's radiance seen from the object's frame.
-        return {"model": "prt", "environment": rotate_sh(environment, rotation)}
+        # g(d_object) = f(R d_object): the world's radiance seen from the object's frame. The
+        # lights are in the SH already: no directional light on top (the renderer's default one
+        # would add light the scene does not have).
+        return {"model": "prt", "environment": rotate_sh(environment, rotation), "color": (0.0, 0.0, 0.0)}
     direction, color = lighting.key_light(scene, target)
     local = rotation.T @ np.asarray(direction, np.float64)
     return {"model": "kajiya-kay", "direction": tuple(local), "color": tuple(float(c) for c in color)}

@@ -134,6 +134,14 @@ def write_asset(obj, asset: pelt.FurAsset, *, build_material=None) -> dict:
     return {"images": sorted(written), "info": info}
 
 
+def note_scene_changes(obj, changes: list[str]) -> None:
+    """Adds the scene settings the bake changed to ``obj``'s last-bake record (the panel shows
+    them)."""
+    record = json.loads(obj.pelt.last_bake or "{}")
+    record["scene_changes"] = changes
+    obj.pelt.last_bake = json.dumps(record)
+
+
 def _summary(info: dict) -> dict:
     transfer = info.get("transfer")
     return {"transfer_order": transfer["order"] if transfer else None}

@@ -11,7 +11,8 @@ use std::sync::OnceLock;
 
 use pelt::export::{PngOptions, save_png};
 use pelt::render::{
-    AdapterChoice, Camera, FurScene, Lighting, RenderSettings, Renderer, RgbaImage, ShellMethod,
+    AdapterChoice, Camera, FurScene, KajiyaKay, LightModel, Lighting, RenderSettings, Renderer, RgbaImage,
+    ShellMethod,
 };
 use pelt::{FurMesh, MeshInput, PeltError};
 
@@ -532,4 +533,55 @@ fn auto_shells_march_on_the_cpu_adapter() {
     let auto = with(ShellMethod::Auto);
     assert_eq!(auto.pixels, with(ShellMethod::Marched).pixels);
     assert_ne!(auto.pixels, with(ShellMethod::Instanced).pixels);
+}
+
+#[test]
+fn a_sun_of_strength_e_lights_the_skin_facing_it_to_e_over_pi() {
+    // Blender's light units, which the reference and Cycles share: a Lambertian surface of
+    // albedo ρ facing a sun of strength E shows ρ E / π. The skin's albedo is made uniform (layer
+    // 0 and its mips set to one sRGB value) and every other term is switched off.
+    let f = fixture();
+    let mut volume = f.volume.clone();
+    let plane = volume.resolution * volume.resolution;
+    for texel in volume.shells[..4 * plane].chunks_exact_mut(4) {
+        texel.copy_from_slice(&[188, 188, 188, 255]);
+    }
+    for (k, mip) in volume.mips.iter_mut().enumerate() {
+        let side = (volume.resolution >> (k + 1)).max(1);
+        for texel in mip[..4 * side * side].chunks_exact_mut(4) {
+            texel.copy_from_slice(&[188, 188, 188, 255]);
+        }
+    }
+    let albedo = f64::from(pelt::color::srgb_to_linear(188.0 / 255.0));
+    let scene = FurScene::new(&f.renderer, &f.mesh, &f.uvs, &volume).unwrap();
+    let strength = 2.5f32;
+    let lighting = Lighting {
+        direction: [0.0, 0.0, 1.0],
+        color: [strength; 3],
+        self_shadow: 0.0,
+        model: LightModel::KajiyaKay(KajiyaKay {
+            ambient: [0.0; 3],
+            diffuse: 1.0,
+            specular: 0.0,
+            ..KajiyaKay::default()
+        }),
+    };
+    let image = f
+        .renderer
+        .render_linear(&scene, &top(), &lighting, &skin_only())
+        .unwrap();
+    // Pixels over the top of the tube (distance 1 from the axis, normal +z within 4°).
+    let expected = albedo * f64::from(strength) / std::f64::consts::PI;
+    let mut seen = 0;
+    for (i, p) in image.pixels.chunks_exact(4).enumerate() {
+        let (x, y) = ((i as u32 % SIZE) as f64 + 0.5, (i as u32 / SIZE) as f64 + 0.5);
+        let at = |c: f64| (2.0 * c / f64::from(SIZE) - 1.0) * TOP_HALF;
+        let rho = at(x).hypot(at(y));
+        if (rho - 1.0).abs() < 0.02 && p[3] == 1.0 {
+            seen += 1;
+            let red = f64::from(p[0]);
+            assert!((red / expected - 1.0).abs() < 0.02, "skin {red}, ρE/π {expected}");
+        }
+    }
+    assert!(seen > 20, "{seen} pixels over the top of the tube");
 }

@@ -142,7 +142,7 @@ fn skin_radiance_is_albedo_times_the_transfer_dot_product() {
         .renderer
         .render_linear(&scene, &camera, &lighting, &skin_only)
         .unwrap();
-    // The world lighting as the docs define it: environment / π + color × the unit cap.
+    // The world lighting as the docs define it: (environment + irradiance × the unit cap) / π.
     let LightModel::Prt(prt) = &lighting.model else {
         unreachable!()
     };
@@ -154,7 +154,7 @@ fn skin_radiance_is_albedo_times_the_transfer_dot_product() {
         .map(|k| {
             std::array::from_fn(|c| {
                 f64::from(prt.environment[k][c]) / std::f64::consts::PI
-                    + f64::from(lighting.color[c]) * cap[k]
+                    + f64::from(lighting.color[c]) / std::f64::consts::PI * cap[k]
             })
         })
         .collect();
@@ -321,7 +321,7 @@ fn a_light_behind_the_skin_lights_nothing_and_one_above_lights_the_fur() {
     let lit_by = |direction: [f32; 3]| {
         let lighting = Lighting {
             direction,
-            color: [1.0; 3],
+            color: [std::f32::consts::PI; 3],
             model: LightModel::Prt(Prt {
                 environment: Vec::new(),
                 light_radius: 0.2,
@@ -490,4 +490,60 @@ fn zero_length_under_prt_renders_exactly_the_skin() {
         .unwrap();
     let bald = f.renderer.render(&scene, &camera, &lighting(), &all).unwrap();
     assert!(bald == skin_image);
+}
+
+#[test]
+fn lod_under_prt_fades_between_its_levels_without_adding_light() {
+    // Between two levels the image is a cross-fade of the two: its brightness stays between
+    // theirs. The finer level's odd shells have no coarser twin, so their alpha fades; their
+    // premultiplied color must fade with it (left at full strength it added light in mid-fade:
+    // a saw-tooth of up to 39% along a dolly).
+    let f = fixture();
+    let (mesh, uvs) = grid(8, |p| p);
+    let scene = scene(&mesh, &uvs);
+    let camera = Camera {
+        view: column_major(look_at_rows([0.0, -1.6, 1.4], [0.0; 3], [0.0, 0.0, 1.0])),
+        projection: column_major(perspective_rows(50.0, 0.5, 10.0)),
+        width: 64,
+        height: 64,
+    };
+    let lighting = lighting();
+    let lod = RenderSettings {
+        fur_depth: FUR_DEPTH,
+        lod: true,
+        min_shells: 0,
+        ..RenderSettings::default()
+    };
+    let pixels = f64::from(
+        f.renderer
+            .frame_info(&scene, &camera, &lod)
+            .unwrap()
+            .fur_pixels
+            .unwrap(),
+    );
+    let at = |shells: f64| RenderSettings {
+        shells_per_pixel: (shells / pixels) as f32,
+        ..lod
+    };
+    let mean = |shells: f64| {
+        let image = f
+            .renderer
+            .render_linear(&scene, &camera, &lighting, &at(shells))
+            .unwrap();
+        image.pixels.chunks_exact(4).map(|p| f64::from(p[0])).sum::<f64>()
+    };
+    // 8 layers: levels of 7, 3 and 1 shells.
+    for (fine, coarse) in [(7.0, 3.0), (3.0, 1.0)] {
+        let (a, b) = (mean(fine), mean(coarse - 1e-3));
+        let (lo, hi) = (a.min(b), a.max(b));
+        for k in 1..8 {
+            let count = coarse + (fine - coarse) * f64::from(k) / 8.0;
+            let blend = f.renderer.frame_info(&scene, &camera, &at(count)).unwrap().blend;
+            let m = mean(count);
+            assert!(
+                m >= 0.99 * lo && m <= 1.01 * hi,
+                "{count:.2} shells (blend {blend:.2}): {m}, outside the levels' {lo}..{hi}"
+            );
+        }
+    }
 }

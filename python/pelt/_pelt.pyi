@@ -465,7 +465,9 @@ class Preview:
         ``np.array(region_3d.view_matrix @ obj.matrix_world)`` and
         ``np.array(region_3d.window_matrix)`` give them. ``lighting``: ``None`` is PRT when the
         asset has a transfer, else Kajiya-Kay; a dict sets fields over the model's defaults
-        (``environment`` ``[n², 3]`` SH radiance for PRT). ``shells``: how many of the volume's
+        (``color``: the directional light's irradiance × color, Blender's sun strength, so a
+        white surface facing it shows ``color / π``, default π; ``environment`` ``[n², 3]`` SH
+        radiance for PRT). ``shells``: how many of the volume's
         shells to draw (``None``: all); ``lod=True`` chooses the count from the projected fur
         depth (``shells_per_pixel`` per pixel, within ``min_shells``..``max_shells``) and
         cross-fades LOD levels (``shells`` must be ``None`` then). ``shell_method="marched"``

@@ -101,7 +101,10 @@ impl Default for LightModel {
 pub struct Lighting {
     /// Direction toward the light, object space; any non-zero length.
     pub direction: [f32; 3],
-    /// Light color × intensity, linear RGB, each `[0, MAX_RADIANCE]`.
+    /// The light's irradiance on a surface facing it × its color, linear RGB, each
+    /// `[0, MAX_RADIANCE]`: Blender's sun strength, so a white Lambertian surface facing it
+    /// shows `color / π` (the light units of `docs/ARCHITECTURE.md`, shared with the reference
+    /// and Cycles). The default, π, lights such a surface to 1.
     pub color: [f32; 3],
     /// Banks-style self-shadowing (Lengyel §2.4): hair at the skin is darkened by this share,
     /// fading linearly to none at the tips; `[0, 1]`. Kajiya–Kay only: the transfer of PRT holds
@@ -115,7 +118,7 @@ impl Default for Lighting {
     fn default() -> Self {
         Lighting {
             direction: [0.4, -0.5, 0.75],
-            color: [1.0; 3],
+            color: [std::f32::consts::PI; 3],
             self_shadow: 0.6,
             model: LightModel::default(),
         }
@@ -139,6 +142,7 @@ fn in_range(name: &str, value: f32, lo: f32, hi: f32, open_lo: bool) -> Result<(
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct LightingFrame {
     pub direction: [f32; 3],
+    /// What a white Lambertian surface facing the light shows: [`Lighting::color`] / π.
     pub color: [f32; 3],
     pub ambient: [f32; 3],
     /// `Kd, Ks, Pd, Ps`.
@@ -164,12 +168,13 @@ impl Lighting {
         }
         in_range("lighting.self_shadow", self.self_shadow, 0.0, 1.0, false)?;
         let direction = d.map(|c| (c / len) as f32);
+        let color = self.color.map(|c| c / std::f32::consts::PI);
         match &self.model {
             LightModel::KajiyaKay(kk) => {
                 check_kajiya_kay(kk)?;
                 Ok(LightingFrame {
                     direction,
-                    color: self.color,
+                    color,
                     ambient: kk.ambient,
                     kajiya_kay: [kk.diffuse, kk.specular, kk.diffuse_power, kk.specular_power],
                     self_shadow: self.self_shadow,
@@ -180,7 +185,7 @@ impl Lighting {
                 check_prt(prt)?;
                 Ok(LightingFrame {
                     direction,
-                    color: self.color,
+                    color,
                     ambient: [0.0; 3],
                     kajiya_kay: [0.0; 4],
                     self_shadow: 0.0,

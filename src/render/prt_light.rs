@@ -10,8 +10,9 @@ use crate::prt::sh;
 
 /// The world lighting for a transfer of `order` bands, RGB per coefficient (`w` = 0), divided
 /// by π (see [`super::Prt`]). The environment is truncated or padded with zeros to `order`; the
-/// light of color `C` enters as `π · C` times the unit-power cap around its direction, so that
-/// unshadowed it gives `albedo · C`.
+/// light of irradiance `E` (`Lighting::color`, which the frame holds as `E / π`) enters as `E`
+/// times the unit-power cap around its direction, so that unshadowed it gives `albedo · E / π`,
+/// as the environment's own suns do.
 ///
 /// # Errors
 /// None for a lighting that passed [`super::Lighting::frame`] and an order in `[1, 8]`.

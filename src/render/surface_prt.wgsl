@@ -84,15 +84,19 @@ fn skin_fragment(v: SkinVarying) -> vec3<f32> {
 }
 
 // Each level's texel × vertex color, lit by the transfer of its own layer (the two levels'
-// layers are lit differently), cross-faded; premultiplied, opacity × texel alpha.
+// layers are lit differently), cross-faded; premultiplied, opacity × texel alpha. A layer with
+// no coarser twin fades its color with its alpha (its coarse texel is zero).
 fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>) -> vec4<f32> {
     let tint = s.color.rgb * opacity;
     let fine = texels.fine.rgb
         * transfer_radiance(s.ids, s.bary, s.uv, s.layer, grad, texels.fine.a);
     var rgb = fine;
-    if (frame.fin.y > 0.0 && s.coarse != NO_LAYER) {
-        let coarse = texels.coarse.rgb
-            * transfer_radiance(s.ids, s.bary, s.uv, s.coarse, grad, texels.coarse.a);
+    if (frame.fin.y > 0.0) {
+        var coarse = vec3<f32>(0.0);
+        if (s.coarse != NO_LAYER) {
+            coarse = texels.coarse.rgb
+                * transfer_radiance(s.ids, s.bary, s.uv, s.coarse, grad, texels.coarse.a);
+        }
         rgb = mix(fine, coarse, frame.fin.y);
     }
     return vec4<f32>(rgb * tint, blended(texels).a * opacity);

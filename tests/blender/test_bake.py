@@ -164,15 +164,23 @@ def test_images_are_saved_beside_a_saved_blend(addon, tmp_path):
 
 def test_undo_restores_the_scene_before_the_bake(addon):
     obj = furred_suzanne()
+    scene = bpy.context.scene
+    scene.cycles.transparent_max_bounces = 8  # Blender's default
     bpy.ops.ed.undo_push(message="before bake")
     # As from the UI: the operator's own undo step (scripts skip it unless asked).
     assert bpy.ops.pelt.bake("EXEC_DEFAULT", True) == {"FINISHED"}
     assert "PeltUV" in bpy.data.objects[obj.name].data.uv_layers
+    # Cycles stops a ray, black, after 8 transparent surfaces: the bake raised them for its 8
+    # shells and fins (a ray crosses each shell and a fin twice) and recorded it for the panel.
+    assert bpy.context.scene.cycles.transparent_max_bounces == 4 * 8 + 4
+    changes = json.loads(bpy.data.objects[obj.name].pelt.last_bake)["scene_changes"]
+    assert changes == ["Cycles transparent bounces 8 → 36"]
     # Headless Blender keeps its window in the data but not in the operator's context.
     with bpy.context.temp_override(window=bpy.context.window_manager.windows[0]):
         assert bpy.ops.ed.undo() == {"FINISHED"}
     assert "PeltUV" not in bpy.data.objects["Suzanne"].data.uv_layers
     assert not [im for im in bpy.data.images if im.get("pelt_owner")]
+    assert bpy.context.scene.cycles.transparent_max_bounces == 8
 
 
 def test_presets_set_every_preset_field(addon):

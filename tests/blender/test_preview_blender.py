@@ -105,3 +105,19 @@ def test_object_lighting_turns_the_world_into_the_objects_frame(addon):
     local = preview.rotate_sh(world, rotation)
     expected = np.outer(pelt.sh_project_light((0.0, -1.0, 0.0), 3), [1.0, 1.0, 1.0])
     assert np.allclose(local, expected, atol=1e-4)
+
+
+def test_a_prt_preview_in_the_dark_is_black(addon):
+    # A black World and no light: under PRT every light of the preview comes from the scene's SH,
+    # so nothing may light the fur (a default directional light added to the World once made the
+    # add-on's PRT preview 36% brighter than its lights).
+    furred_suzanne_with_camera(prt=True)
+    world = bpy.data.worlds.new("Dark")
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    bpy.context.scene.world = world
+    for obj in [o for o in bpy.context.scene.objects if o.type == "LIGHT"]:
+        bpy.data.objects.remove(obj)
+    assert bpy.ops.pelt.render_preview() == {"FINISHED"}
+    pixels = preview_pixels()
+    assert (pixels[..., 3] > 0.5).mean() > 0.1
+    assert pixels[..., :3].max() < 1e-3, pixels[..., :3].max()
