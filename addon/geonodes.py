@@ -5,7 +5,9 @@ EEVEE and Cycles render Pelt's bake.
 
 The node group outputs, joined in this order:
 
-1. the **skin**: the mesh itself, ``pelt_layer`` = 0, material ``Pelt Fur``;
+1. the **skin**: the mesh itself, ``pelt_layer`` = 0, material ``Pelt Fur`` on its furred faces
+   (and on its bald faces when the object has no material of its own: otherwise they keep
+   theirs, such as the eyes of a head);
 2. the **shells** ``1..S-1``: the mesh without its bald faces (length 0 at every corner), turned
    into one instance, duplicated ``S - 1`` times (Duplicate Elements on the instance domain), each
    copy's layer ``round(j (L - 1) / (S - 1))`` stored on its instance, then realized at once and
@@ -45,6 +47,13 @@ INPUTS = (
     ("Fins", "NodeSocketBool", "fins", "A textured fin on every furred edge (seen near the outline)", None),
     ("Tile Size", "NodeSocketFloat", "tile_size", "Object units per tile of the fin texture", 1e-6),
 )
+# Set from the object, not the settings (``own_materials``).
+BALD_SKIN = (
+    "Bald Skin",
+    "NodeSocketBool",
+    "Pelt's skin material on bald faces too (off when the object has materials of its own, which "
+    "bald faces then keep)",
+)
 
 
 # The Set Material nodes, set per object (``templates.set_values``).
@@ -76,12 +85,19 @@ def build_fur_modifier(obj, settings: FurSettings, *, fur_material=None, fin_mat
         modifier = obj.modifiers.new(MODIFIER_NAME, "NODES")
     if modifier.node_group != group:
         modifier.node_group = group
+    values = {row[0]: getattr(settings, row[2]) for row in INPUTS}
+    values[BALD_SKIN[0]] = not own_materials(obj)
     for item in group.interface.items_tree:
-        field = next((row[2] for row in INPUTS if row[0] == item.name), None)
-        if item.item_type == "SOCKET" and item.in_out == "INPUT" and field is not None:
-            modifier[item.identifier] = getattr(settings, field)
+        if item.item_type == "SOCKET" and item.in_out == "INPUT" and item.name in values:
+            modifier[item.identifier] = values[item.name]
     obj.update_tag()
     return modifier
+
+
+def own_materials(obj) -> bool:
+    """Whether ``obj`` has a material of its own in some slot (Pelt's are on the modifier's
+    output, never in the object's slots)."""
+    return any(slot.material is not None for slot in obj.material_slots)
 
 
 def check_target(obj, settings) -> None:
@@ -118,6 +134,9 @@ def new_node_group(name: str):
         item.default_value = getattr(FurSettings(), field)
         if minimum is not None:
             item.min_value = minimum
+    bald_skin = group.interface.new_socket(BALD_SKIN[0], in_out="INPUT", socket_type=BALD_SKIN[1])
+    bald_skin.description = BALD_SKIN[2]
+    bald_skin.default_value = True
     group.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
 
     g = NodeGraph(group)
@@ -126,7 +145,11 @@ def new_node_group(name: str):
     base, top, length = _capture_growth(g, base, inputs["Depth"])
 
     skin = _store(g, base, LAYER_ATTRIBUTE, "FLOAT", "POINT", 0.0)
-    skin = g.node("GeometryNodeSetMaterial", {"Geometry": skin}, name=SKIN_MATERIAL_NODE).outputs[0]
+    skin = g.node(
+        "GeometryNodeSetMaterial",
+        {"Geometry": skin, "Selection": _skin_faces(g, length, inputs[BALD_SKIN[0]])},
+        name=SKIN_MATERIAL_NODE,
+    ).outputs[0]
     shells = _shells(g, base, top, length, inputs["Layers"], inputs["Shells"])
     shells = g.node("GeometryNodeSetMaterial", {"Geometry": shells}, name=SHELL_MATERIAL_NODE).outputs[0]
     fins = _fins(g, base, top, length, inputs["Tile Size"])
@@ -139,6 +162,19 @@ def new_node_group(name: str):
         group.links.new(part, join.inputs["Geometry"])
     g.node("NodeGroupOutput", {"Geometry": join.outputs["Geometry"]})
     return group
+
+
+def _skin_faces(g: NodeGraph, length, bald_skin):
+    """The faces that take Pelt's skin material: the furred ones (some corner with length), and
+    the bald ones too when ``bald_skin`` (an object without materials of its own)."""
+    bald = g.node("FunctionNodeCompare", {"A": length, "B": 0.0}, data_type="FLOAT", operation="LESS_EQUAL")
+    furred = g.node("FunctionNodeBooleanMath", {("Boolean", 0): bald.outputs["Result"]}, operation="NOT")
+    either = g.node(
+        "FunctionNodeBooleanMath",
+        {("Boolean", 0): furred.outputs[0], ("Boolean", 1): bald_skin},
+        operation="OR",
+    )
+    return either.outputs[0]
 
 
 def _named(g: NodeGraph, name: str, data_type: str):

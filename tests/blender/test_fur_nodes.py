@@ -225,7 +225,14 @@ def test_shells_use_pelt_fur_and_fins_pelt_fin(addon):
         if i.in_out == "INPUT" and i.socket_type != "NodeSocketGeometry"
     }
     assert values == pytest.approx(
-        {"Layers": settings.layers, "Shells": 3, "Depth": settings.depth, "Fins": True, "Tile Size": TILE}
+        {
+            "Layers": settings.layers,
+            "Shells": 3,
+            "Depth": settings.depth,
+            "Fins": True,
+            "Tile Size": TILE,
+            "Bald Skin": True,
+        }
     )
     # No slot or material was added to the user's mesh: the materials live on the modifier's output.
     assert len(obj.data.materials) == 0 and len(obj.material_slots) == 0
@@ -483,3 +490,29 @@ def test_cycles_renders_the_fur(addon, tmp_path):
 )
 def test_eevee_renders_the_fur(addon, tmp_path):
     fur_grows_the_silhouette(addon, tmp_path, "BLENDER_EEVEE", 96, 4)
+
+
+def test_bald_faces_keep_the_objects_own_materials(addon):
+    # A head with its eyes in their own slot, painted bald: the fur's skin covers the furred
+    # faces and leaves the eyes their material (the skin once took every face, and the eyes
+    # vanished from renders). Without materials of its own, bald faces take the skin too.
+    def bald_cap(p):
+        return np.where(p[:, 2] > 0.75, 0.0, 1.0)
+
+    obj, images, layout = furred_sphere(addon, length=bald_cap)
+    mesh = obj.data
+    build(addon, obj, images, layout, settings_for(addon, shells=2))
+    base_faces = len(mesh.polygons)
+    bald = face_corners_all_bald(mesh, bald_cap(read(mesh.vertices, "co", len(mesh.vertices), 3)))
+    assert 0 < bald.sum() < base_faces
+    skin = material_of_faces(evaluated(obj))[:base_faces]
+    assert set(skin) == {f"Pelt Fur {OBJECT}"}
+
+    body, eyes = bpy.data.materials.new("Body"), bpy.data.materials.new("Eyes")
+    mesh.materials.append(body)
+    mesh.materials.append(eyes)
+    mesh.polygons.foreach_set("material_index", bald.astype(np.int32))
+    build(addon, obj, images, layout, settings_for(addon, shells=2))
+    skin = material_of_faces(evaluated(obj))[:base_faces]
+    assert set(skin[bald]) == {"Eyes"}
+    assert set(skin[~bald]) == {f"Pelt Fur {OBJECT}"}
