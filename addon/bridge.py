@@ -177,6 +177,30 @@ def write_image(images, name: str, rgba: np.ndarray, *, color: bool = True, imag
     return image
 
 
+def write_linear_image(images, name: str, rgba: np.ndarray, *, image=None):
+    """Makes ``image`` (or a new image ``name``) a float image holding ``[H, W, 4] float32``
+    scene-linear, straight-alpha pixels (rows top to bottom), so that Blender displays it
+    through the scene's view transform as it does its own renders. A byte image or one of
+    another size is replaced by a new one of the same name. Returns the image."""
+    if rgba.ndim != 3 or rgba.shape[2] != 4 or rgba.dtype != np.float32:
+        raise pelt.InvalidParameterError(
+            f"invalid parameter `rgba`: must be [H, W, 4] float32, got {rgba.dtype} {rgba.shape}"
+        )
+    height, width = rgba.shape[:2]
+    if image is not None and (not image.is_float or tuple(image.size) != (width, height)):
+        name = image.name
+        images.remove(image)
+        image = None
+    if image is None:
+        image = images.new(name, width, height, alpha=True, float_buffer=True)
+    image.colorspace_settings.is_data = False
+    image.alpha_mode = "STRAIGHT"
+    # Blender stores rows bottom-up.
+    image.pixels.foreach_set(np.ascontiguousarray(rgba[::-1]).ravel())
+    image.update()
+    return image
+
+
 def encode_pngs(images: list) -> list:
     """``[(rgba, color?), ...]`` as PNG bytes, encoded side by side (``pelt.encode_png`` releases
     the GIL, so threads run it in parallel)."""

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """See the fur: "Render Preview" renders the scene camera's view of the active object with Pelt's
-wgpu renderer into the image ``Pelt Preview`` (headless too); "Live Preview" draws the same
+wgpu renderer into the float image ``Pelt Preview``, scene-linear so that Blender shows it through
+the scene's view transform like its own renders (headless too); "Live Preview" draws the same
 renderer over the 3D viewport, re-rendered when the view changes.
 
 One ``pelt.Preview`` (device + uploaded scene) is kept per object and rebuilt only when a bake
@@ -95,7 +96,8 @@ def render_options(obj, asset) -> dict:
 
 
 def render_camera(context, obj) -> np.ndarray:
-    """The scene camera's view of ``obj`` at the render resolution: ``[H, W, 4]`` uint8."""
+    """The scene camera's view of ``obj`` at the render resolution: ``[H, W, 4]`` float32,
+    scene-linear, straight alpha (Blender's color management displays it)."""
     scene = context.scene
     camera = scene.camera
     if camera is None:
@@ -116,6 +118,7 @@ def render_camera(context, obj) -> np.ndarray:
         width,
         height,
         lighting=object_lighting(scene, obj, model, preview.transfer_order),
+        linear=True,
         **render_options(obj, asset),
     )
 
@@ -140,11 +143,10 @@ class PELT_OT_render_preview(bpy.types.Operator):
         except pelt.PeltError as error:
             self.report({"ERROR"}, f"Pelt: {obj.name}: {error}")
             return {"CANCELLED"}
-        image = find_owned(bpy.data.images, obj.name, PREVIEW_ROLE)
-        fresh = image is None
-        image = bridge.write_image(bpy.data.images, PREVIEW_IMAGE, pixels, color=True, image=image)
-        if fresh:
-            tag(image, obj.name, PREVIEW_ROLE)
+        image = bridge.write_linear_image(
+            bpy.data.images, PREVIEW_IMAGE, pixels, image=find_owned(bpy.data.images, obj.name, PREVIEW_ROLE)
+        )
+        tag(image, obj.name, PREVIEW_ROLE)
         self.report({"INFO"}, f"Pelt: rendered {image.name} ({pixels.shape[1]}×{pixels.shape[0]})")
         return {"FINISHED"}
 

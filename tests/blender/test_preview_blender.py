@@ -121,3 +121,18 @@ def test_a_prt_preview_in_the_dark_is_black(addon):
     pixels = preview_pixels()
     assert (pixels[..., 3] > 0.5).mean() > 0.1
     assert pixels[..., :3].max() < 1e-3, pixels[..., :3].max()
+
+
+def test_the_preview_is_stored_scene_linear_for_the_view_transform(addon):
+    # Blender shows its renders through the scene's view transform; the preview image must hold
+    # scene-linear values so that it is shown the same way (an sRGB byte image is shown as is).
+    obj = furred_suzanne_with_camera()
+    assert bpy.ops.pelt.render_preview() == {"FINISHED"}
+    image = next(im for im in bpy.data.images if im.get("pelt_role") == "preview")
+    assert image.is_float and not image.colorspace_settings.is_data
+    assert image.colorspace_settings.name in ("Linear Rec.709", "Linear")
+    from addon import preview
+
+    linear = preview.render_camera(bpy.context, obj)
+    assert linear.dtype == np.float32
+    np.testing.assert_allclose(preview_pixels(), linear[::-1], atol=1e-6)
