@@ -196,9 +196,8 @@ def main() -> None:
     scene.render.resolution_percentage = 100
     timed(timings, "render_preview_s", bpy.ops.pelt.render_preview)
     preview = next(im for im in bpy.data.images if im.get("pelt_role") == "preview")
-    preview.filepath_raw = str((args.out / "preview.png").resolve())
-    preview.file_format = "PNG"
-    preview.save()
+    # Scene-linear: saved through the scene's view transform, as Blender saves its renders.
+    preview.save_render(str((args.out / "preview.png").resolve()), scene=scene)
 
     blend = args.out / "demo.blend"
     bpy.ops.wm.save_as_mainfile(filepath=str(blend.resolve()))

@@ -57,10 +57,10 @@ const DEFAULT: Config = Config {
     prt_order: None,
 };
 
-/// The configurations drawn: the defaults and marched shells in `--quick`; every shell count, fins off, LOD and PRT at
-/// order 4 (instanced and marched) for every object; PRT at every order from 2 to 8 on the study
-/// object (the short-furred sphere) only, since each order is a transfer bake and PRT frames are
-/// the slowest on a CPU adapter.
+/// The configurations drawn: the defaults and marched shells in `--quick`; every shell count, fins
+/// off, LOD (Kajiya–Kay and PRT) and PRT at order 4 (instanced and marched) for every object; PRT
+/// at every order from 2 to 8 on the study object (the short-furred sphere) only, since each order
+/// is a transfer bake and PRT frames are the slowest on a CPU adapter.
 fn configs(quick: bool, study: bool) -> Vec<Config> {
     let mut list = vec![
         DEFAULT,
@@ -99,6 +99,12 @@ fn configs(quick: bool, study: bool) -> Vec<Config> {
     list.push(Config {
         name: "lod",
         lod: true,
+        ..DEFAULT
+    });
+    list.push(Config {
+        name: "prt4.lod",
+        lod: true,
+        prt_order: Some(4),
         ..DEFAULT
     });
     list.push(Config {
