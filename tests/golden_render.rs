@@ -1,15 +1,15 @@
-//! Golden images of the fur renderer on the CPU adapter (DESIGN.md §3; the comparison and its
-//! bound, [`Tolerance::RENDER`], are in `common/golden.rs`): a UV sphere covered by lapped
+//! Golden images of the fur renderer on the CPU adapter (DESIGN.md §3; the ꟻLIP comparison and
+//! its bound, `RENDER_FLIP`, are in `common/golden.rs`): a UV sphere covered by lapped
 //! patches, with a small hair volume and its PRT transfer. Each image was looked at when it was
 //! written; regenerate them with `PELT_UPDATE_GOLDEN=1 cargo test --features render --test
 //! golden_render`, look at them again, and commit them with the change.
-#![cfg(feature = "render")]
+#![cfg(all(feature = "render", feature = "metrics"))]
 
 mod common;
 
 use std::sync::OnceLock;
 
-use common::golden::{Tolerance, check};
+use common::golden::{RENDER_FLIP, check_render, flip_mean, golden_dir};
 use common::volume::small_volume;
 use common::{column_major, look_at_rows, perspective_rows};
 use pelt::lapped::{PatchParams, build_patches};
@@ -157,13 +157,41 @@ fn render(scene: &FurScene, camera: &Camera, lighting: &Lighting, settings: &Ren
 }
 
 fn golden(name: &str, image: &RgbaImage) {
-    check(
-        name,
-        image.width as usize,
-        image.height as usize,
-        &image.pixels,
-        Tolerance::RENDER,
-    );
+    check_render(name, image.width as usize, image.height as usize, &image.pixels);
+}
+
+#[test]
+fn the_bound_catches_a_light_one_percent_brighter() {
+    // The golden of the frontal Kajiya–Kay view against the same render with its light 1%
+    // brighter (and 1% dimmer): both must exceed the bound the goldens are held to.
+    let name = "render_furred_sphere_kajiya_kay.png";
+    let path = golden_dir().join(name);
+    let reference = render(plain(), &frontal(), &light(), &settings());
+    if !path.exists() {
+        golden(name, &reference);
+    }
+    let file = std::fs::File::open(&path).unwrap();
+    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
+        .read_info()
+        .unwrap();
+    let mut stored = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut stored).unwrap();
+    stored.truncate(info.buffer_size());
+    let (w, h) = (SIDE as usize, SIDE as usize);
+    assert!(flip_mean(w, h, &stored, &reference.pixels) <= RENDER_FLIP);
+    for scale in [1.01f32, 0.99] {
+        let base = light();
+        let changed = Lighting {
+            color: base.color.map(|c| c * scale),
+            ..base
+        };
+        let image = render(plain(), &frontal(), &changed, &settings());
+        let flip = flip_mean(w, h, &stored, &image.pixels);
+        assert!(
+            flip > RENDER_FLIP,
+            "light × {scale}: mean ꟻLIP {flip:.5} is within the bound {RENDER_FLIP}"
+        );
+    }
 }
 
 #[test]
