@@ -87,6 +87,16 @@ fn grid(n: usize, place: impl Fn([f64; 3]) -> [f64; 3]) -> (FurMesh, Vec<[[f32; 
     (mesh, uvs)
 }
 
+/// A 64² perspective camera (50° field of view) at `eye`, looking at the grid's centre, z up.
+fn looking_at_the_grid_from(eye: [f64; 3]) -> Camera {
+    Camera {
+        view: column_major(look_at_rows(eye, [0.0; 3], [0.0, 0.0, 1.0])),
+        projection: column_major(perspective_rows(50.0, 0.5, 10.0)),
+        width: 64,
+        height: 64,
+    }
+}
+
 fn scene(mesh: &FurMesh, uvs: &[[[f32; 2]; 3]]) -> FurScene {
     let f = fixture();
     let mut scene = FurScene::new(&f.renderer, mesh, uvs, &f.volume).unwrap();
@@ -312,12 +322,7 @@ fn a_light_behind_the_skin_lights_nothing_and_one_above_lights_the_fur() {
     let f = fixture();
     let (mesh, uvs) = grid(8, |p| p);
     let scene = scene(&mesh, &uvs);
-    let camera = Camera {
-        view: column_major(look_at_rows([0.0, -1.5, 3.0], [0.0; 3], [0.0, 0.0, 1.0])),
-        projection: column_major(perspective_rows(50.0, 0.5, 10.0)),
-        width: 64,
-        height: 64,
-    };
+    let camera = looking_at_the_grid_from([0.0, -1.5, 3.0]);
     let lit_by = |direction: [f32; 3]| {
         let lighting = Lighting {
             direction,
@@ -406,12 +411,7 @@ fn lod_cross_fade_under_prt_has_no_pop() {
     let f = fixture();
     let (mesh, uvs) = grid(8, |p| p);
     let scene = scene(&mesh, &uvs);
-    let camera = Camera {
-        view: column_major(look_at_rows([0.0, -2.0, 1.5], [0.0; 3], [0.0, 0.0, 1.0])),
-        projection: column_major(perspective_rows(50.0, 0.5, 10.0)),
-        width: 64,
-        height: 64,
-    };
+    let camera = looking_at_the_grid_from([0.0, -2.0, 1.5]);
     let lod = RenderSettings {
         lod: true,
         min_shells: 0,
@@ -469,12 +469,7 @@ fn zero_length_under_prt_renders_exactly_the_skin() {
     let f = fixture();
     let (mesh, uvs) = grid(8, |p| p);
     let mut scene = scene(&mesh, &uvs);
-    let camera = Camera {
-        view: column_major(look_at_rows([0.5, -2.0, 1.5], [0.0; 3], [0.0, 0.0, 1.0])),
-        projection: column_major(perspective_rows(50.0, 0.5, 10.0)),
-        width: 64,
-        height: 64,
-    };
+    let camera = looking_at_the_grid_from([0.5, -2.0, 1.5]);
     let all = RenderSettings {
         fur_depth: FUR_DEPTH,
         ..RenderSettings::default()
@@ -501,12 +496,7 @@ fn lod_under_prt_fades_between_its_levels_without_adding_light() {
     let f = fixture();
     let (mesh, uvs) = grid(8, |p| p);
     let scene = scene(&mesh, &uvs);
-    let camera = Camera {
-        view: column_major(look_at_rows([0.0, -1.6, 1.4], [0.0; 3], [0.0, 0.0, 1.0])),
-        projection: column_major(perspective_rows(50.0, 0.5, 10.0)),
-        width: 64,
-        height: 64,
-    };
+    let camera = looking_at_the_grid_from([0.0, -1.6, 1.4]);
     let lighting = lighting();
     let lod = RenderSettings {
         fur_depth: FUR_DEPTH,

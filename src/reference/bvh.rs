@@ -14,6 +14,17 @@ use obvhs::ray::{Ray, RayHit};
 
 use crate::threads::pool;
 
+/// The six axis directions, for the inside test of a closed skin (a point is enclosed when the
+/// nearest skin along each of them is a back face).
+pub(crate) const AXIS_DIRECTIONS: [Vec3A; 6] = [
+    Vec3A::X,
+    Vec3A::NEG_X,
+    Vec3A::Y,
+    Vec3A::NEG_Y,
+    Vec3A::Z,
+    Vec3A::NEG_Z,
+];
+
 pub(crate) struct Bvh {
     tree: CwBvh,
 }

@@ -5,7 +5,7 @@
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 
-use super::bvh::Bvh;
+use super::bvh::{AXIS_DIRECTIONS, Bvh};
 use super::geometry::FurGeometry;
 use super::intersect::{HairSegment, ray_segment, ray_triangle};
 use super::render::{Lights, Sampler};
@@ -280,16 +280,7 @@ impl ReferenceScene {
         if self.geometry.skin.is_none() {
             return false;
         }
-        [
-            Vec3A::X,
-            Vec3A::NEG_X,
-            Vec3A::Y,
-            Vec3A::NEG_Y,
-            Vec3A::Z,
-            Vec3A::NEG_Z,
-        ]
-        .into_iter()
-        .all(|d| {
+        AXIS_DIRECTIONS.into_iter().all(|d| {
             let nearest = self.nearest_skin(origin, d);
             nearest.is_some_and(|(_, tri)| {
                 let p = self.triangle(tri);

@@ -29,7 +29,7 @@ use std::f32::consts::PI;
 use glam::{Vec2, Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 
-use super::bvh::Bvh;
+use super::bvh::{AXIS_DIRECTIONS, Bvh};
 use super::density::DensityField;
 use super::geometry::{Skin, growth_vectors, lateral_scale, mean_root_color, skin_of};
 use super::intersect::ray_triangle;
@@ -514,16 +514,7 @@ impl Sampler for VolumeScene {
 
     /// Enclosed when the nearest skin is a back face along each axis direction.
     fn encloses(&self, eye: Vec3A) -> bool {
-        [
-            Vec3A::X,
-            Vec3A::NEG_X,
-            Vec3A::Y,
-            Vec3A::NEG_Y,
-            Vec3A::Z,
-            Vec3A::NEG_Z,
-        ]
-        .into_iter()
-        .all(|d| self.inside_along(eye, d))
+        AXIS_DIRECTIONS.into_iter().all(|d| self.inside_along(eye, d))
     }
 
     fn sample(&self, origin: Vec3A, direction: Vec3A, lights: &Lights<'_>, rng: &mut Rng) -> (Vec3, f32) {
