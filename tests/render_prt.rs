@@ -406,29 +406,30 @@ fn transfer_from_another_bake_or_missing_is_named_and_the_scene_survives() {
     assert!(image.pixels.chunks_exact(4).any(|p| p[3] == 255));
 }
 
-#[test]
-fn lod_cross_fade_under_prt_has_no_pop() {
-    let f = fixture();
-    let (mesh, uvs) = grid(8, |p| p);
-    let scene = scene(&mesh, &uvs);
-    let camera = looking_at_the_grid_from([0.0, -2.0, 1.5]);
+/// LOD settings whose schedule asks for `shells` shells of `scene` on `camera` (through
+/// `shells_per_pixel`).
+fn lod_asking_for(scene: &FurScene, camera: &Camera) -> impl Fn(f64) -> RenderSettings {
     let lod = RenderSettings {
         lod: true,
         min_shells: 0,
         fur_depth: FUR_DEPTH,
         ..RenderSettings::default()
     };
-    let pixels = f64::from(
-        f.renderer
-            .frame_info(&scene, &camera, &lod)
-            .unwrap()
-            .fur_pixels
-            .unwrap(),
-    );
-    let wanting = |shells: f64| RenderSettings {
+    let info = fixture().renderer.frame_info(scene, camera, &lod).unwrap();
+    let pixels = f64::from(info.fur_pixels.unwrap());
+    move |shells| RenderSettings {
         shells_per_pixel: (shells / pixels) as f32,
         ..lod
-    };
+    }
+}
+
+#[test]
+fn lod_cross_fade_under_prt_has_no_pop() {
+    let f = fixture();
+    let (mesh, uvs) = grid(8, |p| p);
+    let scene = scene(&mesh, &uvs);
+    let camera = looking_at_the_grid_from([0.0, -2.0, 1.5]);
+    let wanting = lod_asking_for(&scene, &camera);
     // 8 layers: 7, 3, 1, 0 shells. Around 3 shells the full stack fades into level 1.
     let (before, after) = (wanting(3.0 + 1e-3), wanting(3.0 - 1e-3));
     let info = |s: &RenderSettings| f.renderer.frame_info(&scene, &camera, s).unwrap();
@@ -498,23 +499,7 @@ fn lod_under_prt_fades_between_its_levels_without_adding_light() {
     let scene = scene(&mesh, &uvs);
     let camera = looking_at_the_grid_from([0.0, -1.6, 1.4]);
     let lighting = lighting();
-    let lod = RenderSettings {
-        fur_depth: FUR_DEPTH,
-        lod: true,
-        min_shells: 0,
-        ..RenderSettings::default()
-    };
-    let pixels = f64::from(
-        f.renderer
-            .frame_info(&scene, &camera, &lod)
-            .unwrap()
-            .fur_pixels
-            .unwrap(),
-    );
-    let at = |shells: f64| RenderSettings {
-        shells_per_pixel: (shells / pixels) as f32,
-        ..lod
-    };
+    let at = lod_asking_for(&scene, &camera);
     let mean = |shells: f64| {
         let image = f
             .renderer
