@@ -167,14 +167,20 @@ def new_node_group(name: str):
 def _skin_faces(g: NodeGraph, length, bald_skin):
     """The faces that take Pelt's skin material: the furred ones (some corner with length), and
     the bald ones too when ``bald_skin`` (an object without materials of its own)."""
-    bald = g.node("FunctionNodeCompare", {"A": length, "B": 0.0}, data_type="FLOAT", operation="LESS_EQUAL")
-    furred = g.node("FunctionNodeBooleanMath", {("Boolean", 0): bald.outputs["Result"]}, operation="NOT")
+    furred = g.node("FunctionNodeBooleanMath", {("Boolean", 0): _bald(g, length)}, operation="NOT")
     either = g.node(
         "FunctionNodeBooleanMath",
         {("Boolean", 0): furred.outputs[0], ("Boolean", 1): bald_skin},
         operation="OR",
     )
     return either.outputs[0]
+
+
+def _bald(g: NodeGraph, length):
+    """Where the length multiplier is 0: read on faces, those bald at every corner."""
+    inputs = {"A": length, "B": 0.0}
+    compare = g.node("FunctionNodeCompare", inputs, data_type="FLOAT", operation="LESS_EQUAL")
+    return compare.outputs["Result"]
 
 
 def _named(g: NodeGraph, name: str, data_type: str):
@@ -241,10 +247,9 @@ def _shells(g: NodeGraph, base, top, length, layers, shells):
     """Shells ``1..S-1``: the furred faces, once per shell, each lifted to its layer (``S`` at
     most ``L``, whatever the modifier panel says)."""
     shells = g.math("MINIMUM", shells, layers)
-    bald = g.node("FunctionNodeCompare", {"A": length, "B": 0.0}, data_type="FLOAT", operation="LESS_EQUAL")
     furred = g.node(
         "GeometryNodeDeleteGeometry",
-        {"Geometry": base, "Selection": bald.outputs["Result"]},
+        {"Geometry": base, "Selection": _bald(g, length)},
         domain="FACE",
         mode="ALL",
     ).outputs[0]

@@ -9,7 +9,7 @@ mod common;
 
 use std::sync::OnceLock;
 
-use common::golden::{RENDER_FLIP, check_render, flip_mean, golden_dir};
+use common::golden::{RENDER_FLIP, check_render, flip_mean, golden_dir, read_png};
 use common::volume::small_volume;
 use common::{column_major, look_at_rows, perspective_rows};
 use pelt::lapped::{PatchParams, build_patches};
@@ -170,14 +170,7 @@ fn the_bound_catches_a_light_one_percent_brighter() {
     if !path.exists() {
         golden(name, &reference);
     }
-    let file = std::fs::File::open(&path).unwrap();
-    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
-        .read_info()
-        .unwrap();
-    let mut stored = vec![0; reader.output_buffer_size().unwrap()];
-    let info = reader.next_frame(&mut stored).unwrap();
-    stored.truncate(info.buffer_size());
-    let (w, h) = (SIDE as usize, SIDE as usize);
+    let (w, h, stored) = read_png(&path);
     assert!(flip_mean(w, h, &stored, &reference.pixels) <= RENDER_FLIP);
     for scale in [1.01f32, 0.99] {
         let base = light();

@@ -56,6 +56,35 @@ pub(crate) struct Skin {
     pub triangles: Vec<[u32; 3]>,
 }
 
+/// The skin at a point of one of its triangles, facing the viewer.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct SkinPoint {
+    /// Smooth unit normal.
+    pub normal: Vec3A,
+    /// Unit normal of the triangle's plane.
+    pub face: Vec3A,
+    pub albedo: Vec3,
+}
+
+impl Skin {
+    /// Triangle `triangle` at barycentric weights `w`, both normals turned toward `view`.
+    pub(crate) fn at(&self, triangle: u32, w: Vec3, view: Vec3A) -> SkinPoint {
+        let t = self.triangles[triangle as usize].map(|v| v as usize);
+        let p = t.map(|v| self.positions[v]);
+        let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+        let normal = (0..3)
+            .fold(Vec3A::ZERO, |s, k| s + w[k] * self.normals[t[k]])
+            .normalize_or(face);
+        let albedo = (0..3).fold(Vec3::ZERO, |s, k| s + w[k] * self.albedo[t[k]]);
+        let sign = if face.dot(view) < 0.0 { -1.0 } else { 1.0 };
+        SkinPoint {
+            normal: sign * normal,
+            face: sign * face,
+            albedo,
+        }
+    }
+}
+
 /// Strands and skin in object space, ready for [`super::ReferenceScene::new`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct FurGeometry {

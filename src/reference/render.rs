@@ -13,6 +13,7 @@ use glam::{DVec4, Vec3, Vec3A};
 use rayon::prelude::*;
 
 use super::camera::RayGenerator;
+use super::geometry::SkinPoint;
 use super::light::{LightSample, Prepared, ReferenceLight, luminance};
 use super::scene::ReferenceScene;
 use super::shade::HairShading;
@@ -207,7 +208,6 @@ fn render_with<S: Sampler>(
             settings,
             epsilon: extent * 1e-6,
         },
-        seed: settings.seed,
     };
 
     let width = camera.width as usize;
@@ -333,6 +333,54 @@ impl Lights<'_> {
     pub(crate) fn shading(&self) -> &HairShading {
         &self.settings.shading
     }
+
+    /// Light reaching a point from every light, × π: `Σ weight · f(ω) · visibility(ω)`, with
+    /// `visibility` (drawing from `rng` after the light's own sample) asked only where `f` is
+    /// not zero, and taken as 1 with shadows off.
+    pub(crate) fn direct(
+        &self,
+        rng: &mut Rng,
+        mut f: impl FnMut(Vec3A) -> Vec3,
+        mut visibility: impl FnMut(Vec3A, &mut Rng) -> f32,
+    ) -> Vec3 {
+        let mut radiance = Vec3::ZERO;
+        for light in self.prepared {
+            let l = self.sample(light, rng);
+            let value = f(l.direction);
+            if value == Vec3::ZERO {
+                continue;
+            }
+            let seen = if self.settings.shadows {
+                visibility(l.direction, rng)
+            } else {
+                1.0
+            };
+            radiance += l.weight * value * seen;
+        }
+        radiance
+    }
+
+    /// A skin point's Lambertian light (none from behind its face), `visibility` seen from
+    /// `lifted`, the point moved off the skin.
+    pub(crate) fn skin(
+        &self,
+        skin: &SkinPoint,
+        rng: &mut Rng,
+        visibility: impl FnMut(Vec3A, &mut Rng) -> f32,
+    ) -> Vec3 {
+        let shading = self.shading();
+        self.direct(
+            rng,
+            |l| {
+                if skin.face.dot(l) <= 0.0 {
+                    Vec3::ZERO
+                } else {
+                    shading.skin(skin.normal, l, skin.albedo)
+                }
+            },
+            visibility,
+        )
+    }
 }
 
 /// What the progressive loop needs of a traceable scene (the strands, or their density volume).
@@ -351,13 +399,12 @@ struct Tracer<'a, S> {
     scene: &'a S,
     rays: RayGenerator,
     lights: Lights<'a>,
-    seed: u64,
 }
 
 impl<S: Sampler> Tracer<'_, S> {
     /// Sample `s` of pixel `(x, y)`: premultiplied radiance and coverage.
     fn sample(&self, x: usize, y: usize, pixel: u64, s: u32) -> DVec4 {
-        let mut rng = Rng::stream(self.seed, pixel, u64::from(s));
+        let mut rng = Rng::stream(self.lights.settings.seed, pixel, u64::from(s));
         let (jx, jy) = (rng.next_f64(), rng.next_f64());
         let (origin, direction) = self.rays.ray(x as f64 + jx, y as f64 + jy);
         let (radiance, coverage) = self.scene.sample(origin, direction, &self.lights, &mut rng);

@@ -6,7 +6,7 @@ use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 
 use super::bvh::{AXIS_DIRECTIONS, Bvh};
-use super::geometry::FurGeometry;
+use super::geometry::{FurGeometry, SkinPoint};
 use super::intersect::{HairSegment, ray_segment, ray_triangle};
 use super::render::{Lights, Sampler};
 use crate::error::{PeltError, Result};
@@ -218,16 +218,10 @@ impl ReferenceScene {
         ((b - a).normalize_or_zero(), albedo)
     }
 
-    /// The skin's unit normal (smooth) and albedo at a hit.
-    pub(crate) fn skin_at(&self, triangle: u32, b1: f32, b2: f32) -> (Vec3A, Vec3A, Vec3) {
+    /// The skin at a hit, facing `view`.
+    pub(crate) fn skin_at(&self, triangle: u32, b1: f32, b2: f32, view: Vec3A) -> SkinPoint {
         let skin = self.geometry.skin.as_ref().expect("a skin hit needs a skin");
-        let t = skin.triangles[triangle as usize].map(|v| v as usize);
-        let w = [1.0 - b1 - b2, b1, b2];
-        let normal = (0..3).fold(Vec3A::ZERO, |s, k| s + w[k] * skin.normals[t[k]]);
-        let albedo = (0..3).fold(Vec3::ZERO, |s, k| s + w[k] * skin.albedo[t[k]]);
-        let p = self.triangle(triangle as usize);
-        let face = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
-        (normal.normalize_or(face), face, albedo)
+        skin.at(triangle, Vec3::new(1.0 - b1 - b2, b1, b2), view)
     }
 
     /// Which pixels of `camera`'s image the skin covers at their centre (the hair ignored): the
@@ -306,47 +300,32 @@ impl Sampler for ReferenceScene {
         };
         let point = origin + hit.t() * direction;
         let view = -direction;
-        let shading = lights.shading();
-        let shadows = lights.settings.shadows;
-        let mut radiance = Vec3::ZERO;
-        match hit {
+        let blocked = |from: Vec3A, skip: Option<u32>| {
+            move |toward: Vec3A, _: &mut Rng| {
+                if self.blocked(from, toward, lights.epsilon, f32::INFINITY, skip) {
+                    0.0
+                } else {
+                    1.0
+                }
+            }
+        };
+        let radiance = match hit {
             Hit::Hair {
                 strand, point: p, s, ..
             } => {
                 let (tangent, albedo) = self.hair_at(strand, p, s);
-                for light in lights.prepared {
-                    let l = lights.sample(light, rng);
-                    let f = shading.hair(tangent, l.direction, view, albedo);
-                    if f != Vec3::ZERO
-                        && !(shadows
-                            && self.blocked(point, l.direction, lights.epsilon, f32::INFINITY, Some(strand)))
-                    {
-                        radiance += l.weight * f;
-                    }
-                }
+                let shading = lights.shading();
+                lights.direct(
+                    rng,
+                    |l| shading.hair(tangent, l, view, albedo),
+                    blocked(point, Some(strand)),
+                )
             }
             Hit::Skin { triangle, b1, b2, .. } => {
-                let (mut normal, mut face, albedo) = self.skin_at(triangle, b1, b2);
-                if face.dot(view) < 0.0 {
-                    normal = -normal;
-                    face = -face;
-                }
-                let lifted = point + face * lights.epsilon;
-                for light in lights.prepared {
-                    let l = lights.sample(light, rng);
-                    if face.dot(l.direction) <= 0.0 {
-                        continue;
-                    }
-                    let f = shading.skin(normal, l.direction, albedo);
-                    if f != Vec3::ZERO
-                        && !(shadows
-                            && self.blocked(lifted, l.direction, lights.epsilon, f32::INFINITY, None))
-                    {
-                        radiance += l.weight * f;
-                    }
-                }
+                let skin = self.skin_at(triangle, b1, b2, view);
+                lights.skin(&skin, rng, blocked(point + skin.face * lights.epsilon, None))
             }
-        }
+        };
         (radiance, 1.0)
     }
 }

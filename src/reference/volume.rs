@@ -377,36 +377,11 @@ impl VolumeScene {
         rng: &mut Rng,
         spans: &mut Vec<Span>,
     ) -> Vec3 {
-        let tri = self.skin.triangles[hit.triangle as usize].map(|v| v as usize);
-        let p = tri.map(|v| self.skin.positions[v]);
-        let mut face = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
-        let mut normal = (0..3)
-            .fold(Vec3A::ZERO, |s, k| s + hit.w[k] * self.skin.normals[tri[k]])
-            .normalize_or(face);
-        let albedo = (0..3).fold(Vec3::ZERO, |s, k| s + hit.w[k] * self.skin.albedo[tri[k]]);
-        if face.dot(view) < 0.0 {
-            normal = -normal;
-            face = -face;
-        }
-        let lifted = point + face * lights.epsilon;
-        let mut radiance = Vec3::ZERO;
-        for light in lights.prepared {
-            let l = lights.sample(light, rng);
-            if face.dot(l.direction) <= 0.0 {
-                continue;
-            }
-            let f = lights.shading().skin(normal, l.direction, albedo);
-            if f == Vec3::ZERO {
-                continue;
-            }
-            let through = if lights.settings.shadows {
-                self.transmittance(lifted, l.direction, lights.epsilon, rng.next_f64() as f32, spans)
-            } else {
-                1.0
-            };
-            radiance += l.weight * f * through;
-        }
-        radiance
+        let skin = self.skin.at(hit.triangle, hit.w, view);
+        let lifted = point + skin.face * lights.epsilon;
+        lights.skin(&skin, rng, |toward, rng| {
+            self.transmittance(lifted, toward, lights.epsilon, rng.next_f64() as f32, spans)
+        })
     }
 
     /// Whether the nearest skin crossing along `direction` is a back face.
@@ -579,19 +554,13 @@ impl VolumeScene {
             let tint = prism.tint[0] * chosen.w.x + prism.tint[1] * chosen.w.y + prism.tint[2] * chosen.w.z;
             let albedo = self.field.color(uv, chosen.z) * tint;
             let point = origin + chosen.t * direction;
-            for light in lights.prepared {
-                let l = lights.sample(light, rng);
-                let f = lights.shading().hair(tangent, l.direction, view, albedo);
-                if f == Vec3::ZERO {
-                    continue;
-                }
-                let to_light = if lights.settings.shadows {
-                    self.transmittance(point, l.direction, lights.epsilon, rng.next_f64() as f32, spans)
-                } else {
-                    1.0
-                };
-                radiance += composite * to_light * l.weight * f;
-            }
+            let shading = lights.shading();
+            let lit = lights.direct(
+                rng,
+                |l| shading.hair(tangent, l, view, albedo),
+                |toward, rng| self.transmittance(point, toward, lights.epsilon, rng.next_f64() as f32, spans),
+            );
+            radiance += composite * lit;
         }
         match skin {
             Some(hit) => {

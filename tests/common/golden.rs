@@ -34,7 +34,8 @@ pub fn golden_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden")
 }
 
-fn read_png(path: &Path) -> (usize, usize, Vec<u8>) {
+/// An 8-bit RGBA PNG: width, height, pixels.
+pub fn read_png(path: &Path) -> (usize, usize, Vec<u8>) {
     let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let mut reader = png::Decoder::new(std::io::BufReader::new(file))
         .read_info()
