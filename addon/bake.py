@@ -68,6 +68,15 @@ def bake_options(obj) -> dict:
     }
 
 
+def memory_estimate(obj):
+    """``(estimated peak bytes of baking obj, the limit)``, or None while a setting is invalid
+    (the bake then reports it)."""
+    try:
+        return pelt.Pipeline.peak_bytes(**bake_options(obj)), pelt.memory_limit()
+    except pelt.PeltError:
+        return None
+
+
 def start_job(obj) -> bake_job.BakeJob:
     """Reads ``obj`` and its settings (main thread) and returns the job, not yet started."""
     arrays = bridge.read_object(obj)

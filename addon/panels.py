@@ -6,7 +6,7 @@ import json
 
 import bpy
 
-from . import comb_tools, point_data
+from . import bake, comb_tools, point_data, preferences
 
 # Statistics rows shown after a check: (key, label).
 STAT_ROWS = (
@@ -52,15 +52,23 @@ class VIEW3D_PT_pelt(_PeltPanel, bpy.types.Panel):
         row = layout.row(align=True)
         row.scale_y = 1.4
         row.operator("pelt.bake", icon="RENDER_STILL")
+        estimate = bake.memory_estimate(context.active_object)
+        if estimate is not None:
+            peak, limit = estimate
+            row = layout.row()
+            row.alert = peak > limit
+            text = f"Memory: about {preferences.format_bytes(peak)} of {preferences.format_bytes(limit)}"
+            row.label(text=text + (": lower Resolution or Layers" if peak > limit else ""),
+                      icon="ERROR" if peak > limit else "MEMORY")  # fmt: skip
         layout.operator("pelt.check_mesh", icon="CHECKMARK")
-        bake = _json(settings.last_bake)
-        if bake:
+        last_bake = _json(settings.last_bake)
+        if last_bake:
             box = layout.box()
             box.label(text="Last Bake", icon="INFO")
-            for stage in bake.get("stages", []):
+            for stage in last_bake.get("stages", []):
                 text = f"{stage['seconds']:.2f} s" if stage["ran"] else "skipped (unchanged)"
                 box.label(text=f"{stage['stage'].title()}: {text}")
-            for change in bake.get("scene_changes", []):
+            for change in last_bake.get("scene_changes", []):
                 box.label(text=f"Set for the fur: {change}", icon="SCENE_DATA")
         stats = _json(settings.last_check)
         if stats:

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Add-on preferences: worker threads, GPU adapter of the preview, bake cache size."""
+"""Add-on preferences: worker threads, memory limit, GPU adapter of the preview, bake cache size."""
 
 import bpy
 import pelt
@@ -12,6 +12,11 @@ CACHE = bake_job.PipelineCache()
 
 def _apply_threads(prefs, _context=None) -> None:
     pelt.set_thread_count(prefs.threads)
+
+
+def _apply_memory(prefs, _context=None) -> None:
+    gib = prefs.memory_limit_gib
+    pelt.set_memory_limit(gib * 2**30 if gib > 0 else None)
 
 
 def _apply_cache(prefs, _context=None) -> None:
@@ -30,6 +35,18 @@ class PeltPreferences(bpy.types.AddonPreferences):
         max=1024,
         soft_max=64,
         update=_apply_threads,
+    )
+    memory_limit_gib: bpy.props.FloatProperty(
+        name="Memory Limit (GiB)",
+        description=(
+            "Most memory a bake may plan to use; a bake above it stops before it starts and says "
+            "what to lower (0: half of this computer's memory)"
+        ),
+        default=0.0,
+        min=0.0,
+        soft_max=256.0,
+        precision=1,
+        update=_apply_memory,
     )
     adapter: bpy.props.EnumProperty(
         name="Preview Device",
@@ -54,8 +71,21 @@ class PeltPreferences(bpy.types.AddonPreferences):
         layout = self.layout
         layout.use_property_split = True
         layout.prop(self, "threads")
+        layout.prop(self, "memory_limit_gib")
+        layout.label(
+            text=f"Limit now: {format_bytes(pelt.memory_limit())} of {format_bytes(pelt.physical_memory())}"
+        )
         layout.prop(self, "adapter")
         layout.prop(self, "cache_size")
+
+
+def format_bytes(n: float) -> str:
+    """``n`` bytes for people: ``1.2 GiB``."""
+    for unit in ("B", "KiB", "MiB", "GiB"):
+        if n < 1024 or unit == "GiB":
+            return f"{n:.0f} {unit}" if unit == "B" else f"{n:.1f} {unit}"
+        n /= 1024
+    return f"{n:.1f} GiB"
 
 
 def get(context=None):
@@ -71,6 +101,8 @@ def apply(context=None) -> None:
     if prefs is not None:
         if prefs.threads:
             _apply_threads(prefs)
+        if prefs.memory_limit_gib > 0:
+            _apply_memory(prefs)
         _apply_cache(prefs)
 
 

@@ -26,6 +26,22 @@ pub enum PeltError {
         reason: String,
     },
 
+    /// A stage's parameters ask for more memory than the budget allows (see [`crate::memory`]).
+    #[error(
+        "`{stage}` needs {needed}, above the memory limit of {limit}: lower {lower}, or raise the \
+         limit (pelt.set_memory_limit, PELT_MEMORY_LIMIT, the add-on's preferences)"
+    )]
+    MemoryLimit {
+        /// The stage that would allocate.
+        stage: String,
+        /// Its estimated peak, for people.
+        needed: String,
+        /// The limit, for people.
+        limit: String,
+        /// The parameters that size it, with their values.
+        lower: String,
+    },
+
     /// A long operation was cancelled through its cancel flag.
     #[error("cancelled")]
     Cancelled,

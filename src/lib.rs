@@ -17,6 +17,7 @@ pub mod export;
 pub mod field;
 pub mod hair;
 pub mod lapped;
+pub mod memory;
 pub mod mesh;
 pub mod pipeline;
 pub mod presets;

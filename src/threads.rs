@@ -9,8 +9,14 @@ use std::sync::{Arc, RwLock};
 
 use rayon::prelude::*;
 
+use crate::error::{PeltError, Result};
+
 /// Environment variable that sets the number of worker threads.
 pub const THREADS_ENV: &str = "PELT_THREADS";
+
+/// Most worker threads: more only costs memory and start-up time (a pool of 100,000 threads
+/// takes minutes to build), and no machine Pelt runs on has that many cores.
+pub const MAX_THREADS: usize = 1024;
 
 /// Rows per chunk in [`deterministic_sum`]; fixed so that the summation tree never changes.
 const SUM_CHUNK: usize = 4096;
@@ -25,20 +31,55 @@ pub fn pool() -> Arc<rayon::ThreadPool> {
     }
     let mut slot = POOL.write().unwrap_or_else(|e| e.into_inner());
     slot.get_or_insert_with(|| {
-        let threads = std::env::var(THREADS_ENV)
-            .ok()
-            .and_then(|v| v.trim().parse::<usize>().ok())
-            .filter(|&n| n > 0)
-            .unwrap_or(0);
+        // Inside Blender there is no one to return the error to: say it and use every core.
+        let threads = threads_from_env().unwrap_or_else(|e| {
+            eprintln!("pelt: {e}; using one thread per core");
+            0
+        });
         Arc::new(build(threads))
     })
     .clone()
 }
 
+/// The thread count `PELT_THREADS` asks for (0, one per core, when it is unset or empty).
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] naming `PELT_THREADS` when it is not an integer in
+/// `[1, MAX_THREADS]`.
+pub fn threads_from_env() -> Result<usize> {
+    let Some(value) = std::env::var_os(THREADS_ENV) else {
+        return Ok(0);
+    };
+    let text = value.to_string_lossy();
+    if text.trim().is_empty() {
+        return Ok(0);
+    }
+    text.trim()
+        .parse::<usize>()
+        .ok()
+        .filter(|n| (1..=MAX_THREADS).contains(n))
+        .ok_or_else(|| {
+            PeltError::parameter(
+                THREADS_ENV,
+                format!("must be an integer in [1, {MAX_THREADS}], got {text:?}"),
+            )
+        })
+}
+
 /// Replaces the pool by one of `threads` workers (0: one per core); later stages use it.
-pub fn set_thread_count(threads: usize) {
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] naming `threads` above [`MAX_THREADS`].
+pub fn set_thread_count(threads: usize) -> Result<()> {
+    if threads > MAX_THREADS {
+        return Err(PeltError::parameter(
+            "threads",
+            format!("must be in [0, {MAX_THREADS}] (0: one per core), got {threads}"),
+        ));
+    }
     let pool = Arc::new(build(threads));
     *POOL.write().unwrap_or_else(|e| e.into_inner()) = Some(pool);
+    Ok(())
 }
 
 fn build(threads: usize) -> rayon::ThreadPool {
@@ -72,6 +113,15 @@ pub fn deterministic_sum(n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn thread_counts_are_capped_with_a_named_error() {
+        let error = set_thread_count(100_000).unwrap_err().to_string();
+        assert!(
+            error.contains("`threads`") && error.contains("[0, 1024]") && error.contains("100000"),
+            "{error}"
+        );
+    }
 
     #[test]
     fn deterministic_sum_matches_sequential_order_of_chunks() {

@@ -51,6 +51,18 @@ fn files(dir: &Path) -> BTreeMap<String, Vec<u8>> {
         .collect()
 }
 
+/// Every entry of a folder (a file's bytes, or nothing for a folder) by name.
+fn files_or_folders(dir: &Path) -> BTreeMap<String, Option<Vec<u8>>> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| {
+            let path = e.unwrap().path();
+            let name = path.file_name().unwrap().to_string_lossy().into_owned();
+            (name, path.is_file().then(|| std::fs::read(&path).unwrap()))
+        })
+        .collect()
+}
+
 fn assert_ok(output: &Output) {
     assert!(
         output.status.success(),
@@ -112,6 +124,26 @@ fn bake_writes_what_the_manifest_lists_identically_for_any_thread_count() {
     ] {
         assert!(c[name] == a[name], "{name} differs after export");
     }
+
+    // A folder where the last file should go: the export fails and the previous output stays as
+    // it was, with no half-written files beside it.
+    std::fs::remove_file(again.join("bake.json")).unwrap();
+    std::fs::create_dir(again.join("bake.json")).unwrap();
+    let before = files_or_folders(&again);
+    let output = pelt(
+        &["export", one.to_str().unwrap(), "--out", again.to_str().unwrap()],
+        2,
+    );
+    assert_eq!(output.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("bake.json"));
+    assert_eq!(files_or_folders(&again), before);
+    let parent = again.parent().unwrap();
+    let strays: Vec<_> = std::fs::read_dir(parent)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains(".tmp"))
+        .collect();
+    assert!(strays.is_empty(), "{strays:?}");
     for dir in [one, two, again] {
         std::fs::remove_dir_all(dir).unwrap();
     }
@@ -125,6 +157,24 @@ fn bad_input_exits_with_a_message_and_no_panic() {
     std::fs::write(&broken, b"glTF\x02\0\0\0\x10\0\0\0").unwrap();
     let nan = dir.join("nan.obj");
     std::fs::write(&nan, "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n").unwrap();
+    // POSITION names an accessor that does not exist (the validator indexed it and panicked).
+    let dangling = dir.join("dangling.gltf");
+    std::fs::write(
+        &dangling,
+        r#"{"asset": {"version": "2.0"}, "meshes": [{"primitives": [{"attributes": {"POSITION": 3}}]}]}"#,
+    )
+    .unwrap();
+    // A buffer outside the file's folder: its bytes would end up in the baked output.
+    let passwd = dir.join("passwd.gltf");
+    std::fs::write(
+        &passwd,
+        r#"{"asset": {"version": "2.0"}, "buffers": [{"uri": "/etc/passwd", "byteLength": 36}],
+            "bufferViews": [{"buffer": 0, "byteLength": 36}],
+            "accessors": [{"bufferView": 0, "count": 3, "componentType": 5126, "type": "VEC3",
+                           "min": [0, 0, 0], "max": [1, 1, 1]}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}]}"#,
+    )
+    .unwrap();
     let out = dir.join("out");
     let out = out.to_str().unwrap();
     for (args, needle) in [
@@ -145,6 +195,14 @@ fn bad_input_exits_with_a_message_and_no_panic() {
             "--mode",
         ),
         (vec!["export", dir.to_str().unwrap()], "bake.json"),
+        (
+            vec!["bake", dangling.to_str().unwrap(), "--out", out],
+            "accessor 3",
+        ),
+        (
+            vec!["bake", passwd.to_str().unwrap(), "--out", out],
+            "inside the file's folder",
+        ),
     ] {
         let output = pelt(&args, 2);
         let stderr = String::from_utf8_lossy(&output.stderr);
@@ -155,6 +213,46 @@ fn bad_input_exits_with_a_message_and_no_panic() {
         );
         assert!(!stderr.contains("panicked"), "{stderr}");
     }
+    // A bake larger than the memory limit stops before any stage, naming what to lower.
+    let mesh = suzanne();
+    let huge = [
+        "bake",
+        mesh.to_str().unwrap(),
+        "--out",
+        out,
+        "--resolution",
+        "4096",
+    ];
+    for (extra, needle) in [
+        (
+            vec!["--layers", "256"],
+            "layers·resolution² must be at most 1073741824",
+        ),
+        (
+            vec!["--layers", "64", "--memory-limit", "1G"],
+            "above the memory limit of 1.0 GiB",
+        ),
+        (vec!["--layers", "64", "--memory-limit", "lots"], "--memory-limit"),
+    ] {
+        let args: Vec<&str> = huge.iter().copied().chain(extra).collect();
+        let output = pelt(&args, 2);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{stderr}");
+        assert!(stderr.contains(needle), "{stderr}");
+        assert!(
+            stderr.contains("`resolution` (4096)") || !needle.contains("memory limit"),
+            "{stderr}"
+        );
+    }
+    // A thread count that would take minutes to start is refused at once, by name.
+    let output = pelt(&["bake", "missing.obj", "--out", out], 100_000);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("PELT_THREADS") && stderr.contains("[1, 1024]"),
+        "{stderr}"
+    );
+    assert!(!Path::new(out).exists(), "nothing is written on bad input");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -18,6 +18,10 @@ class InvalidMeshError(PeltError):
 class InvalidParameterError(PeltError):
     """A parameter is outside its allowed range."""
 
+class MemoryLimitError(InvalidParameterError):
+    """The parameters ask for more memory than :func:`memory_limit` allows; the message names the
+    stage, its estimate, the limit and the parameters to lower."""
+
 class BakeCancelled(PeltError):
     """A bake was cancelled."""
 
@@ -164,6 +168,17 @@ def thread_count() -> int:
 
 def set_thread_count(threads: int) -> None:
     """Use ``threads`` workers (0: one per core) for work started from now on; ``[0, 1024]``."""
+
+def memory_limit() -> int:
+    """Bytes a stage may plan to use; above it the stage raises :class:`MemoryLimitError` before
+    allocating. Default: half of :func:`physical_memory`, or ``PELT_MEMORY_LIMIT``."""
+
+def set_memory_limit(limit: float | None) -> None:
+    """Set :func:`memory_limit` in bytes (at least 64 MiB) for work started from now on; ``None``
+    returns to ``PELT_MEMORY_LIMIT`` or the default."""
+
+def physical_memory() -> int:
+    """Bytes of physical memory (a container's limit when smaller)."""
 
 class CoatParams(TypedDict):
     length: list[float]
@@ -391,7 +406,29 @@ class Pipeline:
         ``fur_depth`` object units deep (default: one tile). ``order=None`` picks the SH order by
         band selection within ``tolerance``. Every parameter is checked before any stage runs.
         ``progress(stage, fraction)`` returning ``False`` cancels with :class:`BakeCancelled`;
-        stages finished before the cancel stay cached."""
+        stages finished before the cancel stay cached. Raises :class:`MemoryLimitError` when
+        :meth:`peak_bytes` is above :func:`memory_limit`."""
+    @staticmethod
+    def peak_bytes(
+        *,
+        tile_size: float = 1.0,
+        seed: int = 1,
+        down: tuple[float, float, float] | None = None,
+        hair: HairParams | None = None,
+        layers: int = 16,
+        resolution: int = 128,
+        coverage: str = "exact",
+        fin_size: tuple[int, int] = (512, 128),
+        fur_depth: float | None = None,
+        transfer: bool = True,
+        order: int | None = None,
+        tolerance: float = 0.02,
+        directions: int = 256,
+        phase: Literal["isotropic", "kajiya-kay"] = "kajiya-kay",
+    ) -> float:
+        """Estimated peak memory in bytes of :meth:`bake` with these arguments (an upper bound;
+        the mesh's own share, usually small, is not counted). Checks the arguments as
+        :meth:`bake` does, without the memory limit."""
 
 # The wgpu preview renderer.
 

@@ -56,12 +56,29 @@ impl<'a> ExportInput<'a> {
 }
 
 /// Writes the texture set, the GLBs and `pelt.json` of `objects` into `folder`; returns the
-/// manifest.
+/// manifest. The files are written beside `folder` and moved in when all are written
+/// ([`super::StagedFolder`]): a failure leaves `folder` as it was.
 ///
 /// # Errors
 /// As [`super::write_texture_set`] and [`encode_glb`]; [`PeltError::InvalidParameter`] naming
 /// `glb_stem` when it is empty.
 pub fn write_asset(objects: &[ExportInput<'_>], folder: &Path, options: &AssetOptions) -> Result<Manifest> {
+    let staged = super::StagedFolder::new(folder)?;
+    let manifest = write_asset_files(objects, staged.path(), options)?;
+    staged.commit(&manifest.paths())?;
+    Ok(manifest)
+}
+
+/// [`write_asset`] straight into `folder`, for callers that stage the folder themselves to add
+/// files of their own (`pelt bake` adds `bake.json`).
+///
+/// # Errors
+/// As [`write_asset`].
+pub fn write_asset_files(
+    objects: &[ExportInput<'_>],
+    folder: &Path,
+    options: &AssetOptions,
+) -> Result<Manifest> {
     let stem = file_stem(&options.glb_stem);
     if stem.is_empty() {
         return Err(PeltError::parameter("glb_stem", "must not be empty"));

@@ -117,11 +117,17 @@ impl Manifest {
     /// # Errors
     /// [`PeltError::Io`] naming the file when it cannot be written.
     pub fn save(&self, folder: &Path) -> Result<()> {
-        let path = folder.join(MANIFEST_NAME);
-        std::fs::write(&path, self.to_json()?).map_err(|source| PeltError::Io {
-            path: path.display().to_string(),
-            source,
-        })
+        super::staging::write_file(&folder.join(MANIFEST_NAME), self.to_json()?.as_bytes())
+    }
+
+    /// Every file the manifest lists, `pelt.json` included, relative to its folder.
+    pub fn paths(&self) -> Vec<String> {
+        let objects = self.objects.iter().flat_map(|o| &o.files);
+        objects
+            .chain(&self.files)
+            .map(|f| f.path.clone())
+            .chain(std::iter::once(MANIFEST_NAME.to_string()))
+            .collect()
     }
 
     /// Reads `pelt.json` from `folder`.

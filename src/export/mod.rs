@@ -32,18 +32,16 @@ pub mod manifest;
 pub mod mip;
 pub mod png;
 mod stack_png;
+pub mod staging;
 pub mod texture_set;
 
 #[cfg(test)]
 mod tests;
 
-use std::fs::File;
-use std::io::{BufWriter, Write};
-use std::path::Path;
+use crate::error::PeltError;
+use staging::save_to_path;
 
-use crate::error::{PeltError, Result};
-
-pub use asset::{AssetOptions, write_asset};
+pub use asset::{AssetOptions, write_asset, write_asset_files};
 pub use atlas::{AtlasLayout, pack_atlas};
 pub use description::StackDescription;
 pub use exr::{ExrCompression, ExrOptions, ExrSample, save_exr, write_exr};
@@ -54,6 +52,7 @@ pub use ktx2::{Ktx2Format, Ktx2Texture, save_ktx2, write_ktx2};
 pub use manifest::{MANIFEST_NAME, Manifest, ManifestFile, ManifestObject};
 pub use mip::{MipAlpha, MipLevels, MipOptions, full_mip_count, mip_chain_rgba8, mip_chain_rgba16f};
 pub use png::{PngCompression, PngOptions, PngSample, save_png, write_png};
+pub use staging::StagedFolder;
 pub use texture_set::{TextureFormats, write_texture_set};
 
 /// The name [`PeltError::Io`] reports for failures of a caller's `Write` (it has no path).
@@ -65,19 +64,4 @@ fn writer_error(source: std::io::Error) -> PeltError {
         path: WRITER_NAME.into(),
         source,
     }
-}
-
-/// Creates `path`, lets `write` fill it through a buffer, and flushes; every I/O failure becomes
-/// [`PeltError::Io`] naming the path.
-fn save_to_path(path: &Path, write: impl FnOnce(&mut BufWriter<File>) -> Result<()>) -> Result<()> {
-    let io = |source| PeltError::Io {
-        path: path.display().to_string(),
-        source,
-    };
-    let mut out = BufWriter::new(File::create(path).map_err(io)?);
-    write(&mut out).map_err(|e| match e {
-        PeltError::Io { source, .. } => io(source),
-        other => other,
-    })?;
-    out.flush().map_err(io)
 }

@@ -429,7 +429,8 @@ fn plan<'a>(input: &'a ExportInput<'a>, formats: TextureFormats) -> Result<Vec<(
 }
 
 /// Writes the texture set of `objects` into `folder` (created if missing) and returns its
-/// manifest, also saved there as `pelt.json`.
+/// manifest, also saved there as `pelt.json`. The files are written beside `folder` and moved in
+/// when all are written ([`super::StagedFolder`]): a failure leaves `folder` as it was.
 ///
 /// # Errors
 /// [`PeltError::InvalidParameter`] naming `formats` when none is chosen, `objects` when two
@@ -440,8 +441,10 @@ pub fn write_texture_set(
     folder: &Path,
     formats: TextureFormats,
 ) -> Result<Manifest> {
-    let manifest = texture_set(objects, folder, formats)?;
-    manifest.save(folder)?;
+    let staged = super::StagedFolder::new(folder)?;
+    let manifest = texture_set(objects, staged.path(), formats)?;
+    manifest.save(staged.path())?;
+    staged.commit(&manifest.paths())?;
     Ok(manifest)
 }
 

@@ -21,6 +21,7 @@ use crate::lapped::{self, PatchParams, Patches};
 use crate::progress::ProgressCallback;
 use crate::prt::bands::{BandParams, BandReport, bake_transfer_auto};
 use crate::prt::pack::{PackedF16, PackedU8, pack_f16, pack_u8};
+use crate::prt::transfer::{MAX_LAYER_SPACING, MAX_LAYERS, MAX_VOXELS};
 use crate::prt::volume_input::VolumeInput;
 use crate::prt::{Phase, Transfer, TransferParams, bake_transfer};
 use crate::volume::{HairVolume, VolumeParams, bake_volume};
@@ -83,26 +84,128 @@ impl BakeParams {
         self.fur_depth.unwrap_or(self.patches.tile_size)
     }
 
-    /// Checks every stage's parameters, so a bad one fails before any stage runs.
+    /// Checks every stage's parameters and the bake's memory, so a bad one fails before any
+    /// stage runs.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming the first field out of range;
+    /// [`PeltError::MemoryLimit`] when [`Self::peak_bytes`] is above the limit.
+    pub fn validate(&self) -> Result<()> {
+        self.validate_ranges()?;
+        self.check_memory()
+    }
+
+    /// [`Self::validate`] without the memory check.
     ///
     /// # Errors
     /// [`PeltError::InvalidParameter`] naming the first field out of range.
-    pub fn validate(&self) -> Result<()> {
+    pub fn validate_ranges(&self) -> Result<()> {
         self.patches.validate()?;
         self.hair.validate()?;
         self.volume.validate()?;
         let depth = self.fur_depth();
         if !(depth > 0.0 && depth <= MAX_FUR_DEPTH) {
-            return Err(PeltError::parameter(
-                "fur_depth",
-                format!("must be in (0, {MAX_FUR_DEPTH}] object units, got {depth}"),
-            ));
+            return Err(match self.fur_depth {
+                Some(_) => PeltError::parameter(
+                    "fur_depth",
+                    format!("must be in (0, {MAX_FUR_DEPTH}] object units, got {depth}"),
+                ),
+                // The depth defaults to the tile size: name what the user set.
+                None => PeltError::parameter(
+                    "tile_size",
+                    format!(
+                        "must be in (0, {MAX_FUR_DEPTH}] object units when `fur_depth` is not given \
+                         (the fur is one tile deep), got {depth:e}"
+                    ),
+                ),
+            });
         }
         if let Some(choice) = &self.transfer {
             choice.params.validate()?;
             choice.bands.validate()?;
+            self.check_transfer_volume()?;
         }
         Ok(())
+    }
+
+    /// What the transfer stage asks of the volume, checked before any stage runs: two layers at
+    /// least, at most [`MAX_VOXELS`] voxels, and a layer spacing (the fur depth in texel widths
+    /// per layer) the transfer can represent.
+    fn check_transfer_volume(&self) -> Result<()> {
+        let (layers, res) = (self.volume.layers, self.volume.resolution);
+        if layers < 2 {
+            return Err(PeltError::parameter(
+                "layers",
+                format!(
+                    "must be in [2, {MAX_LAYERS}] when a transfer is baked (layer 0 is the skin), got {layers}"
+                ),
+            ));
+        }
+        let voxels = layers * res * res;
+        if voxels > MAX_VOXELS {
+            return Err(PeltError::parameter(
+                "resolution",
+                format!(
+                    "layers·resolution² must be at most {MAX_VOXELS} when a transfer is baked, got \
+                     {layers}·{res}² = {voxels}"
+                ),
+            ));
+        }
+        let texels_per_depth = res as f64 / (layers as f64 * self.patches.tile_size);
+        let spacing = self.fur_depth() * texels_per_depth;
+        let (lo, hi) = (f64::from(f32::MIN_POSITIVE), f64::from(MAX_LAYER_SPACING));
+        if !(lo..=hi).contains(&spacing) {
+            let name = if self.fur_depth.is_some() {
+                "fur_depth"
+            } else {
+                "tile_size"
+            };
+            return Err(PeltError::parameter(
+                name,
+                format!(
+                    "gives {spacing:e} texel widths between layers, outside [{lo:e}, {hi:e}]: keep \
+                     fur_depth (here {}) in [{:e}, {:e}] object units for tile_size {}, resolution \
+                     {res} and {layers} layers",
+                    self.fur_depth(),
+                    lo / texels_per_depth,
+                    hi / texels_per_depth,
+                    self.patches.tile_size
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Estimated peak bytes of the bake: the volume stage's, or the volume kept while the
+    /// transfer is baked and packed, whichever is larger (the patches are the mesh's size).
+    pub fn peak_bytes(&self) -> f64 {
+        let volume = crate::volume::peak::volume_peak_bytes(&self.volume)
+            + crate::volume::peak::strand_bytes(&self.hair);
+        let transfer = self.transfer.as_ref().map_or(0.0, |choice| {
+            let (l, r) = (self.volume.layers, self.volume.resolution);
+            // The transfer's own tangents: 12 bytes per voxel.
+            crate::volume::peak::volume_bytes(&self.volume)
+                + 12.0 * (l * r * r) as f64
+                + crate::prt::peak::transfer_peak_bytes(l, r, &choice.params, choice.auto, true)
+        });
+        volume.max(transfer)
+    }
+
+    /// `Ok` when [`Self::peak_bytes`] fits the memory limit.
+    fn check_memory(&self) -> Result<()> {
+        crate::memory::check("bake", self.peak_bytes(), || {
+            let order = match &self.transfer {
+                Some(TransferChoice {
+                    auto: false, params, ..
+                }) => format!(", `order` ({})", params.order),
+                Some(_) => ", the transfer's automatic order (bakes 8)".into(),
+                None => String::new(),
+            };
+            format!(
+                "`resolution` ({}), `layers` ({}), the hair `density` ({}){order}",
+                self.volume.resolution, self.volume.layers, self.hair.density
+            )
+        })
     }
 }
 

@@ -264,6 +264,7 @@ pub fn bake_transfer_auto(
     };
     params.validate()?;
     bands.validate()?;
+    super::peak::check_transfer_memory(volume.layers, volume.resolution, &params, true, false)?;
     if params.phase == super::Phase::KajiyaKay && volume.tangents.is_none() {
         return Err(PeltError::parameter(
             "tangents",

@@ -187,11 +187,19 @@ impl SegmentKernel {
     /// The kernel of the segment from `o` to `o + d` (grid units) scaled by `scale`, for a
     /// `res × res` torus.
     pub(super) fn new(o: [f64; 2], d: [f64; 2], scale: f64, res: usize) -> Self {
+        if res == 1 {
+            // One texel: every sample lands in it, with the mean weights ∫(1−f) = ∫f = 1/2.
+            return SegmentKernel {
+                rows: vec![(0, 0, vec![[(0.5 * scale) as f32; 2]])],
+            };
+        }
         let x0 = o[0].min(o[0] + d[0]).floor() as i64;
         let y0 = o[1].min(o[1] + d[1]).floor() as i64;
         let x1 = o[0].max(o[0] + d[0]).floor() as i64 + 1;
         let y1 = o[1].max(o[1] + d[1]).floor() as i64 + 1;
-        let (w, h) = ((x1 - x0 + 1) as usize, (y1 - y0 + 1) as usize);
+        // A segment longer than the torus wraps onto it: the grid never exceeds `res × res`.
+        let side = |extent: i64| (extent.saturating_add(1) as usize).min(res);
+        let (w, h) = (side(x1 - x0), side(y1 - y0));
         let mut grid = vec![[0.0f64; 2]; w * h];
         let n = 8 + (64.0 * d[0].hypot(d[1])).ceil() as usize;
         for k in 0..n {
@@ -199,14 +207,15 @@ impl SegmentKernel {
             let (px, py) = (o[0] + f * d[0], o[1] + f * d[1]);
             let (ix, iy) = (px.floor(), py.floor());
             let (fx, fy) = (px - ix, py - iy);
-            let (cx, cy) = ((ix as i64 - x0) as usize, (iy as i64 - y0) as usize);
+            let (cx, cy) = (ix as i64 - x0, iy as i64 - y0);
             for (dx, dy, t) in [
                 (0, 0, (1.0 - fx) * (1.0 - fy)),
                 (1, 0, fx * (1.0 - fy)),
                 (0, 1, (1.0 - fx) * fy),
                 (1, 1, fx * fy),
             ] {
-                let cell = &mut grid[(cy + dy) * w + cx + dx];
+                let (gx, gy) = ((cx + dx).rem_euclid(res as i64), (cy + dy).rem_euclid(res as i64));
+                let cell = &mut grid[gy as usize * w + gx as usize];
                 cell[0] += t * (1.0 - f) / n as f64;
                 cell[1] += t * f / n as f64;
             }

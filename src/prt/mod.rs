@@ -21,6 +21,7 @@ pub mod bands;
 mod field;
 mod march;
 pub mod pack;
+pub mod peak;
 pub mod sh;
 pub mod sphere;
 mod sweep;

@@ -500,6 +500,7 @@ pub fn bake_transfer(
 ) -> Result<Transfer> {
     params.validate()?;
     check_phase(volume, params)?;
+    super::peak::check_transfer_memory(volume.layers, volume.resolution, params, false, false)?;
     pool().install(|| bake_validated(volume, params, progress))
 }
 

@@ -37,6 +37,13 @@ fn as_checked_array<'py>(
     cols: Option<usize>,
 ) -> PyResult<Bound<'py, PyUntypedArray>> {
     let expected = cols.map_or("[N]".to_string(), |c| format!("[N, {c}]"));
+    if obj.is_none() {
+        return Err(mesh_error(MeshError::Shape {
+            array: name,
+            expected,
+            got: "None".into(),
+        }));
+    }
     let array = match obj.cast::<PyUntypedArray>() {
         Ok(array) => array.clone(),
         Err(_) => {
@@ -134,6 +141,23 @@ pub(super) fn index_array<'py>(obj: &Bound<'py, PyAny>, name: &'static str) -> P
     require_integer(&array, name)?;
     if array.dtype().is_equiv_to(&numpy::dtype::<u32>(array.py())) {
         Ok(IndexArray::Native(contiguous::<u32>(&array, name, "uint32")?))
+    } else if array.dtype().is_equiv_to(&numpy::dtype::<u64>(array.py())) {
+        // Above i64::MAX a uint64 would wrap to a negative int64: report the value as given.
+        let unsigned = contiguous::<u64>(&array, name, "uint64")?;
+        let values = flat(&unsigned)?;
+        if let Some(at) = values.iter().position(|&v| v > i64::MAX as u64) {
+            return Err(PeltError::parameter(
+                name,
+                format!(
+                    "triangle {} corner {} refers to vertex {}, far beyond any mesh",
+                    at / 3,
+                    at % 3,
+                    values[at]
+                ),
+            )
+            .into());
+        }
+        Ok(IndexArray::Wide(contiguous::<i64>(&array, name, "int64")?))
     } else {
         Ok(IndexArray::Wide(contiguous::<i64>(&array, name, "int64")?))
     }

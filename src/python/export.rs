@@ -276,8 +276,9 @@ pub(super) fn export_gltf_py(
     mode: &str,
     name: Option<&Bound<'_, PyAny>>,
     fins: bool,
-    shells: Option<usize>,
+    shells: Option<i128>,
 ) -> PyResult<()> {
+    let shells: Option<usize> = super::ints::unsigned_opt("shells", shells)?;
     let mode = GltfMode::parse(mode)?;
     let assets = assets_and_names(asset, name)?;
     detached(py, || {

@@ -100,12 +100,15 @@ impl PyPatches {
         &self,
         py: Python<'py>,
         mesh: &PyFurMesh,
-        width: u32,
-        height: u32,
+        width: i128,
+        height: i128,
         view: (f32, f32, f32),
         hair_length: f32,
-        hair_every: usize,
+        hair_every: i128,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let width: u32 = super::ints::unsigned("width", width)?;
+        let height: u32 = super::ints::unsigned("height", height)?;
+        let hair_every: usize = super::ints::unsigned("hair_every", hair_every)?;
         let params = PictureParams {
             size: [width, height],
             view: [view.0, view.1, view.2],
@@ -140,18 +143,20 @@ pub(super) fn build_patches(
     py: Python<'_>,
     mesh: &PyFurMesh,
     tile_size: f64,
-    seed: u64,
+    seed: i128,
     max_alignment_deg: Option<f64>,
     max_face_alignment_deg: Option<f64>,
     stretch_tolerance: Option<f64>,
     max_stretched_fraction: Option<f64>,
     max_stretch: Option<f64>,
-    max_patch_faces: Option<usize>,
+    max_patch_faces: Option<i128>,
     down: Option<(f32, f32, f32)>,
     blend: Option<f64>,
     comb_weight: Option<f64>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<PyPatches> {
+    let seed: u64 = super::ints::unsigned("seed", seed)?;
+    let max_patch_faces: Option<usize> = super::ints::unsigned_opt("max_patch_faces", max_patch_faces)?;
     let defaults = PatchParams::default();
     let mut params = PatchParams {
         tile_size,

@@ -7,6 +7,7 @@
 mod arrays;
 mod errors;
 mod export;
+mod ints;
 mod lapped;
 mod mesh;
 mod pipeline;
@@ -54,15 +55,49 @@ fn thread_count() -> usize {
 /// Sets the number of worker threads for later work (0: one per core), in `[0, 1024]`.
 #[pyfunction]
 fn set_thread_count(threads: i64) -> PyResult<()> {
-    if !(0..=1024).contains(&threads) {
-        return Err(crate::PeltError::parameter(
-            "threads",
-            format!("must be in [0, 1024] (0: one per core), got {threads}"),
-        )
-        .into());
+    match usize::try_from(threads) {
+        Ok(count) => crate::threads::set_thread_count(count)?,
+        // Negative counts are named like the others, not left to an OverflowError.
+        Err(_) => {
+            let range = format!("[0, {}]", crate::threads::MAX_THREADS);
+            let reason = format!("must be in {range} (0: one per core), got {threads}");
+            return Err(crate::PeltError::parameter("threads", reason).into());
+        }
     }
-    crate::threads::set_thread_count(threads as usize);
     Ok(())
+}
+
+/// The memory limit in bytes that bakes are checked against (see `crate::memory`).
+#[pyfunction]
+fn memory_limit() -> u64 {
+    crate::memory::limit()
+}
+
+/// Sets the memory limit in bytes for later work (`None`: `PELT_MEMORY_LIMIT` or half of the
+/// physical memory).
+#[pyfunction]
+#[pyo3(signature = (limit))]
+fn set_memory_limit(limit: Option<f64>) -> PyResult<()> {
+    // A float, so that a negative or huge value is named here rather than an OverflowError.
+    let bytes = match limit {
+        None => None,
+        Some(b) if b.is_finite() && b >= 0.0 && b < u64::MAX as f64 => Some(b as u64),
+        Some(b) => {
+            let reason = format!(
+                "must be a byte count of at least {} (or None), got {b}",
+                crate::memory::MIN_LIMIT
+            );
+            return Err(crate::PeltError::parameter("memory_limit", reason).into());
+        }
+    };
+    crate::memory::set_limit(bytes)?;
+    Ok(())
+}
+
+/// Physical memory in bytes (the container's limit when smaller), as the default limit sees it.
+#[pyfunction]
+fn physical_memory() -> u64 {
+    crate::memory::physical_memory()
 }
 
 /// Panics inside [`detached`] on purpose, so tests can check that no panic crosses into Python.
@@ -89,6 +124,9 @@ fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(lapped::build_patches, m)?)?;
     m.add_function(wrap_pyfunction!(thread_count, m)?)?;
     m.add_function(wrap_pyfunction!(set_thread_count, m)?)?;
+    m.add_function(wrap_pyfunction!(memory_limit, m)?)?;
+    m.add_function(wrap_pyfunction!(set_memory_limit, m)?)?;
+    m.add_function(wrap_pyfunction!(physical_memory, m)?)?;
     m.add_function(wrap_pyfunction!(prt::bake_transfer, m)?)?;
     m.add_function(wrap_pyfunction!(prt::sh_project_equirect, m)?)?;
     m.add_function(wrap_pyfunction!(prt::sh_project_light, m)?)?;

@@ -56,52 +56,31 @@ impl PyPipeline {
         py: Python<'_>,
         mesh: &PyFurMesh,
         tile_size: f64,
-        seed: u64,
+        seed: i128,
         down: Option<(f32, f32, f32)>,
         hair: Option<PyRef<'_, PyHairParams>>,
-        layers: usize,
-        resolution: usize,
+        layers: i128,
+        resolution: i128,
         coverage: &str,
-        fin_size: (usize, usize),
+        fin_size: (i128, i128),
         fur_depth: Option<f64>,
         transfer: bool,
-        order: Option<usize>,
+        order: Option<i128>,
         tolerance: f64,
-        directions: usize,
+        directions: i128,
         phase: &str,
         progress: Option<Bound<'_, PyAny>>,
     ) -> PyResult<PyFurAsset> {
-        let mut params = BakeParams {
-            hair: hair.map(|h| h.inner.clone()).unwrap_or_default(),
-            volume: VolumeParams {
-                layers,
-                resolution,
-                coverage: coverage.parse::<CoverageMode>()?,
-                fin_size: [fin_size.0, fin_size.1],
-                ..VolumeParams::default()
-            },
-            fur_depth,
-            ..BakeParams::default()
-        };
-        params.patches.tile_size = tile_size;
-        params.patches.seed = seed;
-        if let Some((x, y, z)) = down {
-            params.patches.field.down = [x, y, z];
-        }
-        if transfer {
-            let mut choice = TransferChoice {
-                params: TransferParams {
-                    directions,
-                    phase: parse_phase(phase)?,
-                    ..TransferParams::default()
-                },
-                auto: order.is_none(),
-                ..TransferChoice::default()
-            };
-            choice.params.order = order.unwrap_or(choice.params.order);
-            choice.bands.tolerance = tolerance;
-            params.transfer = Some(choice);
-        }
+        let seed: u64 = super::ints::unsigned("seed", seed)?;
+        let layers: usize = super::ints::unsigned("layers", layers)?;
+        let resolution: usize = super::ints::unsigned("resolution", resolution)?;
+        let fin_size: (usize, usize) = super::ints::unsigned_pair("fin_size", fin_size)?;
+        let order: Option<usize> = super::ints::unsigned_opt("order", order)?;
+        let directions: usize = super::ints::unsigned("directions", directions)?;
+        let params = bake_params(
+            tile_size, seed, down, hair, layers, resolution, coverage, fin_size, fur_depth, transfer, order,
+            tolerance, directions, phase,
+        )?;
         let reporter = PyProgress::new(progress);
         let mesh = mesh.inner.clone();
         let outcome = detached(py, || {
@@ -113,9 +92,100 @@ impl PyPipeline {
         Ok(PyFurAsset { inner })
     }
 
+    /// Estimated peak memory in bytes of a bake with these arguments (those of `bake` without
+    /// the mesh), after checking them all; see the stub.
+    #[staticmethod]
+    #[pyo3(signature = (
+        *, tile_size=1.0, seed=1, down=None, hair=None, layers=16, resolution=128, coverage="exact",
+        fin_size=(512, 128), fur_depth=None, transfer=true, order=None, tolerance=0.02, directions=256,
+        phase="kajiya-kay"
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn peak_bytes(
+        tile_size: f64,
+        seed: i128,
+        down: Option<(f32, f32, f32)>,
+        hair: Option<PyRef<'_, PyHairParams>>,
+        layers: i128,
+        resolution: i128,
+        coverage: &str,
+        fin_size: (i128, i128),
+        fur_depth: Option<f64>,
+        transfer: bool,
+        order: Option<i128>,
+        tolerance: f64,
+        directions: i128,
+        phase: &str,
+    ) -> PyResult<f64> {
+        let seed: u64 = super::ints::unsigned("seed", seed)?;
+        let layers: usize = super::ints::unsigned("layers", layers)?;
+        let resolution: usize = super::ints::unsigned("resolution", resolution)?;
+        let fin_size: (usize, usize) = super::ints::unsigned_pair("fin_size", fin_size)?;
+        let order: Option<usize> = super::ints::unsigned_opt("order", order)?;
+        let directions: usize = super::ints::unsigned("directions", directions)?;
+        let params = bake_params(
+            tile_size, seed, down, hair, layers, resolution, coverage, fin_size, fur_depth, transfer, order,
+            tolerance, directions, phase,
+        )?;
+        params.validate_ranges()?;
+        Ok(params.peak_bytes())
+    }
+
     fn __repr__(&self) -> String {
         "<pelt.Pipeline>".into()
     }
+}
+
+/// The bake parameters of `Pipeline.bake`'s keyword arguments.
+#[allow(clippy::too_many_arguments)]
+fn bake_params(
+    tile_size: f64,
+    seed: u64,
+    down: Option<(f32, f32, f32)>,
+    hair: Option<PyRef<'_, PyHairParams>>,
+    layers: usize,
+    resolution: usize,
+    coverage: &str,
+    fin_size: (usize, usize),
+    fur_depth: Option<f64>,
+    transfer: bool,
+    order: Option<usize>,
+    tolerance: f64,
+    directions: usize,
+    phase: &str,
+) -> PyResult<BakeParams> {
+    let mut params = BakeParams {
+        hair: hair.map(|h| h.inner.clone()).unwrap_or_default(),
+        volume: VolumeParams {
+            layers,
+            resolution,
+            coverage: coverage.parse::<CoverageMode>()?,
+            fin_size: [fin_size.0, fin_size.1],
+            ..VolumeParams::default()
+        },
+        fur_depth,
+        ..BakeParams::default()
+    };
+    params.patches.tile_size = tile_size;
+    params.patches.seed = seed;
+    if let Some((x, y, z)) = down {
+        params.patches.field.down = [x, y, z];
+    }
+    if transfer {
+        let mut choice = TransferChoice {
+            params: TransferParams {
+                directions,
+                phase: parse_phase(phase)?,
+                ..TransferParams::default()
+            },
+            auto: order.is_none(),
+            ..TransferChoice::default()
+        };
+        choice.params.order = order.unwrap_or(choice.params.order);
+        choice.bands.tolerance = tolerance;
+        params.transfer = Some(choice);
+    }
+    Ok(params)
 }
 
 impl PyPipeline {

@@ -70,14 +70,16 @@ pub(super) fn bake_transfer<'py>(
     density: &Bound<'py, PyAny>,
     tangents: Option<&Bound<'py, PyAny>>,
     layer_spacing: f32,
-    order: Option<usize>,
+    order: Option<i128>,
     tolerance: f64,
-    directions: usize,
+    directions: i128,
     phase: &str,
     method: &str,
     sigma: f32,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let order: Option<usize> = super::ints::unsigned_opt("order", order)?;
+    let directions: usize = super::ints::unsigned("directions", directions)?;
     let (density, shape) = float_ndarray(density, "density", "[L, R, R]", |s| s.len() == 3 && s[1] == s[2])?;
     let (layers, resolution) = (shape[0], shape[1]);
     let tangents = tangents
@@ -99,6 +101,9 @@ pub(super) fn bake_transfer<'py>(
         tolerance,
         ..BandParams::default()
     };
+    params.validate()?;
+    // This call also packs the result: count the packed textures before anything is baked.
+    crate::prt::peak::check_transfer_memory(layers, resolution, &params, order.is_none(), true)?;
     let density = flat(&density)?;
     let tangents = tangents.as_ref().map(|(t, _)| rows::<f32, 3>(t)).transpose()?;
     let reporter = PyProgress::new(progress.map(|p| p.into_bound(py)));
@@ -170,12 +175,20 @@ pub(super) fn transfer_dict<'py>(
 pub(super) fn sh_project_equirect<'py>(
     py: Python<'py>,
     image: &Bound<'py, PyAny>,
-    order: usize,
+    order: i128,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let order: usize = super::ints::unsigned("order", order)?;
     let (image, shape) = float_ndarray(image, "image", "[H, W, 3]", |s| s.len() == 3 && s[2] == 3)?;
     let (height, width) = (shape[0], shape[1]);
     let rgb = flat(&image)?;
     let coeffs = detached(py, || sh::project_equirect(order, width, height, rgb))?;
+    if let Some(big) = coeffs.iter().flatten().find(|c| c.abs() > f64::from(f32::MAX)) {
+        return Err(PeltError::parameter(
+            "image",
+            format!("projects to a coefficient of {big:e}, beyond float32's range: scale the image down"),
+        )
+        .into());
+    }
     let flat: Vec<f32> = coeffs.iter().flat_map(|c| c.map(|v| v as f32)).collect();
     Ok(PyArray1::from_vec(py, flat)
         .reshape([coeffs.len(), 3])?
@@ -189,9 +202,10 @@ pub(super) fn sh_project_equirect<'py>(
 pub(super) fn sh_project_light<'py>(
     py: Python<'py>,
     direction: [f64; 3],
-    order: usize,
+    order: i128,
     half_angle: f64,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let order: usize = super::ints::unsigned("order", order)?;
     let coeffs = sh::project_cap(order, direction, half_angle)?;
     let flat: Vec<f32> = coeffs.iter().map(|&c| c as f32).collect();
     Ok(PyArray1::from_vec(py, flat).into_any())

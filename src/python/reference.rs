@@ -96,17 +96,22 @@ pub(super) fn render_reference_py<'py>(
     asset: &PyFurAsset,
     view_matrix: &Bound<'py, PyAny>,
     projection_matrix: &Bound<'py, PyAny>,
-    width: u32,
-    height: u32,
+    width: i128,
+    height: i128,
     lights: Option<&Bound<'py, PyList>>,
-    samples: u32,
-    max_samples: u32,
+    samples: i128,
+    max_samples: i128,
     target_error: f64,
-    seed: u64,
+    seed: i128,
     shadows: bool,
     mode: &str,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
+    let width: u32 = super::ints::unsigned("width", width)?;
+    let height: u32 = super::ints::unsigned("height", height)?;
+    let samples: u32 = super::ints::unsigned("samples", samples)?;
+    let max_samples: u32 = super::ints::unsigned("max_samples", max_samples)?;
+    let seed: u64 = super::ints::unsigned("seed", seed)?;
     let volume_mode = match mode {
         "strands" => false,
         "volume" => true,

@@ -239,18 +239,21 @@ impl PyPreview {
         width: i64,
         height: i64,
         lighting: Option<&Bound<'py, PyAny>>,
-        shells: Option<u32>,
+        shells: Option<i128>,
         fins: bool,
         lod: bool,
         linear: bool,
         fur_depth: Option<f32>,
         background: (f32, f32, f32, f32),
-        min_shells: u32,
-        max_shells: u32,
+        min_shells: i128,
+        max_shells: i128,
         shells_per_pixel: f32,
         shell_method: &str,
         mesh_error: f32,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let shells: Option<u32> = super::ints::unsigned_opt("shells", shells)?;
+        let min_shells: u32 = super::ints::unsigned("min_shells", min_shells)?;
+        let max_shells: u32 = super::ints::unsigned("max_shells", max_shells)?;
         let shell_method = match shell_method {
             "instanced" => ShellMethod::Instanced,
             "marched" => ShellMethod::Marched,

@@ -52,13 +52,19 @@ fn to_json(params: &HairParams) -> Value {
 
 /// A Python value as JSON (through the `json` module: ints, floats, bools, lists, tuples, dicts).
 fn py_to_json(value: &Bound<'_, PyAny>, field: &str) -> PyResult<Value> {
+    let kwargs = pyo3::types::PyDict::new(value.py());
+    // NaN and infinities are refused here: JSON has no spelling for them.
+    kwargs.set_item("allow_nan", false)?;
     let text: String = value
         .py()
         .import("json")?
-        .call_method1("dumps", (value,))
+        .call_method("dumps", (value,), Some(&kwargs))
         .and_then(|s| s.extract())
         .map_err(|_| {
-            PeltError::parameter(field, format!("cannot be set to {value} (not a number or list)"))
+            PeltError::parameter(
+                field,
+                format!("cannot be set to {value} (not a finite number, or a list of them)"),
+            )
         })?;
     serde_json::from_str(&text)
         .map_err(|e| PeltError::parameter(field, format!("cannot be set to {value} ({e})")).into())
@@ -210,17 +216,20 @@ pub(super) fn volume_dict<'py>(py: Python<'py>, v: HairVolume) -> PyResult<Bound
 pub(super) fn bake_volume_py<'py>(
     py: Python<'py>,
     params: Option<PyRef<'py, PyHairParams>>,
-    layers: usize,
-    resolution: usize,
+    layers: i128,
+    resolution: i128,
     coverage: &str,
     vertical_filter: f64,
-    fin_size: (usize, usize),
+    fin_size: (i128, i128),
     fin_slab: f64,
     trim: bool,
     lod: bool,
     mipmaps: bool,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let layers: usize = super::ints::unsigned("layers", layers)?;
+    let resolution: usize = super::ints::unsigned("resolution", resolution)?;
+    let fin_size: (usize, usize) = super::ints::unsigned_pair("fin_size", fin_size)?;
     let hair = params.map(|p| p.inner.clone()).unwrap_or_default();
     let volume = VolumeParams {
         layers,

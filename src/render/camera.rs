@@ -43,8 +43,12 @@ pub(super) fn invert(m: &M4) -> Option<M4> {
         })
     });
     let det: f64 = (0..4).map(|c| m[0][c] * cof[0][c]).sum();
-    let scale = m.iter().flatten().fold(0.0f64, |s, v| s.max(v.abs()));
-    if !det.is_finite() || det.abs() <= 1e-12 * scale.powi(4) {
+    // Relative to the product of the column lengths (Hadamard's bound on |det|), which scales
+    // with the matrix column by column: a camera 1000 units away is as invertible as one nearby.
+    let bound: f64 = (0..4)
+        .map(|c| (0..4).map(|r| m[r][c] * m[r][c]).sum::<f64>().sqrt())
+        .product();
+    if !det.is_finite() || bound.is_nan() || det.abs() <= 1e-12 * bound {
         return None;
     }
     // inverse = adjugate / det, the adjugate being the transposed cofactor matrix
@@ -98,5 +102,36 @@ impl Camera {
             view_proj,
             eye: eye.map(|v| v as f32),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn translation(z: f64) -> M4 {
+        [
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, z],
+            [0.0, 0.0, 0.0, 1.0],
+        ]
+    }
+
+    #[test]
+    fn far_cameras_invert_and_flat_ones_do_not() {
+        // A camera 1000 (or 1e9) units away was called singular by an absolute threshold.
+        for z in [-1.0, -1000.0, -1e9] {
+            let inverse = invert(&translation(z)).expect("a translation is invertible");
+            assert_eq!(inverse[2][3], -z);
+        }
+        let mut flat = translation(-5.0);
+        flat[2] = [0.0, 0.0, 0.0, -5.0];
+        assert!(invert(&flat).is_none());
+        let tiny = translation(0.0).map(|row| row.map(|v| v * 1e-30));
+        assert!(
+            invert(&tiny).is_some(),
+            "a uniformly tiny scale is still invertible"
+        );
     }
 }

@@ -194,7 +194,8 @@ impl Renderer {
             if scene.transfer.is_none() {
                 return Err(PeltError::parameter(
                     "lighting.model",
-                    "PRT needs transfer textures in the scene (FurScene::set_transfer)",
+                    "\"prt\" needs a baked transfer: bake with the transfer on (Python: \
+                     Pipeline.bake(transfer=True)), or use \"kajiya-kay\"",
                 ));
             }
             Model::Prt

@@ -149,6 +149,8 @@ pub fn bake_volume(
     progress: Option<ProgressCallback<'_>>,
 ) -> Result<HairVolume> {
     volume.validate()?;
+    hair.validate()?;
+    super::peak::check_volume_memory(volume, Some(hair))?;
     let strands = grow_strands(hair)?;
     bake_strands(&strands, volume, progress)
 }
@@ -166,6 +168,7 @@ pub fn bake_strands(
 ) -> Result<HairVolume> {
     volume.validate()?;
     validate_strands(strands)?;
+    super::peak::check_volume_memory(volume, None)?;
     pool().install(|| bake_validated(strands, volume, progress))
 }
 
@@ -223,7 +226,11 @@ pub(crate) fn bake_validated(
     let layers = if volume.trim {
         // Highest layer any sample of the filter can still find hair at.
         let reach = 3.0 * volume.vertical_filter / requested as f64;
-        (((tallest + reach) * requested as f64).floor() as usize + 1).min(requested)
+        // Two layers at least (the skin and one above it), which the transfer needs even when no
+        // hair stands (zero density or length).
+        (((tallest + reach) * requested as f64).floor() as usize + 1)
+            .max(2)
+            .min(requested)
     } else {
         requested
     };

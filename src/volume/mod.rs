@@ -23,6 +23,7 @@ pub mod fin;
 pub mod footprint;
 mod grid;
 pub mod lod;
+pub mod peak;
 pub mod shells;
 mod splat;
 mod stack;

@@ -225,3 +225,29 @@ def test_rebake_refreshes_the_pixels_blender_already_loaded(addon):
     # Layer 0 (the skin) takes the root color: red now, brown before.
     assert skin[..., 0].mean() > 2 * skin[..., 1].mean()
     assert not np.array_equal(before, after)
+
+
+def test_a_bake_above_the_memory_limit_is_refused_and_the_panel_warns_first(addon):
+    from types import SimpleNamespace
+
+    obj = furred_suzanne(prt=True)
+    obj.pelt.resolution = "1024"
+    obj.pelt.layers = 128
+    # The preference's own update: 0.5 GiB, then back to the default (half the memory).
+    addon.preferences._apply_memory(SimpleNamespace(memory_limit_gib=0.5))
+    try:
+        peak, limit = addon.bake.memory_estimate(obj)
+        assert limit == 2**29 and peak > 128 * 1024**2 * 12
+        before = datablock_snapshot()
+        with pytest.raises(
+            RuntimeError, match=r"above the memory limit of 512\.0 MiB.*`resolution` \(1024\)"
+        ):
+            bpy.ops.pelt.bake()
+        assert datablock_snapshot() == before
+    finally:
+        addon.preferences._apply_memory(SimpleNamespace(memory_limit_gib=0.0))
+    assert pelt.memory_limit() > 2**29
+    obj.pelt.resolution = "64"
+    obj.pelt.layers = 8
+    peak, limit = addon.bake.memory_estimate(obj)
+    assert peak < 2**28 < limit

@@ -257,8 +257,13 @@ def test_bad_input_names_the_problem_and_the_preview_survives(asset):
             call()
     # PRT without transfer textures.
     plain = pelt.Preview(bake(transfer=False), adapter="cpu")
-    with pytest.raises(pelt.InvalidParameterError, match=r"lighting\.model"):
+    with pytest.raises(
+        pelt.InvalidParameterError, match=r"lighting\.model.*needs a baked transfer.*transfer=True"
+    ):
         plain.render(VIEW, PROJECTION, SIDE, SIDE, lighting="prt")
+    # A camera 1000 units away (a narrow lens) is valid: it was refused as "singular".
+    far = preview.render(look_at((0.0, -1000.0, 250.0)), gl_perspective(0.5, 900.0, 1100.0), SIDE, SIDE)
+    assert (far[..., 3] > 0).mean() > 0.02  # the sphere covers about 5% of this frame
     # Nothing changed: the next valid frame is the same image.
     assert np.array_equal(preview.render(VIEW, PROJECTION, SIDE, SIDE), good)
     assert preview.transfer_order == 3

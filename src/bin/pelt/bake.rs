@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use clap::Args;
 use pelt::FurMesh;
-use pelt::export::{AssetOptions, ExportInput, GltfMode, TextureFormats, write_asset};
+use pelt::export::{AssetOptions, ExportInput, GltfMode, StagedFolder, TextureFormats, write_asset_files};
 use pelt::mesh::obj::MeshData;
 use pelt::pipeline::{BakeParams, FurAsset, Pipeline, TransferChoice};
 use pelt::presets::FurPreset;
@@ -127,8 +127,13 @@ pub fn run(args: BakeArgs) -> Result<(), String> {
         fins: !args.no_fins,
         glb_stem: stem(&args.mesh),
     };
-    let manifest = write_asset(&inputs, &args.out, &options).map_err(|e| e.to_string())?;
-    record(&args)?;
+    // The folder and bake.json move into place together, or nothing changes.
+    let staged = StagedFolder::new(&args.out).map_err(|e| e.to_string())?;
+    let manifest = write_asset_files(&inputs, staged.path(), &options).map_err(|e| e.to_string())?;
+    record(&args, staged.path())?;
+    let mut paths = manifest.paths();
+    paths.push(BAKE_RECORD.into());
+    staged.commit(&paths).map_err(|e| e.to_string())?;
     let files = manifest.objects.iter().map(|o| o.files.len()).sum::<usize>() + manifest.files.len();
     println!(
         "pelt: wrote {} objects, {files} files and {} into {}",
@@ -197,10 +202,10 @@ fn stem(path: &Path) -> String {
 
 /// Writes the arguments into `bake.json` in the output folder, the mesh path made absolute so
 /// `pelt export` finds it from anywhere.
-fn record(args: &BakeArgs) -> Result<(), String> {
+fn record(args: &BakeArgs, folder: &Path) -> Result<(), String> {
     let mut recorded = args.clone();
     recorded.mesh = std::path::absolute(&args.mesh).map_err(|e| format!("{}: {e}", args.mesh.display()))?;
-    let path = args.out.join(BAKE_RECORD);
+    let path = folder.join(BAKE_RECORD);
     let text = serde_json::to_string_pretty(&recorded).map_err(|e| e.to_string())?;
     std::fs::write(&path, text + "\n").map_err(|e| format!("{}: {e}", path.display()))
 }

@@ -22,6 +22,10 @@ static ALLOCATOR: TrackingAllocator = TrackingAllocator;
 #[derive(Parser)]
 #[command(name = "pelt", version, about = "Real-time fur on any mesh")]
 struct Cli {
+    /// Most memory a stage may plan to use, e.g. 6G or 512M (default: PELT_MEMORY_LIMIT, else half
+    /// of the physical memory); a bake above it stops before allocating and says what to lower.
+    #[arg(long, global = true, value_name = "SIZE")]
+    memory_limit: Option<String>,
     #[command(subcommand)]
     command: Command,
 }
@@ -51,6 +55,10 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Err(e) = check_environment(cli.memory_limit.as_deref()) {
+        eprintln!("pelt: {e}");
+        return ExitCode::FAILURE;
+    }
     let result = match cli.command {
         Command::Bench(args) => bench::run(args),
         Command::Bake(args) => bake::run(args),
@@ -71,4 +79,14 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// Refuses a malformed `PELT_THREADS` or memory limit before any work, and applies the limit.
+fn check_environment(memory_limit: Option<&str>) -> pelt::Result<()> {
+    pelt::threads::threads_from_env()?;
+    pelt::memory::limit_from_env()?;
+    if let Some(text) = memory_limit {
+        pelt::memory::set_limit(Some(pelt::memory::parse_size("--memory-limit", text)?))?;
+    }
+    Ok(())
 }

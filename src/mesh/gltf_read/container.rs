@@ -2,7 +2,7 @@
 //! specification §4) or a JSON `.gltf`, and the bytes of every buffer it names (the GLB's BIN
 //! chunk, or files next to the `.gltf`).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use gltf_json as json;
 
@@ -87,8 +87,9 @@ pub(super) fn parse(path: &Path, bytes: &[u8]) -> Result<Document, String> {
                 ));
             }
             (Some(uri), _, _) => {
-                let file = path.parent().unwrap_or(Path::new(".")).join(uri);
-                std::fs::read(&file).map_err(|e| format!("buffer {i} ({}): {e}", file.display()))?
+                let file = buffer_file(path, uri).map_err(|e| format!("buffer {i} uri {uri:?}: {e}"))?;
+                read_bounded(&file, buffer.byte_length.0)
+                    .map_err(|e| format!("buffer {i} ({}): {e}", file.display()))?
             }
         };
         let declared = buffer.byte_length.0;
@@ -103,10 +104,93 @@ pub(super) fn parse(path: &Path, bytes: &[u8]) -> Result<Document, String> {
     Ok(Document { root, buffers })
 }
 
+/// The file a buffer's relative `uri` names, inside the folder of the glTF at `path`.
+///
+/// As Khronos's and Blender's loaders do, a URI is a relative reference: percent-escapes are
+/// decoded, and a scheme (`file:`, `http:`), an absolute path, or `..` that leaves the folder is
+/// refused, as is a symbolic link that leads out of it. A file may name only its own neighbours.
+fn buffer_file(path: &Path, uri: &str) -> Result<PathBuf, String> {
+    let decoded = percent_decode(uri)?;
+    if decoded.contains(':') || decoded.starts_with(['/', '\\']) {
+        return Err("only a relative path inside the file's folder is read".into());
+    }
+    let mut inside = PathBuf::new();
+    for part in decoded.split(['/', '\\']) {
+        match part {
+            "" | "." => {}
+            ".." => {
+                if !inside.pop() {
+                    return Err("the path leaves the file's folder".into());
+                }
+            }
+            name => inside.push(name),
+        }
+    }
+    let folder = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let file = folder.join(&inside);
+    // A link inside the folder may still point out of it: compare the resolved paths.
+    let (real_folder, real_file) = (folder.canonicalize(), file.canonicalize());
+    if let (Ok(real_folder), Ok(real_file)) = (real_folder, real_file)
+        && !real_file.starts_with(&real_folder)
+    {
+        return Err("the path leads out of the file's folder through a link".into());
+    }
+    Ok(file)
+}
+
+/// `uri` with its `%XX` escapes decoded (RFC 3986 §2.1); a malformed escape or bytes that are not
+/// UTF-8 are an error.
+fn percent_decode(uri: &str) -> Result<String, String> {
+    let bytes = uri.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' {
+            let hex = bytes
+                .get(i + 1..i + 3)
+                .and_then(|h| std::str::from_utf8(h).ok())
+                .and_then(|h| u8::from_str_radix(h, 16).ok())
+                .ok_or("a malformed %-escape")?;
+            out.push(hex);
+            i += 3;
+        } else {
+            out.push(bytes[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).map_err(|_| "the decoded path is not UTF-8".into())
+}
+
+/// The first `declared` bytes of `file` (plus one, so that a short file is still told apart),
+/// without reading a file that is larger than the buffer it stands for into memory.
+fn read_bounded(file: &Path, declared: u64) -> std::io::Result<Vec<u8>> {
+    use std::io::Read;
+    let mut data = Vec::new();
+    std::fs::File::open(file)?.take(declared).read_to_end(&mut data)?;
+    Ok(data)
+}
+
 /// Runs `gltf-json`'s validation (references in range, known enum values, supported required
 /// extensions) and reports the first problem with its JSON path.
 fn check(root: &json::Root) -> Result<(), String> {
     use json::validation::Validate;
+    // gltf-json indexes the accessor of every POSITION without a bounds check: look first.
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let position = primitive
+                .attributes
+                .get(&json::validation::Checked::Valid(json::mesh::Semantic::Positions));
+            if let Some(a) = position.filter(|a| a.value() >= root.accessors.len()) {
+                return Err(format!(
+                    "invalid glTF: meshes[{m}].primitives[{p}].attributes.POSITION names accessor {}, which does not exist",
+                    a.value()
+                ));
+            }
+        }
+    }
     let mut first: Option<String> = None;
     root.validate(root, json::Path::new, &mut |path, error| {
         if first.is_none() {

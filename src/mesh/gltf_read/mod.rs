@@ -32,6 +32,10 @@ use container::Document;
 /// one: white, which leaves the texture's color as it is.
 const WHITE: [f32; 4] = [1.0; 4];
 
+/// Most objects (nodes with a mesh) baked from one file: each is a bake of its own, so a small
+/// file listing thousands would run for hours.
+pub const MAX_OBJECTS: usize = 1024;
+
 /// One object of a glTF scene: a node with a mesh.
 #[derive(Debug, Clone, PartialEq)]
 pub struct NamedMesh {
@@ -148,46 +152,81 @@ fn local_transform(node: &json::Node) -> Matrix {
 
 /// `(node, mesh, world transform)` of every mesh instance in scene order (depth first); without
 /// nodes, every mesh once with the identity.
+///
+/// glTF node hierarchies are disjoint trees (specification §3.5.3: a node has at most one parent,
+/// a scene lists only roots, each once), so every node is visited at most once and a file cannot
+/// multiply its instances by sharing children; one that breaks the rule is refused.
 fn mesh_instances(root: &json::Root) -> std::result::Result<Vec<(Option<usize>, usize, Matrix)>, String> {
     if root.nodes.is_empty() {
+        if root.meshes.len() > MAX_OBJECTS {
+            return Err(format!(
+                "the file has {} meshes, more than the {MAX_OBJECTS} Pelt bakes from one file",
+                root.meshes.len()
+            ));
+        }
         return Ok((0..root.meshes.len()).map(|m| (None, m, IDENTITY)).collect());
+    }
+    let mut parent: Vec<Option<usize>> = vec![None; root.nodes.len()];
+    for (p, node) in root.nodes.iter().enumerate() {
+        for c in node.children.iter().flatten().map(|c| c.value()) {
+            let slot = parent
+                .get_mut(c)
+                .ok_or_else(|| format!("node {p} lists child {c}, which does not exist"))?;
+            match slot.replace(p) {
+                Some(first) if first == p => return Err(format!("node {p} lists child {c} twice")),
+                Some(first) => {
+                    return Err(format!(
+                        "node {c} is a child of both node {first} and node {p}; glTF node hierarchies are trees"
+                    ));
+                }
+                None => {}
+            }
+        }
     }
     let scene = root
         .scene
         .map(|s| s.value())
         .or((!root.scenes.is_empty()).then_some(0));
     let tops: Vec<usize> = match scene.and_then(|s| root.scenes.get(s)) {
-        Some(scene) => scene.nodes.iter().map(|n| n.value()).collect(),
-        None => {
-            // No scene: the nodes nobody lists as a child.
-            let mut child = vec![false; root.nodes.len()];
-            for node in &root.nodes {
-                for c in node.children.iter().flatten() {
-                    if let Some(flag) = child.get_mut(c.value()) {
-                        *flag = true;
+        Some(scene) => {
+            let tops: Vec<usize> = scene.nodes.iter().map(|n| n.value()).collect();
+            let mut listed = vec![false; root.nodes.len()];
+            for &n in &tops {
+                match (listed.get_mut(n), parent.get(n)) {
+                    (None, _) => return Err(format!("the scene lists node {n}, which does not exist")),
+                    (Some(true), _) => return Err(format!("the scene lists node {n} twice")),
+                    (_, Some(Some(p))) => {
+                        return Err(format!("the scene lists node {n}, which is a child of node {p}"));
                     }
+                    (Some(seen), _) => *seen = true,
                 }
             }
-            (0..root.nodes.len()).filter(|&n| !child[n]).collect()
+            tops
         }
+        // No scene: the nodes nobody lists as a child.
+        None => (0..root.nodes.len()).filter(|&n| parent[n].is_none()).collect(),
     };
     let mut out = Vec::new();
-    // Depth-first with an explicit stack; a path longer than the node count means a cycle.
-    let mut stack: Vec<(usize, Matrix, usize)> = tops.into_iter().rev().map(|n| (n, IDENTITY, 0)).collect();
-    while let Some((n, parent, depth)) = stack.pop() {
-        if depth > root.nodes.len() {
+    let mut visited = vec![false; root.nodes.len()];
+    // Depth-first with an explicit stack, so a deep hierarchy cannot overflow the call stack.
+    let mut stack: Vec<(usize, Matrix)> = tops.into_iter().rev().map(|n| (n, IDENTITY)).collect();
+    while let Some((n, parent)) = stack.pop() {
+        // One parent per node and roots without one leave a cycle as the only way back.
+        if std::mem::replace(&mut visited[n], true) {
             return Err("the node hierarchy has a cycle".into());
         }
-        let node = root
-            .nodes
-            .get(n)
-            .ok_or_else(|| format!("node {n} does not exist"))?;
+        let node = &root.nodes[n];
         let world = multiply(&parent, &local_transform(node));
         if let Some(mesh) = node.mesh {
             out.push((Some(n), mesh.value(), world));
+            if out.len() > MAX_OBJECTS {
+                return Err(format!(
+                    "the scene has more than {MAX_OBJECTS} mesh instances, the most Pelt bakes from one file"
+                ));
+            }
         }
         for c in node.children.iter().flatten().rev() {
-            stack.push((c.value(), world, depth + 1));
+            stack.push((c.value(), world));
         }
     }
     Ok(out)

@@ -160,7 +160,10 @@ fn broken_files_are_refused_with_a_reason() {
     let m = parse(&glb(&viewless, &bin));
     assert!(m.contains("bufferView") || m.contains("buffer view"), "{m}");
     let cycle = json.replace(r#""children": [1]"#, r#""children": [2]"#);
-    assert!(parse(&glb(&cycle, &bin)).contains("cycle"));
+    assert!(parse(&glb(&cycle, &bin)).contains("child of node 2"));
+    let missing_position = json.replace(r#""POSITION": 0, "COLOR_0": 1"#, r#""POSITION": 9"#);
+    let m = parse(&glb(&missing_position, &bin));
+    assert!(m.contains("POSITION names accessor 9"), "{m}");
     let data_uri = json.replace(
         &format!(r#""byteLength": {}}}]"#, bin.len()),
         &format!(
@@ -193,4 +196,98 @@ fn errors_name_the_file() {
         Err(PeltError::Io { .. })
     ));
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A node graph where node i has children [i+1, i+1] names 2^n instances in n nodes; a scene
+/// listing one node many times repeats its bake. glTF hierarchies are trees: both are refused.
+#[test]
+fn shared_children_and_repeated_roots_cannot_multiply_instances() {
+    let (bin, indices_at, strip_at) = scene_bin();
+    let json = scene_json(bin.len(), indices_at, strip_at);
+    let parse = |json: &str| reason(parse_gltf(Path::new("x.glb"), &glb(json, &bin), "x"));
+    // `json` with its node list and scene roots replaced.
+    let graph = |nodes: &[String], roots: &[String]| {
+        let (from, to) = (
+            json.find(r#""nodes": ["#).unwrap(),
+            json.find(r#""scenes""#).unwrap(),
+        );
+        let scene = format!(r#""scenes": [{{"nodes": [{}]}}]"#, roots.join(","));
+        json.replace(&json[from..to], &format!("\"nodes\": [{}],\n  ", nodes.join(",")))
+            .replace(r#""scenes": [{"nodes": [0, 2]}]"#, &scene)
+    };
+    let doubling: Vec<String> = (0..24)
+        .map(|i| format!(r#"{{"mesh": 0, "children": [{0}, {0}]}}"#, i + 1))
+        .chain(std::iter::once(r#"{"mesh": 0}"#.to_string()))
+        .collect();
+    let m = parse(&graph(&doubling, &["0".into()]));
+    assert!(m.contains("node 0 lists child 1 twice"), "{m}");
+    let two_parents = json.replace(
+        r#""scale": [2, 2, 2]}"#,
+        r#""scale": [2, 2, 2], "children": [1]}"#,
+    );
+    let m = parse(&two_parents);
+    assert!(m.contains("node 1 is a child of both node 0 and node 2"), "{m}");
+    let repeated: Vec<String> = vec!["0".to_string(); 10_000];
+    let m = parse(&json.replace(
+        r#""nodes": [0, 2]"#,
+        &format!(r#""nodes": [{}]"#, repeated.join(",")),
+    ));
+    assert!(m.contains("lists node 0 twice"), "{m}");
+    // Many distinct objects: each one a bake, so the file is capped.
+    let many = vec![r#"{"mesh": 0}"#.to_string(); super::MAX_OBJECTS + 1];
+    let roots: Vec<String> = (0..=super::MAX_OBJECTS).map(|i| i.to_string()).collect();
+    let wide = graph(&many, &roots);
+    let m = parse(&wide);
+    assert!(m.contains("more than 1024 mesh instances"), "{m}");
+}
+
+/// A `.gltf` in a fresh folder whose one buffer has `uri`, and the quad mesh of [`scene_bin`].
+fn gltf_with_uri(dir: &Path, uri: &str) -> std::path::PathBuf {
+    let (bin, indices_at, strip_at) = scene_bin();
+    let json = scene_json(bin.len(), indices_at, strip_at).replace(
+        &format!(r#""byteLength": {}}}]"#, bin.len()),
+        &format!(r#""byteLength": {}, "uri": {uri:?}}}]"#, bin.len()),
+    );
+    std::fs::create_dir_all(dir).unwrap();
+    std::fs::write(dir.join("scene.bin"), &bin).unwrap();
+    let path = dir.join("scene.gltf");
+    std::fs::write(&path, json).unwrap();
+    path
+}
+
+/// Buffer URIs name files inside the glTF's folder only: an absolute path, a `file:` URI, `..`
+/// that climbs out (also %-escaped) or a link that leads out are refused, as Khronos's loader does.
+#[test]
+fn buffer_uris_cannot_leave_the_files_folder() {
+    let root = std::env::temp_dir().join(format!("pelt-gltf-uri-{}", std::process::id()));
+    let dir = root.join("asset");
+    let inside = gltf_with_uri(&dir, "sub/../scene%2Ebin");
+    assert_eq!(read_gltf(&inside).unwrap().len(), 2);
+    std::fs::write(root.join("secret.bin"), vec![7u8; 400]).unwrap();
+    let outside = root.join("secret.bin").display().to_string();
+    for uri in [
+        outside.as_str(),
+        "/etc/passwd",
+        "file:///etc/passwd",
+        "../secret.bin",
+        "%2E%2E/secret.bin",
+        "sub/../../secret.bin",
+        "..\\secret.bin",
+    ] {
+        let path = gltf_with_uri(&dir, uri);
+        match read_gltf(&path) {
+            Err(PeltError::InvalidParameter { reason, .. }) => {
+                assert!(reason.contains("buffer 0 uri"), "{uri}: {reason}")
+            }
+            other => panic!("{uri}: expected a refusal, got {other:?}"),
+        }
+    }
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink(root.join("secret.bin"), dir.join("link.bin")).unwrap();
+        let path = gltf_with_uri(&dir, "link.bin");
+        let error = read_gltf(&path).unwrap_err().to_string();
+        assert!(error.contains("through a link"), "{error}");
+    }
+    std::fs::remove_dir_all(&root).unwrap();
 }

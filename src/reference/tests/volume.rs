@@ -244,11 +244,11 @@ fn the_volume_image_is_bit_identical_for_any_thread_count() {
     .scene();
     let lights = [sun([0.3, 0.2, 1.0], 3.0)];
     let camera = top_camera(0.4, 16);
-    crate::threads::set_thread_count(1);
+    crate::threads::set_thread_count(1).unwrap();
     let one = render_volume_reference(&scene, &camera, &lights, &fixed_samples(8), None).unwrap();
-    crate::threads::set_thread_count(3);
+    crate::threads::set_thread_count(3).unwrap();
     let three = render_volume_reference(&scene, &camera, &lights, &fixed_samples(8), None).unwrap();
-    crate::threads::set_thread_count(0);
+    crate::threads::set_thread_count(0).unwrap();
     assert_eq!(one.pixels, three.pixels);
 }
 

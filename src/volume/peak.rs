@@ -1,0 +1,98 @@
+//! The peak memory of a volume bake from its parameters alone, checked against the budget
+//! ([`crate::memory`]) before the strands are grown.
+//!
+//! With `L` layers (the trim can only lower it) of `R²` texels: shells, coverage and tangents
+//! (`12LR²`), the LOD chain (`4R²` per layer of levels 1.., about `4LR²`), the mip levels (about
+//! `4LR²/3`), the fin (`4·width·height`); while the stack is sampled, a scratch per busy worker
+//! (`32R²` of sums and up to 72 MiB of band queues); and the strands with their table (about
+//! `44(S + 1) + 200` bytes per strand of `S` segments).
+
+use super::bake::VolumeParams;
+use crate::error::Result;
+use crate::hair::HairParams;
+use crate::memory;
+
+/// Band queues and hair lists a sampling worker may hold (`splat.rs`'s queue and hair limits).
+const WORKER_QUEUES: f64 = 72.0 * 1024.0 * 1024.0;
+
+/// Estimated bytes of the strands of `hair` and their lookup table.
+pub fn strand_bytes(hair: &HairParams) -> f64 {
+    f64::from(hair.density) * (44.0 * f64::from(hair.segments + 1) + 200.0)
+}
+
+/// Estimated bytes of the baked volume that stays (shells, coverage, tangents, LOD, mips, fin).
+pub fn volume_bytes(volume: &VolumeParams) -> f64 {
+    let (l, r) = (volume.layers as f64, volume.resolution as f64);
+    let layer = r * r;
+    let lod = if volume.lod {
+        4.0 * layer * (l + l.log2().ceil() + 1.0)
+    } else {
+        0.0
+    };
+    let mips = if volume.mipmaps {
+        4.0 * l * (layer / 3.0 + r.log2().ceil() + 1.0)
+    } else {
+        0.0
+    };
+    let fin = 4.0 * (volume.fin_size[0] * volume.fin_size[1]) as f64;
+    12.0 * l * layer + lod + mips + fin
+}
+
+/// Estimated peak bytes of a volume bake without its strands: the volume, and the workers'
+/// scratch while the stack is sampled.
+pub fn volume_peak_bytes(volume: &VolumeParams) -> f64 {
+    let r = volume.resolution as f64;
+    let workers = crate::threads::thread_count().min(volume.layers) as f64;
+    volume_bytes(volume) + workers * (32.0 * r * r + WORKER_QUEUES)
+}
+
+/// `Ok` when [`volume_peak_bytes`] and, for a bake that grows them, the strands of `hair` fit the
+/// memory limit; otherwise [`crate::PeltError::MemoryLimit`] naming the sizes to lower.
+pub fn check_volume_memory(volume: &VolumeParams, hair: Option<&HairParams>) -> Result<()> {
+    let strands = hair.map_or(0.0, strand_bytes);
+    memory::check("bake_volume", strands + volume_peak_bytes(volume), || {
+        let sizes = format!(
+            "`resolution` ({}), `layers` ({})",
+            volume.resolution, volume.layers
+        );
+        match hair {
+            Some(h) => format!("{sizes} or the hair `density` ({})", h.density),
+            None => sizes,
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_estimate_covers_what_a_bake_keeps_and_refuses_256_layers_of_4096() {
+        // The default bake: the arrays it returns, counted here exactly, are within the estimate.
+        let (hair, volume) = (HairParams::default(), VolumeParams::default());
+        let baked = super::super::bake_volume(&hair, &volume, None).unwrap();
+        let kept = baked.shells.len()
+            + 4 * baked.coverage.len()
+            + baked.tangents.len()
+            + baked.fin.len()
+            + baked.lod.iter().map(Vec::len).sum::<usize>()
+            + baked.mips.iter().map(Vec::len).sum::<usize>();
+        assert!(
+            volume_bytes(&volume) >= kept as f64,
+            "{} < {kept}",
+            volume_bytes(&volume)
+        );
+        assert!(volume_bytes(&volume) < 1.2 * kept as f64 + 1e6);
+        let big = VolumeParams {
+            layers: 256,
+            resolution: 4096,
+            ..VolumeParams::default()
+        };
+        // 12 bytes per voxel alone is 48 GiB.
+        assert!(volume_peak_bytes(&big) + strand_bytes(&hair) > 70e9);
+        if memory::limit() < 64 << 30 {
+            let error = check_volume_memory(&big, Some(&hair)).unwrap_err().to_string();
+            assert!(error.contains("`resolution` (4096), `layers` (256)"), "{error}");
+        }
+    }
+}
