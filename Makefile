@@ -10,7 +10,7 @@ PY := $(VENV)/bin/python
 VERSION := $(shell sed -n 's/^version = "\(.*\)"/\1/p' Cargo.toml | head -n 1)
 APT_PACKAGES := g++ mesa-vulkan-drivers libvulkan1 libegl1 libegl-mesa0 libgl1-mesa-dri \
 	xvfb xauth libx11-xcb1 libxcursor1 libxi6 libxrandr2 libxkbcommon0 libxkbcommon-x11-0
-PY_REQUIREMENTS := bpy==5.0.1 pytest==9.2.0 maturin==1.16.0 ruff==0.17.6
+PY_REQUIREMENTS := bpy==5.0.1 pytest==9.2.0 maturin==1.16.0 ruff==0.17.6 hypothesis==6.140.0
 PLOT_REQUIREMENTS := matplotlib==3.11.2
 # The Khronos glTF-Validator (a JavaScript library), pinned; installed into build/node.
 GLTF_VALIDATOR := gltf-validator@2.0.0-dev.3.10
@@ -33,12 +33,12 @@ export XDG_RUNTIME_DIR ?= /tmp/pelt-runtime-$(shell id -u)
 # cargo test links the `python` feature's test binaries against libpython.
 export LD_LIBRARY_PATH := $(shell $(PYTHON) -c 'import sysconfig; print(sysconfig.get_config_var("LIBDIR") or "")'):$(LD_LIBRARY_PATH)
 
-.PHONY: demo test bench package setup system-deps check-rust check-gltf check-python clean
+.PHONY: demo test bench package setup system-deps check-rust check-gltf check-python check-fuzz fuzz clean
 
 demo: setup
 	$(PY) blender_scripts/demo.py
 
-test: setup $(ZIP) check-rust check-gltf check-python
+test: setup $(ZIP) check-rust check-gltf check-python check-fuzz
 
 setup: system-deps $(INSTALL_STAMP) $(TEMPLATES)
 	@mkdir -p -m 700 $(XDG_RUNTIME_DIR)
@@ -101,9 +101,22 @@ check-gltf: $(VALIDATOR_STAMP)
 	node scripts/validate_gltf.mjs $(GLTF_CHECK_DIR)/*.glb
 
 check-python: setup
-	$(VENV)/bin/ruff check addon blender_scripts scripts tests/blender python
-	$(VENV)/bin/ruff format --check addon blender_scripts scripts tests/blender python
+	$(VENV)/bin/ruff check addon blender_scripts scripts tests/blender tests/fuzz python
+	$(VENV)/bin/ruff format --check addon blender_scripts scripts tests/blender tests/fuzz python
 	$(PY) -m pytest tests/blender
+
+# A short fuzz of every public entry point (Rust and Python), each target in a process with a time
+# and memory limit; `cargo test` (check-rust) has built the Rust driver.
+check-fuzz: setup check-rust
+	$(PY) scripts/fuzz.py --cases 300 --binary target/debug/examples/fuzz --time-limit 600
+
+# The long run behind docs/reliability.md (FUZZ_CASES per target; hours on 2 cores at 10⁶).
+FUZZ_CASES ?= 1000000
+fuzz: setup
+	cargo build --release --example fuzz
+	@mkdir -p out
+	$(PY) scripts/fuzz.py --cases $(FUZZ_CASES) --binary target/release/examples/fuzz \
+		--time-limit 86400 --json out/fuzz.json
 
 # The full set (the image cases alone take about 35 minutes on 2 cores): docs/benchmarks.md, and
 # docs/accuracy.md with its plot and pictures under docs/accuracy/.

@@ -110,10 +110,12 @@ pub(super) fn frames(mesh: &FurMesh, direction: &[[f32; 3]], strength: &[f32], u
     let unit_field: Vec<[f64; 3]> = (0..units.len() as u32)
         .into_par_iter()
         .map(|u| {
-            units.faces(u).iter().fold([0.0; 3], |s, &f| {
+            // The area-weighted mean, dimensionless like the other candidates below.
+            let (sum, total) = units.faces(u).iter().fold(([0.0; 3], 0.0), |(s, t), &f| {
                 let (a, v) = (area_of(f as usize), fields[f as usize].1);
-                [s[0] + a * v[0], s[1] + a * v[1], s[2] + a * v[2]]
-            })
+                ([s[0] + a * v[0], s[1] + a * v[1], s[2] + a * v[2]], t + a)
+            });
+            if total > 0.0 { sum.map(|c| c / total) } else { sum }
         })
         .collect();
     (0..mesh.face_count())
@@ -140,7 +142,7 @@ pub(super) fn frames(mesh: &FurMesh, direction: &[[f32; 3]], strength: &[f32], u
                 .into_iter()
                 .chain(dirs)
                 .map(in_plane)
-                .find(|d| dot(*d, *d) > 1e-12 * (1.0 + dot(p[0], p[0])))
+                .find(|d| dot(*d, *d) > 1e-12)
                 .and_then(|d| unit_or(d, None))
                 .unwrap_or_else(|| {
                     let [t, _] = orthonormal_basis(normal.map(|c| c as f32));

@@ -170,7 +170,30 @@ pub fn build_patches_with_progress(
     callback: Option<ProgressCallback<'_>>,
 ) -> Result<Patches> {
     params.validate()?;
+    check_tiles_across(mesh, params.tile_size)?;
     pool().install(|| build(mesh, params, callback))
+}
+
+/// Most tiles across a mesh: the patch UVs are f32, whose spacing at 2²⁰ tiles is 1/16 of a tile
+/// (8 texels of a 128² tile); beyond, the texture cannot be placed (and at 2¹²⁸ the UVs are inf).
+pub const MAX_TILES_ACROSS: f64 = (1u64 << 20) as f64;
+
+/// Refuses a `tile_size` so small against the mesh that f32 UVs cannot place the tiles.
+fn check_tiles_across(mesh: &FurMesh, tile_size: f64) -> Result<()> {
+    let stats = mesh.stats();
+    let diagonal = crate::vec3::sub(stats.bbox_max.map(f64::from), stats.bbox_min.map(f64::from));
+    let tiles = crate::vec3::dot(diagonal, diagonal).sqrt() / tile_size;
+    if tiles <= MAX_TILES_ACROSS {
+        return Ok(());
+    }
+    Err(PeltError::parameter(
+        "tile_size",
+        format!(
+            "must be at least 1/{MAX_TILES_ACROSS} of the mesh's bounding-box diagonal ({:e}) for \
+             float32 UVs to place the tiles, got {tile_size:e} ({tiles:e} tiles across)",
+            tiles * tile_size
+        ),
+    ))
 }
 
 /// [`build_patches_with_progress`] without validation or pool.

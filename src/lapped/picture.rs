@@ -108,8 +108,14 @@ pub fn picture(mesh: &FurMesh, patches: &Patches, params: &PictureParams) -> Res
         ));
     }
     let [w, h] = params.size.map(|s| s as usize);
-    let length = params.view.iter().map(|c| c * c).sum::<f32>().sqrt();
-    let forward = params.view.map(|c| c / length);
+    // Lengths in f64, so a view, a face or a mesh of any finite f32 size has one.
+    let length = params
+        .view
+        .iter()
+        .map(|&c| f64::from(c).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    let forward = params.view.map(|c| (f64::from(c) / length) as f32);
     let dot = |a: [f32; 3], b: [f32; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let cross = |a: [f32; 3], b: [f32; 3]| {
         [
@@ -171,7 +177,8 @@ pub fn picture(mesh: &FurMesh, patches: &Patches, params: &PictureParams) -> Res
             e1[2] * e2[0] - e1[0] * e2[2],
             e1[0] * e2[1] - e1[1] * e2[0],
         ];
-        let facing = dot(n, forward).abs() / dot(n, n).sqrt().max(f32::MIN_POSITIVE);
+        let n_length = n.iter().map(|&c| f64::from(c).powi(2)).sum::<f64>().sqrt();
+        let facing = (f64::from(dot(n, forward)).abs() / n_length.max(f64::MIN_POSITIVE)) as f32;
         let base = match patches.patch[f] {
             NO_PATCH => BALD,
             id => patch_color(id),
@@ -207,9 +214,9 @@ pub fn picture(mesh: &FurMesh, patches: &Patches, params: &PictureParams) -> Res
             .bbox_max
             .iter()
             .zip(mesh.stats().bbox_min)
-            .map(|(a, b)| (a - b) * (a - b))
-            .sum::<f32>()
-            .sqrt();
+            .map(|(a, b)| (f64::from(*a) - f64::from(b)).powi(2))
+            .sum::<f64>()
+            .sqrt() as f32;
         let hair = params.hair_length * diagonal;
         // Lines sit a little in front of the surface so the z-test keeps the visible ones.
         let bias = 0.01 * extent;

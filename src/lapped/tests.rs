@@ -303,6 +303,60 @@ fn scaling_mesh_and_tile_together_changes_nothing() {
     }
 }
 
+/// Powers of two scale f32 positions exactly, so every stage, computed scale-free, gives the same
+/// layout to the bit from 2⁻⁶⁶ (1.4e-20) to 2¹²⁰ (1.3e36): an f32 product of two coordinates
+/// would overflow above about 2⁶⁴ and underflow below 2⁻⁶³, so the mesh's geometry is computed in
+/// f64. (Below 2⁻⁶⁶ the sphere's smallest coordinates, about 1e-9, turn subnormal in f32 and lose
+/// bits before Pelt sees them.)
+#[test]
+fn extreme_powers_of_two_change_nothing_but_the_scale() {
+    let (positions, triangles) = shapes::uv_sphere(24, 12);
+    let polygons = shapes::uv_sphere_polygons(24, 12);
+    let build = |scale: f32| {
+        let scaled: Vec<[f32; 3]> = positions.iter().map(|q| q.map(|c| c * scale)).collect();
+        let input = MeshInput {
+            polygons: Some(&polygons),
+            ..MeshInput::new(&scaled, &triangles)
+        };
+        let m = FurMesh::new(input).unwrap();
+        let p = build_patches(&m, &params(0.3 * f64::from(scale))).unwrap();
+        (
+            m.stats().surface_area / f64::from(scale).powi(2),
+            m.normals().to_vec(),
+            p,
+        )
+    };
+    let (area, normals, reference) = build(1.0);
+    assert!(reference.quality.patch_count > 4);
+    for k in [-66, -40, 40, 66, 100, 120] {
+        let scale = 2f32.powi(k);
+        let (a, n, p) = build(scale);
+        assert_eq!(a, area, "2^{k}: area / scale²");
+        // Compared whole, without printing the arrays.
+        assert!(n == normals, "2^{k}: normals differ");
+        assert!(p.patch == reference.patch, "2^{k}: patches differ");
+        assert!(p.uv == reference.uv, "2^{k}: UVs differ");
+        assert!(p.direction == reference.direction, "2^{k}: directions differ");
+        assert_eq!(
+            p.quality.mean_alignment_deg, reference.quality.mean_alignment_deg,
+            "2^{k}"
+        );
+        assert!(p.uv.iter().flatten().flatten().all(|c| c.is_finite()));
+    }
+}
+
+/// A tile so small that f32 UVs could not place it is refused by name instead of giving inf UVs.
+#[test]
+fn tiles_too_small_for_float_uvs_are_refused() {
+    let m = mesh(&shapes::uv_sphere(12, 6));
+    let error = build_patches(&m, &params(1e-7)).unwrap_err().to_string();
+    assert!(
+        error.contains("`tile_size`") && error.contains("tiles across"),
+        "{error}"
+    );
+    assert!(build_patches(&m, &params(4.0 / MAX_TILES_ACROSS)).is_ok());
+}
+
 #[test]
 fn the_layout_does_not_depend_on_the_thread_count() {
     let shape = shapes::bumpy_torus(96, 48);

@@ -9,47 +9,43 @@
 use rayon::prelude::*;
 
 use super::topology::Topology;
+use crate::vec3::{cross, dot, sub};
 
 /// Fallback normal for a vertex whose triangles all have zero area (or that has none).
 const FALLBACK_NORMAL: [f32; 3] = [0.0, 0.0, 1.0];
 
 /// A triangle counts as degenerate when the sine of its corner angle at vertex 0 is below this.
-const DEGENERATE_SINE: f32 = 1e-6;
+const DEGENERATE_SINE: f64 = 1e-6;
 
-pub(super) fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+fn wide(p: [f32; 3]) -> [f64; 3] {
+    p.map(f64::from)
 }
 
-pub(super) fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
+/// Euclidean length in f64: squares of any f32 magnitude (up to 6.8e38 for a difference, and
+/// down to the subnormals) stay finite and non-zero, so every geometric test below is scale-free.
+pub(super) fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
 }
 
-pub(super) fn norm(a: [f32; 3]) -> f32 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
-
-fn normalize_or(a: [f32; 3], fallback: [f32; 3]) -> [f32; 3] {
+/// `a` scaled to unit length and rounded to f32, or `fallback` when it has none.
+fn normalize_or(a: [f64; 3], fallback: [f32; 3]) -> [f32; 3] {
     let n = norm(a);
     if n > 0.0 && n.is_finite() {
-        [a[0] / n, a[1] / n, a[2] / n]
+        a.map(|c| (c / n) as f32)
     } else {
         fallback
     }
 }
 
-/// Unnormalized normal per triangle: `(p1 - p0) × (p2 - p0)`, length twice the area.
-pub(super) fn face_normals(positions: &[[f32; 3]], triangles: &[[u32; 3]]) -> Vec<[f32; 3]> {
+/// Unnormalized normal per triangle: `(p1 - p0) × (p2 - p0)` in f64, length twice the area.
+pub(super) fn face_normals(positions: &[[f32; 3]], triangles: &[[u32; 3]]) -> Vec<[f64; 3]> {
     triangles
         .par_iter()
         .map(|t| {
-            let p0 = positions[t[0] as usize];
+            let p0 = wide(positions[t[0] as usize]);
             cross(
-                sub(positions[t[1] as usize], p0),
-                sub(positions[t[2] as usize], p0),
+                sub(wide(positions[t[1] as usize]), p0),
+                sub(wide(positions[t[2] as usize]), p0),
             )
         })
         .collect()
@@ -59,7 +55,7 @@ pub(super) fn face_normals(positions: &[[f32; 3]], triangles: &[[u32; 3]]) -> Ve
 pub(super) fn degenerate_faces(
     positions: &[[f32; 3]],
     triangles: &[[u32; 3]],
-    face_normals: &[[f32; 3]],
+    face_normals: &[[f64; 3]],
 ) -> Vec<bool> {
     triangles
         .par_iter()
@@ -68,21 +64,21 @@ pub(super) fn degenerate_faces(
             if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
                 return true;
             }
-            let p0 = positions[t[0] as usize];
-            let e1 = norm(sub(positions[t[1] as usize], p0));
-            let e2 = norm(sub(positions[t[2] as usize], p0));
+            let p0 = wide(positions[t[0] as usize]);
+            let e1 = norm(sub(wide(positions[t[1] as usize]), p0));
+            let e2 = norm(sub(wide(positions[t[2] as usize]), p0));
             // |e1 × e2| = |e1| |e2| sin(angle): scale-free test for zero area
             norm(*n) <= DEGENERATE_SINE * e1 * e2
         })
         .collect()
 }
 
-/// Area-weighted unit vertex normals.
-pub(super) fn vertex_normals(topology: &Topology, face_normals: &[[f32; 3]]) -> Vec<[f32; 3]> {
+/// Area-weighted unit vertex normals (summed in f64).
+pub(super) fn vertex_normals(topology: &Topology, face_normals: &[[f64; 3]]) -> Vec<[f32; 3]> {
     (0..topology.vertex_count())
         .into_par_iter()
         .map(|v| {
-            let sum = topology.vertex_faces(v).iter().fold([0.0f32; 3], |acc, &f| {
+            let sum = topology.vertex_faces(v).iter().fold([0.0f64; 3], |acc, &f| {
                 let n = face_normals[f as usize];
                 [acc[0] + n[0], acc[1] + n[1], acc[2] + n[2]]
             });
@@ -91,11 +87,12 @@ pub(super) fn vertex_normals(topology: &Topology, face_normals: &[[f32; 3]]) -> 
         .collect()
 }
 
-/// Given normals scaled to unit length (validation has rejected zero rows).
+/// Given normals scaled to unit length (validation has rejected zero rows; in f64 every other
+/// finite row has a length, however large or small).
 pub(super) fn normalize_given(normals: &[[f32; 3]]) -> Vec<[f32; 3]> {
     normals
         .par_iter()
-        .map(|&n| normalize_or(n, FALLBACK_NORMAL))
+        .map(|&n| normalize_or(wide(n), FALLBACK_NORMAL))
         .collect()
 }
 

@@ -38,7 +38,7 @@ impl MeshStats {
         positions: &[[f32; 3]],
         triangles: &[[u32; 3]],
         topology: &Topology,
-        face_normals: &[[f32; 3]],
+        face_normals: &[[f64; 3]],
         degenerate: &[bool],
     ) -> Self {
         let edges = topology.edges();
@@ -59,7 +59,7 @@ impl MeshStats {
             degenerate_faces: degenerate.iter().filter(|&&d| d).count(),
             components: topology.components(),
             loose_vertices: topology.loose_vertices(),
-            surface_area: deterministic_sum(face_normals.len(), |f| 0.5 * f64::from(norm(face_normals[f]))),
+            surface_area: deterministic_sum(face_normals.len(), |f| 0.5 * norm(face_normals[f])),
             bbox_min,
             bbox_max,
         }

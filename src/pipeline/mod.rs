@@ -179,7 +179,8 @@ impl BakeParams {
     /// Estimated peak bytes of the bake: the volume stage's, or the volume kept while the
     /// transfer is baked and packed, whichever is larger (the patches are the mesh's size).
     pub fn peak_bytes(&self) -> f64 {
-        let volume = crate::volume::peak::volume_peak_bytes(&self.volume)
+        let strands = crate::volume::peak::StrandSizes::of(&self.hair);
+        let volume = crate::volume::peak::volume_peak_bytes(&self.volume, strands)
             + crate::volume::peak::strand_bytes(&self.hair);
         let transfer = self.transfer.as_ref().map_or(0.0, |choice| {
             let (l, r) = (self.volume.layers, self.volume.resolution);

@@ -5,7 +5,7 @@
 //! order 8 and then cuts a copy), what is alive at once is: the coefficients (`4NV`), the
 //! Kajiya–Kay phase field (`12V`), the packed textures when the caller packs (`12⌈N/4⌉V`), and
 //! the method's working set. The sweep holds a group of rays (about 64 MiB, at least one ray of
-//! `16R²`), two layer pyramids (`8R²` per level), separable temporaries (`8R²`), a row
+//! `16R²`, for at most half the directions), two layer pyramids (`8R²` per level), separable temporaries (`8R²`), a row
 //! accumulator per worker (`4R(N + 66)`) and a segment kernel per worker (at most `16R²`, and
 //! `16(s + 3)²` for a kernel `s = sweep_step · sweep_max_samples` texels long).
 
@@ -42,7 +42,9 @@ pub fn transfer_peak_bytes(
     let working = match params.method {
         Method::Brute => workers * 4.0 * r * (n + extra + 1.0),
         Method::Sweep => {
-            let rays = (64.0 * 1024.0 * 1024.0f64).max(16.0 * r * r);
+            // Directions above the horizon in groups of about 64 MiB of rays, one ray at least.
+            let group = (64.0 * 1024.0 * 1024.0 / (16.0 * r * r)).floor().max(1.0);
+            let rays = group.min((params.directions as f64 / 2.0).ceil().max(1.0)) * 16.0 * r * r;
             let levels = (r.log2().ceil() + 2.0).max(1.0);
             let kernel_side =
                 (f64::from(params.sweep_step) * f64::from(params.sweep_max_samples) + 3.0).min(r);

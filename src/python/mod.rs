@@ -54,17 +54,16 @@ fn thread_count() -> usize {
 
 /// Sets the number of worker threads for later work (0: one per core), in `[0, 1024]`.
 #[pyfunction]
-fn set_thread_count(threads: i64) -> PyResult<()> {
+fn set_thread_count(threads: i128) -> PyResult<()> {
+    // Any int, so that a negative or huge count is named here rather than an OverflowError.
+    let max = crate::threads::MAX_THREADS;
     match usize::try_from(threads) {
-        Ok(count) => crate::threads::set_thread_count(count)?,
-        // Negative counts are named like the others, not left to an OverflowError.
-        Err(_) => {
-            let range = format!("[0, {}]", crate::threads::MAX_THREADS);
-            let reason = format!("must be in {range} (0: one per core), got {threads}");
-            return Err(crate::PeltError::parameter("threads", reason).into());
+        Ok(count) if count <= max => Ok(crate::threads::set_thread_count(count)?),
+        _ => {
+            let reason = format!("must be in [0, {max}] (0: one per core), got {threads}");
+            Err(crate::PeltError::parameter("threads", reason).into())
         }
     }
-    Ok(())
 }
 
 /// The memory limit in bytes that bakes are checked against (see `crate::memory`).

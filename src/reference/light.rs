@@ -63,16 +63,17 @@ impl ReferenceLight {
                 for (c, &v) in color.iter().enumerate() {
                     check(&format!("lights[{i}].color[{c}]"), v)?;
                 }
-                let d = Vec3A::from(*direction);
-                let len = d.length();
-                if !(len.is_finite() && len > 1e-20) {
+                // In f64, so any finite non-zero f32 direction has a length.
+                let wide = glam::DVec3::from(direction.map(f64::from));
+                let len = wide.length();
+                if !(len.is_finite() && len > 0.0) {
                     return Err(PeltError::parameter(
                         format!("lights[{i}].direction"),
                         format!("must be finite and non-zero, got {direction:?}"),
                     ));
                 }
                 Ok(Prepared::Sun {
-                    direction: d / len,
+                    direction: Vec3A::from((wide / len).as_vec3()),
                     radiance_scale: Vec3::from(*color) * *strength,
                 })
             }

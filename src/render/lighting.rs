@@ -157,7 +157,7 @@ impl Lighting {
     pub(super) fn frame(&self) -> Result<LightingFrame> {
         let d = self.direction.map(f64::from);
         let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        if !(len.is_finite() && len > 1e-12) {
+        if !(len.is_finite() && len > 0.0) {
             return Err(PeltError::parameter(
                 "lighting.direction",
                 format!("must be finite and non-zero, got {:?}", self.direction),

@@ -150,7 +150,7 @@ pub fn bake_volume(
 ) -> Result<HairVolume> {
     volume.validate()?;
     hair.validate()?;
-    super::peak::check_volume_memory(volume, Some(hair))?;
+    super::peak::check_volume_memory(volume, super::peak::StrandSizes::of(hair), Some(hair))?;
     let strands = grow_strands(hair)?;
     bake_strands(&strands, volume, progress)
 }
@@ -168,7 +168,14 @@ pub fn bake_strands(
 ) -> Result<HairVolume> {
     volume.validate()?;
     validate_strands(strands)?;
-    super::peak::check_volume_memory(volume, None)?;
+    let sizes = super::peak::StrandSizes {
+        count: strands.len() as f64,
+        max_width: strands
+            .iter()
+            .flat_map(|s| &s.radii)
+            .fold(0.0, |w, r| w.max(2.0 * r)),
+    };
+    super::peak::check_volume_memory(volume, sizes, None)?;
     pool().install(|| bake_validated(strands, volume, progress))
 }
 

@@ -4,16 +4,38 @@
 //! With `L` layers (the trim can only lower it) of `R²` texels: shells, coverage and tangents
 //! (`12LR²`), the LOD chain (`4R²` per layer of levels 1.., about `4LR²`), the mip levels (about
 //! `4LR²/3`), the fin (`4·width·height`); while the stack is sampled, a scratch per busy worker
-//! (`32R²` of sums and up to 72 MiB of band queues); and the strands with their table (about
-//! `44(S + 1) + 200` bytes per strand of `S` segments).
+//! (`32R²` of sums, and band queues of 12 bytes per share of a hair in a texel, at most one per
+//! texel of each hair's footprint, and 24 bytes per hair, both capped where the queue spills);
+//! and the strands with their table (about `44(S + 1) + 200` bytes per strand of `S` segments).
 
 use super::bake::VolumeParams;
 use crate::error::Result;
 use crate::hair::HairParams;
 use crate::memory;
 
-/// Band queues and hair lists a sampling worker may hold (`splat.rs`'s queue and hair limits).
-const WORKER_QUEUES: f64 = 72.0 * 1024.0 * 1024.0;
+/// What the sampling's band queues hold at most: shares (12 bytes, doubled while a vector grows)
+/// and hairs (24 bytes) before a layer spills (`splat.rs`).
+const QUEUE_CAP: f64 = 2.0 * 12.0 * super::splat::QUEUE_LIMIT as f64;
+const HAIR_CAP: f64 = 24.0 * super::splat::HAIR_LIMIT as f64;
+
+/// The strands a bake samples, as the memory estimate needs them.
+#[derive(Debug, Clone, Copy)]
+pub struct StrandSizes {
+    /// Number of strands.
+    pub count: f64,
+    /// Widest strand (diameter), tile units.
+    pub max_width: f64,
+}
+
+impl StrandSizes {
+    /// The strands `hair` grows.
+    pub fn of(hair: &HairParams) -> Self {
+        StrandSizes {
+            count: f64::from(hair.density),
+            max_width: hair.undercoat.width[1].max(hair.overcoat.width[1]),
+        }
+    }
+}
 
 /// Estimated bytes of the strands of `hair` and their lookup table.
 pub fn strand_bytes(hair: &HairParams) -> f64 {
@@ -38,19 +60,26 @@ pub fn volume_bytes(volume: &VolumeParams) -> f64 {
     12.0 * l * layer + lod + mips + fin
 }
 
-/// Estimated peak bytes of a volume bake without its strands: the volume, and the workers'
-/// scratch while the stack is sampled.
-pub fn volume_peak_bytes(volume: &VolumeParams) -> f64 {
+/// Estimated peak bytes of a volume bake of `strands` without the strands themselves: the
+/// volume, and the workers' scratch while the stack is sampled.
+pub fn volume_peak_bytes(volume: &VolumeParams, strands: StrandSizes) -> f64 {
     let r = volume.resolution as f64;
     let workers = crate::threads::thread_count().min(volume.layers) as f64;
-    volume_bytes(volume) + workers * (32.0 * r * r + WORKER_QUEUES)
+    let footprint = (strands.max_width * r + 2.0).powi(2).min(r * r);
+    let queues =
+        (12.0 * 2.0 * strands.count * footprint).min(QUEUE_CAP) + (24.0 * strands.count).min(HAIR_CAP);
+    volume_bytes(volume) + workers * (32.0 * r * r + queues)
 }
 
 /// `Ok` when [`volume_peak_bytes`] and, for a bake that grows them, the strands of `hair` fit the
 /// memory limit; otherwise [`crate::PeltError::MemoryLimit`] naming the sizes to lower.
-pub fn check_volume_memory(volume: &VolumeParams, hair: Option<&HairParams>) -> Result<()> {
-    let strands = hair.map_or(0.0, strand_bytes);
-    memory::check("bake_volume", strands + volume_peak_bytes(volume), || {
+pub fn check_volume_memory(
+    volume: &VolumeParams,
+    strands: StrandSizes,
+    hair: Option<&HairParams>,
+) -> Result<()> {
+    let grown = hair.map_or(0.0, strand_bytes);
+    memory::check("bake_volume", grown + volume_peak_bytes(volume, strands), || {
         let sizes = format!(
             "`resolution` ({}), `layers` ({})",
             volume.resolution, volume.layers
@@ -89,9 +118,11 @@ mod tests {
             ..VolumeParams::default()
         };
         // 12 bytes per voxel alone is 48 GiB.
-        assert!(volume_peak_bytes(&big) + strand_bytes(&hair) > 70e9);
+        assert!(volume_peak_bytes(&big, StrandSizes::of(&hair)) + strand_bytes(&hair) > 70e9);
         if memory::limit() < 64 << 30 {
-            let error = check_volume_memory(&big, Some(&hair)).unwrap_err().to_string();
+            let error = check_volume_memory(&big, StrandSizes::of(&hair), Some(&hair))
+                .unwrap_err()
+                .to_string();
             assert!(error.contains("`resolution` (4096), `layers` (256)"), "{error}");
         }
     }

@@ -27,9 +27,9 @@ pub(super) const EMPTY: Sums = [0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
 const BAND_TEXELS: usize = 1 << 14;
 /// Shares queued before a layer spills them into whole-layer sums (48 MiB of queue; a 1024²
 /// layer of 200,000 hairs about a texel wide queues some 2 million).
-const QUEUE_LIMIT: usize = 1 << 22;
+pub(super) const QUEUE_LIMIT: usize = 1 << 22;
 /// Hairs queued before the layer spills (24 MiB of colors and directions).
-const HAIR_LIMIT: usize = 1 << 20;
+pub(super) const HAIR_LIMIT: usize = 1 << 20;
 
 /// What a hair adds to each texel it covers, besides its share: color and unit direction.
 #[derive(Debug, Clone, Copy)]

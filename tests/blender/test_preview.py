@@ -251,9 +251,12 @@ def test_bad_input_names_the_problem_and_the_preview_survives(asset):
         (lambda: preview.set_transfer(bake(layers=6)), "transfer.layers"),
         (lambda: pelt.Preview(asset, adapter="quantum"), "adapter"),
         (lambda: preview.render(VIEW, PROJECTION, SIDE, SIDE, shell_method="ray"), "shell_method"),
+        (lambda: preview.render(VIEW, PROJECTION, SIDE, SIDE, shells=-1), "`shells`.*got -1"),
     ]
     for call, name in cases:
-        with pytest.raises(pelt.InvalidParameterError, match=name.replace(".", r"\.")):
+        with pytest.raises(
+            pelt.InvalidParameterError, match=name if "`" in name else name.replace(".", r"\.")
+        ):
             call()
     # PRT without transfer textures.
     plain = pelt.Preview(bake(transfer=False), adapter="cpu")

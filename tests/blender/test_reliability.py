@@ -125,3 +125,56 @@ def test_messages_name_the_argument_its_value_and_range():
     patches = pelt.build_patches(mesh, 1.0)
     with pytest.raises(pelt.InvalidParameterError, match=r"`height`.*got -1"):
         patches.picture(mesh, height=-1)
+
+
+def octahedron(scale=1.0, normals=None):
+    positions = np.array(
+        [[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], np.float32
+    ) * np.float32(scale)
+    triangles = np.array(
+        [[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]], np.uint32
+    )
+    return pelt.FurMesh(positions, triangles, normals=normals)
+
+
+def test_geometry_is_scale_free_from_1e_minus_20_to_1e30():
+    unit = octahedron()
+    patches = pelt.build_patches(unit, 0.3)
+    for scale in (1e-30, 1e-20, 1e-12, 1e12, 1e20, 1e30):
+        mesh = octahedron(scale)
+        stats = mesh.stats()
+        # The area was inf at 1e12 and NaN at 1e30 (squares of f32 lengths), 0 below 1e-11.
+        assert stats["surface_area"] / scale**2 == pytest.approx(4 * np.sqrt(3), rel=1e-6), scale
+        np.testing.assert_allclose(mesh.normals, unit.normals, atol=1e-6)
+        scaled = pelt.build_patches(mesh, 0.3 * scale)
+        assert scaled.quality["patch_count"] == patches.quality["patch_count"], scale
+        assert np.isfinite(scaled.quality["mean_alignment_deg"])
+        assert np.isfinite(scaled.uv).all()
+    # Given normals of any finite length keep their direction (they became +Z at 1e19 and 1e-23).
+    for magnitude in (1e-30, 1e-19, 1e19, 1e30):
+        mesh = octahedron(normals=unit.normals * np.float32(magnitude))
+        np.testing.assert_allclose(mesh.normals, unit.normals, atol=1e-6)
+    # A tile so small against the mesh that float32 UVs cannot place it: named, not inf UVs.
+    with pytest.raises(pelt.InvalidParameterError, match=r"`tile_size`.*tiles across"):
+        pelt.build_patches(octahedron(1.7e38), 1.0)
+
+
+def test_a_failed_export_leaves_the_folder_as_it_was(tmp_path):
+    asset = pelt.Pipeline().bake(
+        quad_mesh(), layers=4, resolution=16, fin_size=(16, 8), order=1, directions=16
+    )
+    folder = tmp_path / "out"
+    pelt.write_asset(asset, folder, formats="png")
+    before = {p.name: p.read_bytes() for p in folder.iterdir()}
+    # A folder where the GLB goes (the last file written): 14 to 17 files used to stay behind.
+    (folder / "pelt_geometry.glb").unlink()
+    (folder / "pelt_geometry.glb").mkdir()
+    for write in (
+        lambda: pelt.write_asset(asset, folder, formats="png,exr"),
+        lambda: pelt.write_texture_set(asset, folder / "pelt.json"),  # a file where the folder goes
+    ):
+        with pytest.raises(pelt.PeltError):
+            write()
+    after = {p.name: (p.read_bytes() if p.is_file() else None) for p in folder.iterdir()}
+    assert after == {**before, "pelt_geometry.glb": None}
+    assert [p.name for p in tmp_path.iterdir()] == ["out"], "no temporary folder is left"

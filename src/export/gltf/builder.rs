@@ -244,37 +244,45 @@ impl GlbBuilder {
                 extras: None,
             }];
         }
-        let mut text = self
+        let text = self
             .root
             .to_vec()
             .map_err(|e| PeltError::Internal(format!("glTF JSON: {e}")))?;
-        text.resize(text.len().next_multiple_of(4), b' ');
-        let bin_chunk = if self.bin.is_empty() {
-            0
-        } else {
-            8 + self.bin.len()
-        };
-        let total = 12 + 8 + text.len() + bin_chunk;
-        let too_big = || {
-            PeltError::parameter(
-                "objects",
-                format!(
-                    "the GLB would hold {total} bytes; a GLB file holds at most {}",
-                    u32::MAX
-                ),
-            )
-        };
-        let total32 = u32::try_from(total).map_err(|_| too_big())?;
-        let mut out = Vec::with_capacity(total);
-        for word in [GLB_MAGIC, GLB_VERSION, total32, text.len() as u32, CHUNK_JSON] {
-            out.extend_from_slice(&word.to_le_bytes());
-        }
-        out.extend_from_slice(&text);
-        if !self.bin.is_empty() {
-            out.extend_from_slice(&(self.bin.len() as u32).to_le_bytes());
-            out.extend_from_slice(&CHUNK_BIN.to_le_bytes());
-            out.extend_from_slice(&self.bin);
-        }
-        Ok(out)
+        glb_container(&text, &self.bin)
     }
+}
+
+/// A GLB file of a JSON document and a binary buffer (glTF 2.0 §4): the 12-byte header, the JSON
+/// chunk padded with spaces and, when `bin` is not empty, the BIN chunk padded with zeros.
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] naming `objects` when the file would pass the 4 GiB a GLB
+/// header can state.
+pub fn glb_container(json: &[u8], bin: &[u8]) -> Result<Vec<u8>> {
+    let (text_len, bin_len) = (json.len().next_multiple_of(4), bin.len().next_multiple_of(4));
+    let bin_chunk = if bin.is_empty() { 0 } else { 8 + bin_len };
+    let total = 12 + 8 + text_len + bin_chunk;
+    let too_big = || {
+        PeltError::parameter(
+            "objects",
+            format!(
+                "the GLB would hold {total} bytes; a GLB file holds at most {}",
+                u32::MAX
+            ),
+        )
+    };
+    let total32 = u32::try_from(total).map_err(|_| too_big())?;
+    let mut out = Vec::with_capacity(total);
+    for word in [GLB_MAGIC, GLB_VERSION, total32, text_len as u32, CHUNK_JSON] {
+        out.extend_from_slice(&word.to_le_bytes());
+    }
+    out.extend_from_slice(json);
+    out.resize(20 + text_len, b' ');
+    if !bin.is_empty() {
+        out.extend_from_slice(&(bin_len as u32).to_le_bytes());
+        out.extend_from_slice(&CHUNK_BIN.to_le_bytes());
+        out.extend_from_slice(bin);
+        out.resize(total, 0);
+    }
+    Ok(out)
 }

@@ -14,6 +14,8 @@ mod engine;
 mod geometry;
 mod vertices;
 
+pub use builder::glb_container;
+
 use std::collections::BTreeMap;
 use std::path::Path;
 

@@ -8,20 +8,7 @@ use crate::error::PeltError;
 
 /// A GLB of `json` and `bin` laid out as the glTF 2.0 specification §4 says.
 fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
-    let mut text = json.as_bytes().to_vec();
-    text.resize(text.len().next_multiple_of(4), b' ');
-    let mut bin = bin.to_vec();
-    bin.resize(bin.len().next_multiple_of(4), 0);
-    let total = 12 + 8 + text.len() + 8 + bin.len();
-    let mut out = Vec::new();
-    for w in [0x4654_6C67u32, 2, total as u32, text.len() as u32, 0x4E4F_534A] {
-        out.extend_from_slice(&w.to_le_bytes());
-    }
-    out.extend_from_slice(&text);
-    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
-    out.extend_from_slice(&0x004E_4942u32.to_le_bytes());
-    out.extend_from_slice(&bin);
-    out
+    crate::export::gltf::glb_container(json.as_bytes(), bin).unwrap()
 }
 
 fn f32s(values: &[f32]) -> Vec<u8> {

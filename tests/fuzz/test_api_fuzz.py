@@ -1,0 +1,252 @@
+"""Property-based fuzzing of the Python API (hypothesis): every public entry point, fed arbitrary
+numbers (NaN, infinities, subnormals, 1e±300, negative and oversized integers) and arrays, either
+returns outputs that are all finite or raises a ``pelt.PeltError`` that names what is wrong.
+Anything else (another exception, an unnamed error, NaN in an output) fails; a crash, a hang or an
+abort kills the process, which ``scripts/fuzz.py`` runs under a time and memory limit.
+
+The number of examples per target is ``PELT_FUZZ_EXAMPLES`` (default 100)."""
+
+import os
+import re
+
+import numpy as np
+import pelt
+import pytest
+from hypothesis import HealthCheck, event, given, settings
+from hypothesis import strategies as st
+
+EXAMPLES = int(os.environ.get("PELT_FUZZ_EXAMPLES", "100"))
+FUZZ = settings(
+    max_examples=EXAMPLES,
+    deadline=None,
+    derandomize=True,
+    database=None,
+    suppress_health_check=list(HealthCheck),
+)
+
+# Every case that asks for more is refused by the budget, quickly.
+pelt.set_memory_limit(64 << 20)
+
+NUMBERS = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.sampled_from([0.0, -0.0, 1e-45, 1e-30, 1e30, 3.4e38, 1e300, -1.0, 0.5]),
+    st.floats(-2.0, 2.0),
+)
+INTEGERS = st.one_of(st.integers(-3, 40), st.integers(-(2**70), 2**70), st.sampled_from([2**32, 2**64 - 1]))
+SMALL = st.integers(-2, 12)
+
+
+def loose(valid, wild=NUMBERS):
+    """Mostly ``valid`` (7 in 8), so that calls reach the work, else anything."""
+    return st.one_of(*[valid] * 7, wild)
+
+
+def ints(lo, hi):
+    return loose(st.integers(lo, hi), INTEGERS)
+
+
+def named(error: BaseException) -> bool:
+    """A refusal that says what is wrong: a Pelt error naming a parameter or an array, or the
+    binding's own TypeError naming the argument."""
+    text = str(error)
+    if isinstance(error, pelt.PeltError):
+        return bool(re.search(r"`[^`]+`", text)) or text.startswith(("invalid mesh", "cancelled"))
+    return isinstance(error, TypeError) and text.startswith("argument '")
+
+
+def finite(value) -> bool:
+    """Every float reachable in ``value`` (arrays, dicts, lists, numbers) is finite."""
+    if isinstance(value, np.ndarray):
+        return value.dtype.kind not in "fc" or bool(np.isfinite(value).all())
+    if isinstance(value, dict):
+        return all(finite(v) for v in value.values())
+    if isinstance(value, (list, tuple)):
+        return all(finite(v) for v in value)
+    if isinstance(value, float):
+        return np.isfinite(value)
+    return True
+
+
+def check(call):
+    """Runs ``call``; the contract above."""
+    try:
+        result = call()
+    except (pelt.PeltError, TypeError) as error:
+        assert named(error), f"unnamed error: {type(error).__name__}: {error}"
+        event("refused")
+        return None
+    assert finite(result), "an output is not finite"
+    event("ok")
+    return result
+
+
+def octahedron(scale=1.0):
+    positions = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], np.float32)
+    triangles = np.array(
+        [[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]], np.uint32
+    )
+    return pelt.FurMesh(positions * np.float32(scale), triangles)
+
+
+@FUZZ
+@given(
+    positions=st.one_of(
+        st.lists(st.tuples(*[st.floats(-1, 1)] * 3), min_size=3, max_size=12),
+        st.lists(st.tuples(*[loose(st.floats(-1, 1))] * 3), max_size=12),
+    ),
+    triangles=st.one_of(
+        st.lists(st.tuples(*[st.integers(0, 2)] * 3), min_size=1, max_size=12),
+        st.lists(st.tuples(*[ints(0, 2)] * 3), max_size=12),
+    ),
+    lengths=st.one_of(st.none(), st.lists(NUMBERS, max_size=13)),
+)
+def test_fur_mesh(positions, triangles, lengths):
+    def build():
+        p = np.array(positions, np.float64).reshape(-1, 3)
+        t = np.array(triangles, dtype=object).reshape(-1, 3)
+        t = t.astype(np.int64) if all(abs(int(v)) < 2**63 for v in t.ravel()) else t.astype(np.float64)
+        length = None if lengths is None else np.array(lengths, np.float64)
+        mesh = pelt.FurMesh(p.astype(np.float32), t, length=length)
+        return {"normals": mesh.normals, "tangents": mesh.tangents, "stats": mesh.stats()}
+
+    with np.errstate(all="ignore"):
+        check(build)
+
+
+HAIR_FIELDS = {
+    "density": INTEGERS,
+    "segments": INTEGERS,
+    "clump_count": INTEGERS,
+    "seed": INTEGERS,
+    "curl": NUMBERS,
+    "taper": NUMBERS,
+    "slant": NUMBERS,
+    "guard_fraction": NUMBERS,
+    "length_jitter": NUMBERS,
+    "helix_radius": NUMBERS,
+    "undercoat": st.fixed_dictionaries(
+        {"length": st.tuples(NUMBERS, NUMBERS), "width": st.tuples(NUMBERS, NUMBERS)}
+    ),
+    "root_color": st.tuples(NUMBERS, NUMBERS, NUMBERS),
+}
+
+
+@FUZZ
+@given(
+    fields=st.dictionaries(st.sampled_from(sorted(HAIR_FIELDS)), st.just(None), max_size=4).flatmap(
+        lambda keys: st.fixed_dictionaries({k: HAIR_FIELDS[k] for k in keys})
+    )
+)
+def test_hair_params(fields):
+    check(lambda: pelt.HairParams(**fields).to_dict())
+
+
+@FUZZ
+@given(
+    layers=ints(1, 8),
+    resolution=ints(1, 24),
+    fin=st.tuples(ints(1, 32), ints(1, 16)),
+    vertical=loose(st.floats(0, 3)),
+    slab=loose(st.floats(0.01, 1)),
+    density=st.integers(-1, 300),
+)
+def test_bake_volume(layers, resolution, fin, vertical, slab, density):
+    def bake():
+        hair = pelt.HairParams(density=max(density, 0)) if density >= 0 else None
+        return pelt.bake_volume(
+            hair, layers, resolution, fin_size=fin, vertical_filter=vertical, fin_slab=slab
+        )
+
+    check(bake)
+
+
+@FUZZ
+@given(
+    shape=st.tuples(st.integers(0, 4), st.integers(0, 6)),
+    values=st.one_of(
+        st.lists(st.floats(0, 2), min_size=1, max_size=8), st.lists(NUMBERS, min_size=1, max_size=8)
+    ),
+    spacing=loose(st.floats(0.1, 8)),
+    order=st.one_of(st.none(), ints(1, 5)),
+    directions=ints(16, 80),
+    sigma=loose(st.floats(0, 4)),
+    method=st.sampled_from(["sweep", "brute", "other"]),
+)
+def test_bake_transfer(shape, values, spacing, order, directions, sigma, method):
+    layers, res = shape
+    density = np.resize(np.array(values, np.float32), (layers, res, res))
+    check(
+        lambda: pelt.bake_transfer(
+            density, layer_spacing=spacing, order=order, directions=directions, sigma=sigma, method=method,
+            phase="isotropic",
+        )
+    )  # fmt: skip
+
+
+@FUZZ
+@given(order=SMALL, direction=st.tuples(NUMBERS, NUMBERS, NUMBERS), angle=NUMBERS,
+       image=st.tuples(st.integers(0, 6), st.integers(0, 6), NUMBERS))  # fmt: skip
+def test_spherical_harmonics(order, direction, angle, image):
+    check(lambda: pelt.sh_project_light(direction, order, angle))
+    h, w, value = image
+    check(lambda: pelt.sh_project_equirect(np.full((h, w, 3), value, np.float32), order))
+
+
+@FUZZ
+@given(
+    scale=st.sampled_from([1e-30, 1e-20, 1e-6, 1.0, 1e6, 1e20, 1e30]),
+    tile=loose(st.floats(0.1, 2)),
+    seed=ints(0, 2**64 - 1),
+    alignment=loose(st.floats(0.1, 45)),
+    down=st.tuples(*[loose(st.floats(-1, 1))] * 3),
+    faces=st.one_of(st.none(), ints(1, 4096)),
+)
+def test_build_patches(scale, tile, seed, alignment, down, faces):
+    mesh = octahedron(scale)
+
+    def build():
+        p = pelt.build_patches(
+            mesh, tile, seed, max_alignment_deg=alignment, down=down, max_patch_faces=faces
+        )
+        return {"uv": p.uv, "direction": p.direction, "quality": p.quality}
+
+    check(build)
+
+
+@FUZZ
+@given(
+    tile=loose(st.floats(0.1, 2)),
+    depth=st.one_of(st.none(), loose(st.floats(0.01, 1))),
+    layers=ints(2, 8),
+    resolution=ints(1, 16),
+    order=st.one_of(st.none(), ints(1, 4)),
+    directions=ints(16, 48),
+    transfer=st.booleans(),
+    seed=ints(0, 2**64 - 1),
+)
+def test_pipeline(tile, depth, layers, resolution, order, directions, transfer, seed):
+    kwargs = dict(tile_size=tile, fur_depth=depth, layers=layers, resolution=resolution, order=order,
+                  directions=directions, transfer=transfer, seed=seed, hair=pelt.HairParams(density=256),
+                  fin_size=(16, 8))  # fmt: skip
+    check(lambda: pelt.Pipeline.peak_bytes(**kwargs))
+
+    def bake():
+        asset = pelt.Pipeline().bake(octahedron(), **kwargs)
+        return {"uv": asset.patches.uv, "volume": asset.volume["coverage"], "transfer": asset.transfer}
+
+    check(bake)
+
+
+@FUZZ
+@given(limit=st.one_of(st.none(), NUMBERS, INTEGERS), threads=INTEGERS)
+def test_settings(limit, threads):
+    try:
+        check(lambda: pelt.set_memory_limit(limit))
+        check(lambda: pelt.set_thread_count(threads))
+    finally:
+        pelt.set_memory_limit(64 << 20)
+        pelt.set_thread_count(0)
+
+
+if __name__ == "__main__":
+    raise SystemExit(pytest.main([__file__, "-q"]))
