@@ -8,7 +8,7 @@
 //! the thread count, so a failure is replayed by its seed and case number.
 //!
 //! ```text
-//! cargo run --release --example fuzz -- TARGET CASES [SEED]    (TARGET: all lists them)
+//! cargo run --release --example fuzz -- TARGET CASES [SEED [FIRST]]    (TARGET: all lists them)
 //! ```
 //!
 //! Prints one JSON line per target (`cases`, `ok`, `refused`, `failures` with the first few) and
@@ -83,6 +83,8 @@ fn main() {
         std::process::exit(2);
     };
     let seed = args.get(2).and_then(|s| s.parse::<u64>().ok()).unwrap_or(1);
+    // Replays from case FIRST (a failure's case number), so one case alone is `CASES = 1`.
+    let first = args.get(3).and_then(|s| s.parse::<u64>().ok()).unwrap_or(0);
     // Small on purpose: every case that asks for more is refused by the budget, quickly.
     pelt::memory::set_limit(Some(FUZZ_MEMORY_LIMIT)).expect("a valid limit");
     std::panic::set_hook(Box::new(|_| {}));
@@ -96,7 +98,7 @@ fn main() {
     }
     let mut failed = false;
     for (name, run) in chosen {
-        failed |= run_target(name, *run, cases, seed);
+        failed |= run_target(name, *run, first..first + cases, seed);
     }
     std::process::exit(i32::from(failed));
 }
@@ -106,12 +108,13 @@ fn names() -> Vec<&'static str> {
 }
 
 /// Runs `cases` cases of one target; prints its summary line; true when any failed.
-fn run_target(name: &str, run: Target, cases: u64, seed: u64) -> bool {
+fn run_target(name: &str, run: Target, range: std::ops::Range<u64>, seed: u64) -> bool {
+    let cases = range.end - range.start;
     let (mut ok, mut refused, mut exhausted, mut failures) = (0u64, 0u64, 0u64, Vec::new());
     let mut refusals: Vec<String> = Vec::new();
     let mut failure_count = 0u64;
     let mut bytes = vec![0u8; CASE_BYTES];
-    for case in 0..cases {
+    for case in range {
         fill(&mut bytes, seed, case);
         EDGE_ODDS.set([0, 64, 3][usize::from(bytes[0]) % 3]);
         let mut u = Unstructured::new(&bytes[1..]);

@@ -178,20 +178,28 @@ pub fn build_patches_with_progress(
 /// (8 texels of a 128² tile); beyond, the texture cannot be placed (and at 2¹²⁸ the UVs are inf).
 pub const MAX_TILES_ACROSS: f64 = (1u64 << 20) as f64;
 
-/// Refuses a `tile_size` so small against the mesh that f32 UVs cannot place the tiles.
+/// Fewest tiles across a mesh: a mesh 2⁻²⁰ tiles across spans 16 f32 steps of a UV near 1; a
+/// smaller one would collapse onto a point of the texture (zero UV areas, NaN figures).
+pub const MIN_TILES_ACROSS: f64 = 1.0 / (1u64 << 20) as f64;
+
+/// Refuses a `tile_size` so small or so large against the mesh that f32 UVs cannot place the
+/// tiles or tell the mesh's corners apart.
 fn check_tiles_across(mesh: &FurMesh, tile_size: f64) -> Result<()> {
     let stats = mesh.stats();
     let diagonal = crate::vec3::sub(stats.bbox_max.map(f64::from), stats.bbox_min.map(f64::from));
-    let tiles = crate::vec3::dot(diagonal, diagonal).sqrt() / tile_size;
-    if tiles <= MAX_TILES_ACROSS {
+    let length = crate::vec3::dot(diagonal, diagonal).sqrt();
+    let tiles = length / tile_size;
+    if (MIN_TILES_ACROSS..=MAX_TILES_ACROSS).contains(&tiles) || length == 0.0 {
         return Ok(());
     }
     Err(PeltError::parameter(
         "tile_size",
         format!(
-            "must be at least 1/{MAX_TILES_ACROSS} of the mesh's bounding-box diagonal ({:e}) for \
-             float32 UVs to place the tiles, got {tile_size:e} ({tiles:e} tiles across)",
-            tiles * tile_size
+            "must be in [{:e}, {:e}] for this mesh (2⁻²⁰ to 2²⁰ tiles across its bounding-box \
+             diagonal of {length:e}, what float32 UVs can place), got {tile_size:e} ({tiles:e} \
+             tiles across)",
+            length / MAX_TILES_ACROSS,
+            length / MIN_TILES_ACROSS,
         ),
     ))
 }

@@ -345,7 +345,8 @@ fn extreme_powers_of_two_change_nothing_but_the_scale() {
     }
 }
 
-/// A tile so small that f32 UVs could not place it is refused by name instead of giving inf UVs.
+/// A tile so small that f32 UVs could not place it, or so large that they could not tell the
+/// mesh's corners apart, is refused by name instead of giving inf UVs or NaN figures.
 #[test]
 fn tiles_too_small_for_float_uvs_are_refused() {
     let m = mesh(&shapes::uv_sphere(12, 6));
@@ -355,6 +356,13 @@ fn tiles_too_small_for_float_uvs_are_refused() {
         "{error}"
     );
     assert!(build_patches(&m, &params(4.0 / MAX_TILES_ACROSS)).is_ok());
+    // And so large that the whole mesh would fall within a few f32 steps of one UV (NaN figures).
+    let error = build_patches(&m, &params(1e308)).unwrap_err().to_string();
+    assert!(
+        error.contains("`tile_size`") && error.contains("tiles across"),
+        "{error}"
+    );
+    assert!(build_patches(&m, &params(1.0 / MIN_TILES_ACROSS)).is_ok());
 }
 
 #[test]

@@ -161,6 +161,10 @@ pub fn render_volume_reference(
     render_with(scene, camera, lights, settings, progress)
 }
 
+/// Host memory per pixel of a reference image, for the memory budget: the f64 sums (56 bytes),
+/// the image (16) and a caller's copy of it (16).
+const BYTES_PER_PIXEL: f64 = 88.0;
+
 fn render_with<S: Sampler>(
     scene: &S,
     camera: &Camera,
@@ -181,6 +185,9 @@ fn render_with<S: Sampler>(
             ),
         ));
     }
+    crate::memory::check("render_reference", pixels as f64 * BYTES_PER_PIXEL, || {
+        format!("`width` ({}) or `height` ({})", camera.width, camera.height)
+    })?;
     let prepared = lights
         .iter()
         .enumerate()

@@ -188,6 +188,12 @@ impl Renderer {
         settings: &RenderSettings,
     ) -> Result<Checked> {
         let info = self.frame_info(scene, camera, settings)?;
+        // Host memory of a frame: the readback (up to 8 bytes a pixel), the converted image (up
+        // to 16) and a caller's copy (16).
+        let pixels = f64::from(camera.width) * f64::from(camera.height);
+        crate::memory::check("render", 40.0 * pixels, || {
+            format!("`width` ({}) or `height` ({})", camera.width, camera.height)
+        })?;
         let camera = camera.frame(self.device.limits().max_texture_dimension_2d)?;
         let light = lighting.frame()?;
         let model = if light.prt.is_some() {

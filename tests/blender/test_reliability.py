@@ -178,3 +178,25 @@ def test_a_failed_export_leaves_the_folder_as_it_was(tmp_path):
     after = {p.name: (p.read_bytes() if p.is_file() else None) for p in folder.iterdir()}
     assert after == {**before, "pelt_geometry.glb": None}
     assert [p.name for p in tmp_path.iterdir()] == ["out"], "no temporary folder is left"
+
+
+def test_frames_larger_than_the_budget_are_refused_before_allocating(memory_limit):
+    asset = pelt.Pipeline().bake(quad_mesh(), layers=4, resolution=16, fin_size=(16, 8), transfer=False)
+    view = np.eye(4)
+    view[2, 3] = -5.0
+    near, far = 0.5, 20.0
+    projection = np.array(
+        [
+            [2, 0, 0, 0],
+            [0, 2, 0, 0],
+            [0, 0, (far + near) / (near - far), 2 * far * near / (near - far)],
+            [0, 0, -1, 0],
+        ]
+    )
+    # 2^26 pixels at 88 bytes: 5.5 GiB of sums and image.
+    with pytest.raises(pelt.MemoryLimitError, match=r"`render_reference`.*`width` \(8192\)"):
+        pelt.render_reference(asset, view, projection, 8192, 8192)
+    preview = pelt.Preview(asset, adapter="cpu")
+    with pytest.raises(pelt.MemoryLimitError, match=r"`render`.*`width` \(16384\)"):
+        preview.render(view, projection, 16384, 16384)
+    assert preview.render(view, projection, 32, 32).shape == (32, 32, 4)

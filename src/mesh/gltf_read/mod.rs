@@ -334,7 +334,15 @@ fn read_mesh(
             let world: [f64; 3] = std::array::from_fn(|r| {
                 (0..3).map(|c| transform[c * 4 + r] * p[c]).sum::<f64>() + transform[12 + r]
             });
-            positions.push(world.map(|v| v as f32));
+            let world = world.map(|v| v as f32);
+            // A NaN in the file, or a transform that carries a vertex past float32's range.
+            if world.iter().any(|c| !c.is_finite()) {
+                return Err(format!(
+                    "{} element {k} is {p:?} in the file, {world:?} in world space: not finite",
+                    what("POSITION")
+                ));
+            }
+            positions.push(world);
             colors.push(color.as_ref().map(|(dims, rgba)| {
                 let c = &rgba[dims * k..dims * (k + 1)];
                 [c[0], c[1], c[2], if *dims == 4 { c[3] } else { 1.0 }].map(|v| v as f32)

@@ -137,6 +137,25 @@ fn broken_files_are_refused_with_a_reason() {
     let no_position = json.replace(r#""POSITION": 0, "COLOR_0": 1"#, r#""COLOR_0": 1"#);
     let m = parse(&glb(&no_position, &bin));
     assert!(m.contains("POSITION"), "{m}");
+    let nan_position = {
+        let mut b = bin.clone();
+        b[16..20].copy_from_slice(&f32::NAN.to_le_bytes());
+        glb(&json, &b)
+    };
+    let m = parse(&nan_position);
+    assert!(
+        m.contains("POSITION element 1") && m.contains("not finite"),
+        "{m}"
+    );
+    // Two transforms of 1e30 carry the strip to 1e60, past float32.
+    let huge_scale = json
+        .replace(r#"{"mesh": 1}"#, r#"{"mesh": 1, "scale": [1e30, 1e30, 1e30]}"#)
+        .replace("[0,1,0,0, -1,0,0,0,", "[0,1e30,0,0, -1e30,0,0,0,");
+    let m = parse(&glb(&huge_scale, &bin));
+    assert!(
+        m.contains("mesh 1 primitive 0 POSITION") && m.contains("not finite"),
+        "{m}"
+    );
     let past_end = json.replace(r#""byteLength": 48"#, r#""byteLength": 4800"#);
     assert!(parse(&glb(&past_end, &bin)).contains("runs past its buffer"));
     let bad_type = json.replace(r#""componentType": 5123"#, r#""componentType": 5126"#);
