@@ -100,6 +100,7 @@ fn main() {
     for (name, run) in chosen {
         failed |= run_target(name, *run, first..first + cases, seed);
     }
+    let _ = std::fs::remove_dir_all(scratch_folder());
     std::process::exit(i32::from(failed));
 }
 
@@ -387,7 +388,7 @@ fn gltf_target(u: &mut Unstructured<'_>) -> Arb<Outcome> {
     if edge(u, 2)? {
         file.truncate(u.choose_index(file.len())?);
     }
-    let dir = std::env::temp_dir().join(format!("pelt-fuzz-gltf-{}", std::process::id()));
+    let dir = scratch_folder();
     std::fs::create_dir_all(&dir).map_err(|_| arbitrary::Error::IncorrectFormat)?;
     let path = dir.join("case.glb");
     std::fs::write(&path, &file).map_err(|_| arbitrary::Error::IncorrectFormat)?;
@@ -396,6 +397,11 @@ fn gltf_target(u: &mut Unstructured<'_>) -> Arb<Outcome> {
             .iter()
             .try_for_each(|o| all_finite("positions", o.mesh.positions.iter().flatten()))
     }))
+}
+
+/// Where the `gltf` target writes its files (removed when the run ends).
+fn scratch_folder() -> std::path::PathBuf {
+    std::env::temp_dir().join(format!("pelt-fuzz-gltf-{}", std::process::id()))
 }
 
 /// One of the test meshes at a random scale.
