@@ -12,8 +12,7 @@ use crate::prt::pack::{PackedF16, PackedU8, texture_count};
 use crate::prt::sh::MAX_ORDER;
 use crate::volume::HairVolume;
 
-/// Largest fur depth an export accepts, object units (the renderer's own bound).
-pub const MAX_FUR_DEPTH: f64 = 1e6;
+use crate::mesh::MAX_FUR_DEPTH;
 
 /// The packed transfer textures of one object (see [`crate::prt::pack`]).
 #[derive(Debug, Clone, Copy)]

@@ -34,6 +34,10 @@ use crate::threads::pool;
 /// Largest allowed hair length multiplier (`pelt_length`).
 pub const MAX_LENGTH: f32 = 1e3;
 
+/// Longest fur at length multiplier 1, object units: one bound for the bake, the renderer and the
+/// exports.
+pub const MAX_FUR_DEPTH: f64 = 1e6;
+
 /// Borrowed input arrays for [`FurMesh::new`]. Row `i` of every per-vertex array belongs to vertex `i`.
 #[derive(Debug, Clone, Copy)]
 pub struct MeshInput<'a> {

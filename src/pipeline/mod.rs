@@ -28,8 +28,7 @@ use crate::volume::{HairVolume, VolumeParams, bake_volume};
 
 use key::{KeyHasher, patch_mesh_key};
 
-/// Longest fur accepted, object units.
-pub const MAX_FUR_DEPTH: f64 = 1e6;
+pub use crate::mesh::MAX_FUR_DEPTH;
 
 /// Stage names, in the order they run.
 pub const STAGES: [&str; 3] = ["patches", "volume", "transfer"];

@@ -4,8 +4,8 @@
 
 use crate::error::{PeltError, Result};
 
-/// Longest fur accepted, object units.
-pub const MAX_FUR_DEPTH: f32 = 1e6;
+/// Longest fur accepted, object units ([`crate::mesh::MAX_FUR_DEPTH`] as the shaders' f32).
+pub const MAX_FUR_DEPTH: f32 = crate::mesh::MAX_FUR_DEPTH as f32;
 /// Largest [`RenderSettings::shells_per_pixel`].
 pub const MAX_SHELLS_PER_PIXEL: f32 = 1e3;
 /// Largest [`RenderSettings::mesh_error`], pixels.
