@@ -72,14 +72,19 @@ pub fn threads_from_env() -> Result<usize> {
 /// [`PeltError::InvalidParameter`] naming `threads` above [`MAX_THREADS`].
 pub fn set_thread_count(threads: usize) -> Result<()> {
     if threads > MAX_THREADS {
-        return Err(PeltError::parameter(
-            "threads",
-            format!("must be in [0, {MAX_THREADS}] (0: one per core), got {threads}"),
-        ));
+        return Err(thread_count_out_of_range(threads));
     }
     let pool = Arc::new(build(threads));
     *POOL.write().unwrap_or_else(|e| e.into_inner()) = Some(pool);
     Ok(())
+}
+
+/// The error for a `threads` argument of `got` (any integer type the caller took it as).
+pub(crate) fn thread_count_out_of_range(got: impl std::fmt::Display) -> PeltError {
+    PeltError::parameter(
+        "threads",
+        format!("must be in [0, {MAX_THREADS}] (0: one per core), got {got}"),
+    )
 }
 
 fn build(threads: usize) -> rayon::ThreadPool {

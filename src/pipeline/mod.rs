@@ -178,9 +178,7 @@ impl BakeParams {
     /// Estimated peak bytes of the bake: the volume stage's, or the volume kept while the
     /// transfer is baked and packed, whichever is larger (the patches are the mesh's size).
     pub fn peak_bytes(&self) -> f64 {
-        let strands = crate::volume::peak::StrandSizes::of(&self.hair);
-        let volume = crate::volume::peak::volume_peak_bytes(&self.volume, strands)
-            + crate::volume::peak::strand_bytes(&self.hair);
+        let volume = crate::volume::peak::grown_volume_peak_bytes(&self.volume, &self.hair);
         let transfer = self.transfer.as_ref().map_or(0.0, |choice| {
             let (l, r) = (self.volume.layers, self.volume.resolution);
             // The transfer's own tangents: 12 bytes per voxel.

@@ -140,8 +140,9 @@ pub(super) fn index_array<'py>(obj: &Bound<'py, PyAny>, name: &'static str) -> P
     let array = as_checked_array(obj, name, Some(3))?;
     require_integer(&array, name)?;
     if array.dtype().is_equiv_to(&numpy::dtype::<u32>(array.py())) {
-        Ok(IndexArray::Native(contiguous::<u32>(&array, name, "uint32")?))
-    } else if array.dtype().is_equiv_to(&numpy::dtype::<u64>(array.py())) {
+        return Ok(IndexArray::Native(contiguous::<u32>(&array, name, "uint32")?));
+    }
+    if array.dtype().is_equiv_to(&numpy::dtype::<u64>(array.py())) {
         // Above i64::MAX a uint64 would wrap to a negative int64: report the value as given.
         let unsigned = contiguous::<u64>(&array, name, "uint64")?;
         let values = flat(&unsigned)?;
@@ -157,10 +158,8 @@ pub(super) fn index_array<'py>(obj: &Bound<'py, PyAny>, name: &'static str) -> P
             )
             .into());
         }
-        Ok(IndexArray::Wide(contiguous::<i64>(&array, name, "int64")?))
-    } else {
-        Ok(IndexArray::Wide(contiguous::<i64>(&array, name, "int64")?))
     }
+    Ok(IndexArray::Wide(contiguous::<i64>(&array, name, "int64")?))
 }
 
 /// Reads a one-dimensional array of non-negative integers (polygon indices) as `uint32`.

@@ -56,14 +56,8 @@ fn thread_count() -> usize {
 #[pyfunction]
 fn set_thread_count(threads: i128) -> PyResult<()> {
     // Any int, so that a negative or huge count is named here rather than an OverflowError.
-    let max = crate::threads::MAX_THREADS;
-    match usize::try_from(threads) {
-        Ok(count) if count <= max => Ok(crate::threads::set_thread_count(count)?),
-        _ => {
-            let reason = format!("must be in [0, {max}] (0: one per core), got {threads}");
-            Err(crate::PeltError::parameter("threads", reason).into())
-        }
-    }
+    let count = usize::try_from(threads).map_err(|_| crate::threads::thread_count_out_of_range(threads))?;
+    Ok(crate::threads::set_thread_count(count)?)
 }
 
 /// The memory limit in bytes that bakes are checked against (see `crate::memory`).

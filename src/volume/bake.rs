@@ -150,7 +150,8 @@ pub fn bake_volume(
 ) -> Result<HairVolume> {
     volume.validate()?;
     hair.validate()?;
-    super::peak::check_volume_memory(volume, super::peak::StrandSizes::of(hair), Some(hair))?;
+    let bytes = super::peak::grown_volume_peak_bytes(volume, hair);
+    super::peak::check_volume_memory(volume, bytes, Some(hair.density))?;
     let strands = grow_strands(hair)?;
     bake_strands(&strands, volume, progress)
 }
@@ -175,7 +176,7 @@ pub fn bake_strands(
             .flat_map(|s| &s.radii)
             .fold(0.0, |w, r| w.max(2.0 * r)),
     };
-    super::peak::check_volume_memory(volume, sizes, None)?;
+    super::peak::check_volume_memory(volume, super::peak::volume_peak_bytes(volume, sizes), None)?;
     pool().install(|| bake_validated(strands, volume, progress))
 }
 

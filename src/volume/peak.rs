@@ -71,21 +71,22 @@ pub fn volume_peak_bytes(volume: &VolumeParams, strands: StrandSizes) -> f64 {
     volume_bytes(volume) + workers * (32.0 * r * r + queues)
 }
 
-/// `Ok` when [`volume_peak_bytes`] and, for a bake that grows them, the strands of `hair` fit the
-/// memory limit; otherwise [`crate::PeltError::MemoryLimit`] naming the sizes to lower.
-pub fn check_volume_memory(
-    volume: &VolumeParams,
-    strands: StrandSizes,
-    hair: Option<&HairParams>,
-) -> Result<()> {
-    let grown = hair.map_or(0.0, strand_bytes);
-    memory::check("bake_volume", grown + volume_peak_bytes(volume, strands), || {
+/// Estimated peak bytes of [`super::bake_volume`]: the strands `hair` grows, and the bake of them.
+pub fn grown_volume_peak_bytes(volume: &VolumeParams, hair: &HairParams) -> f64 {
+    strand_bytes(hair) + volume_peak_bytes(volume, StrandSizes::of(hair))
+}
+
+/// `Ok` when a volume bake's estimated peak `bytes` fits the memory limit; otherwise
+/// [`crate::PeltError::MemoryLimit`] naming the sizes to lower (the hair `density` too when the
+/// bake grows its strands).
+pub fn check_volume_memory(volume: &VolumeParams, bytes: f64, density: Option<u32>) -> Result<()> {
+    memory::check("bake_volume", bytes, || {
         let sizes = format!(
             "`resolution` ({}), `layers` ({})",
             volume.resolution, volume.layers
         );
-        match hair {
-            Some(h) => format!("{sizes} or the hair `density` ({})", h.density),
+        match density {
+            Some(d) => format!("{sizes} or the hair `density` ({d})"),
             None => sizes,
         }
     })
@@ -118,9 +119,9 @@ mod tests {
             ..VolumeParams::default()
         };
         // 12 bytes per voxel alone is 48 GiB.
-        assert!(volume_peak_bytes(&big, StrandSizes::of(&hair)) + strand_bytes(&hair) > 70e9);
+        assert!(grown_volume_peak_bytes(&big, &hair) > 70e9);
         if memory::limit() < 64 << 30 {
-            let error = check_volume_memory(&big, StrandSizes::of(&hair), Some(&hair))
+            let error = check_volume_memory(&big, grown_volume_peak_bytes(&big, &hair), Some(hair.density))
                 .unwrap_err()
                 .to_string();
             assert!(error.contains("`resolution` (4096), `layers` (256)"), "{error}");
