@@ -5,6 +5,7 @@ light (Kajiya-Kay), in world space.
 - World: an Environment Texture node feeding the Background projects its equirectangular image
   (``pelt.sh_project_equirect``, exact per pixel cell) times the Background strength; otherwise
   the Background color times strength is a constant environment.
+- Kajiya-Kay takes the World's mean radiance as its ambient term (a black World adds none).
 - Lights: a Sun adds its SH projection (``pelt.sh_project_light``, a cap of its angular
   diameter) times color and strength; point, spot and area lights are taken as directional from
   their position toward the object, with the power that reaches it (watts over 4πd²).
@@ -47,14 +48,25 @@ def _image_rgb(image) -> np.ndarray:
     return np.ascontiguousarray(pixels.reshape(height, width, 4)[::-1, :, :3])
 
 
-def world_sh(scene, order: int, target=(0.0, 0.0, 0.0)) -> np.ndarray:
-    """World plus lights as SH ``[order², 3]`` float32 (world space), as seen from ``target``."""
+def _background_sh(scene, order: int) -> np.ndarray:
+    """The World's Background alone as SH ``[order², 3]`` (world space)."""
     color, strength, image = _background(scene.world)
     if image is not None:
-        sh = pelt.sh_project_equirect(_image_rgb(image), order) * strength
-    else:
-        constant = np.broadcast_to(np.asarray(color, np.float32) * strength, (*_CONSTANT, 3))
-        sh = pelt.sh_project_equirect(np.ascontiguousarray(constant), order)
+        return pelt.sh_project_equirect(_image_rgb(image), order) * strength
+    constant = np.broadcast_to(np.asarray(color, np.float32) * strength, (*_CONSTANT, 3))
+    return pelt.sh_project_equirect(np.ascontiguousarray(constant), order)
+
+
+def world_ambient(scene) -> tuple:
+    """The World's mean radiance (RGB): the Kajiya-Kay ambient term. ``Y00 = 1/√(4π)``, so the
+    first coefficient over ``√(4π)`` is the mean over the sphere."""
+    mean = _background_sh(scene, 1)[0] / math.sqrt(4.0 * math.pi)
+    return tuple(float(c) for c in np.maximum(mean, 0.0))
+
+
+def world_sh(scene, order: int, target=(0.0, 0.0, 0.0)) -> np.ndarray:
+    """World plus lights as SH ``[order², 3]`` float32 (world space), as seen from ``target``."""
+    sh = _background_sh(scene, order)
     for obj in scene.objects:
         if obj.type != "LIGHT" or obj.hide_render:
             continue

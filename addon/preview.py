@@ -50,8 +50,9 @@ def rotate_sh(coefficients: np.ndarray, rotation: np.ndarray) -> np.ndarray:
 
 
 def object_lighting(scene, obj, model: str, order: int | None) -> dict:
-    """The ``lighting`` dict of ``pelt.Preview.render`` for ``obj``: the key light (Kajiya-Kay)
-    or the World and lights as SH (PRT), both in the object's frame."""
+    """The ``lighting`` dict of ``pelt.Preview.render`` for ``obj``: the key light and the World's
+    mean radiance as ambient (Kajiya-Kay) or the World and lights as SH (PRT), both in the
+    object's frame."""
     world = obj.matrix_world
     rotation = np.array(world.to_3x3().normalized(), np.float64)
     target = tuple(world.translation)
@@ -63,7 +64,12 @@ def object_lighting(scene, obj, model: str, order: int | None) -> dict:
         return {"model": "prt", "environment": rotate_sh(environment, rotation), "color": (0.0, 0.0, 0.0)}
     direction, color = lighting.key_light(scene, target)
     local = rotation.T @ np.asarray(direction, np.float64)
-    return {"model": "kajiya-kay", "direction": tuple(local), "color": tuple(float(c) for c in color)}
+    return {
+        "model": "kajiya-kay",
+        "direction": tuple(local),
+        "color": tuple(float(c) for c in color),
+        "ambient": lighting.world_ambient(scene),
+    }
 
 
 def preview_of(obj) -> tuple[pelt.Preview, pelt.FurAsset]:

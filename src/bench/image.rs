@@ -4,14 +4,14 @@
 //! downsampled), the luminance ratio and the alpha profile's error as extra fields.
 //!
 //! The preview gets the scene's lights as the add-on hands Blender's to it: a sun's strength ×
-//! color as [`Lighting::color`], the sky as SH (PRT) or its mean radiance as the Kajiya–Kay
-//! ambient; everything else stays at the preview's defaults, so the figures show what a user
+//! color as [`Lighting::color`] with the (black) World's ambient, the sky as SH (PRT) or its mean
+//! radiance as the Kajiya–Kay ambient; everything else stays at the preview's defaults, so the figures show what a user
 //! sees. The volume has 65 layers (untrimmed), so every shell count up to 64 can be drawn.
 
 use std::path::Path;
 
 use super::render::note_adapter;
-use super::{BenchOptions, CaseResult, ImageFigures, time_fallible};
+use super::{BenchOptions, CaseResult, ImageFigures, runs_group, time_fallible};
 use crate::error::Result;
 use crate::export::{ImageRef, PngOptions, save_png};
 use crate::hair::grow_strands;
@@ -155,13 +155,18 @@ pub(super) fn image_cases(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let mut results = Vec::new();
     for (shape, length) in objects {
         let group = format!("image.{}.{}", shape.name(), length.name());
-        if !(group.starts_with(prefix) || prefix.starts_with(&group)) {
+        if !runs_group(&group, prefix) {
             continue;
         }
+        // A prefix that names a light (or a light and a configuration) renders only that.
         let scenes = lights
             .iter()
+            .filter(|l| runs_group(&format!("{group}.{}", l.name()), prefix))
             .map(|&l| canonical_scene(shape, length, l, side))
             .collect::<Result<Vec<_>>>()?;
+        if scenes.is_empty() {
+            continue;
+        }
         let study = (shape, length) == (Shape::Sphere, FurLength::Short);
         results.extend(object_cases(&renderer, &scenes, options, &group, study)?);
     }
@@ -207,7 +212,13 @@ fn object_cases(
         params.fur_depth(),
     )?;
     let mut volumes = Vec::with_capacity(scenes.len());
+    let prefix = options.only.as_deref().unwrap_or("");
     for (scene, reference) in scenes.iter().zip(&references) {
+        let name = format!("{group}.{}.{VOLUME}", light_name(scene));
+        if !runs_group(&name, prefix) {
+            volumes.push(None);
+            continue;
+        }
         let volume = render_volume_reference(
             &volume_scene,
             &scene.camera,
@@ -221,14 +232,13 @@ fn object_cases(
             &distance,
             fur_depth_pixels,
         )?;
-        let name = format!("{group}.{}.{VOLUME}", light_name(scene));
         if let Some(dir) = &options.pictures
             && light_name(scene) == "side"
         {
             picture(dir, &format!("{group}.side.{VOLUME}"), &volume.pixels, reference)?;
         }
         results.push(case(&name, scene, &volume, &errors, None, (volume.seconds, None)));
-        volumes.push(volume);
+        volumes.push(Some(volume));
     }
     eprintln!("{group}.*.{VOLUME}: {:.1} s", started.elapsed().as_secs_f64());
 
@@ -237,6 +247,12 @@ fn object_cases(
     let reps = 1;
     let mut transfer_order = None;
     for config in configs(options.quick, study) {
+        let runs = |scene: &CanonicalScene| {
+            runs_group(&format!("{group}.{}.{}", light_name(scene), config.name), prefix)
+        };
+        if !scenes.iter().any(runs) {
+            continue;
+        }
         if let Some(order) = config.prt_order
             && transfer_order != Some(order)
         {
@@ -262,6 +278,9 @@ fn object_cases(
         let settings = preview_settings(&config, params.fur_depth() as f32);
         let started = std::time::Instant::now();
         for ((scene, reference), volume) in scenes.iter().zip(&references).zip(&volumes) {
+            if !runs(scene) {
+                continue;
+            }
             let name = format!("{group}.{}.{}", light_name(scene), config.name);
             let lighting = preview_lighting(&scene.lights, config.prt_order.is_some());
             let timing = time_fallible(reps, || {
@@ -278,31 +297,35 @@ fn object_cases(
                 &distance,
                 fur_depth_pixels,
             )?;
-            let against_volume = compare(
-                view(&preview, width, height),
-                view(&volume.pixels, width, height),
-                &distance,
-                fur_depth_pixels,
-            )?;
+            let against_volume = volume
+                .as_ref()
+                .map(|v| {
+                    compare(
+                        view(&preview, width, height),
+                        view(&v.pixels, width, height),
+                        &distance,
+                        fur_depth_pixels,
+                    )
+                })
+                .transpose()?;
             let dolly = if config.lod && scene.lights == scenes[0].lights {
                 Some(dolly(renderer, &fur, scene, &lighting, &settings)?)
             } else {
                 None
             };
-            if config.name == DEFAULT.name
-                && let Some(dir) = &options.pictures
-            {
-                picture(
-                    dir,
-                    &format!("{group}.{}", light_name(scene)),
-                    &preview,
-                    reference,
-                )?;
+            // Every configuration's picture once `--only` has narrowed the run to a light.
+            let scene_name = format!("{group}.{}", light_name(scene));
+            if let Some(dir) = &options.pictures {
+                if config.name == DEFAULT.name {
+                    picture(dir, &scene_name, &preview, reference)?;
+                } else if prefix.starts_with(&scene_name) {
+                    picture(dir, &name, &preview, reference)?;
+                }
             }
             let mut result = case(&name, scene, reference, &errors, dolly, timing);
             if let Some(figures) = result.image.as_mut() {
-                figures.volume_error = Some(against_volume.relative_mse);
-                figures.volume_luminance_ratio = Some(against_volume.luminance_ratio);
+                figures.volume_error = against_volume.as_ref().map(|v| v.relative_mse);
+                figures.volume_luminance_ratio = against_volume.map(|v| v.luminance_ratio);
             }
             results.push(result);
         }
@@ -373,10 +396,18 @@ fn preview_lighting(lights: &[ReferenceLight], prt: bool) -> Lighting {
         }) => Lighting {
             direction: *direction,
             color: color.map(|c| c * strength),
+            // The scenes' World is black: no ambient and no sky, as the add-on hands a black
+            // World over (the defaults of both models light the fur a little).
             model: if prt {
-                LightModel::Prt(Prt::default())
+                LightModel::Prt(Prt {
+                    environment: Vec::new(),
+                    ..Prt::default()
+                })
             } else {
-                defaults.model.clone()
+                LightModel::KajiyaKay(KajiyaKay {
+                    ambient: [0.0; 3],
+                    ..KajiyaKay::default()
+                })
             },
             ..defaults
         },

@@ -205,7 +205,7 @@ pub fn run(options: &BenchOptions) -> Result<Report> {
 /// Whether `--only prefix` runs the group of cases `group`: when its name starts with the
 /// prefix, or the prefix names cases inside it ("render.scene" runs the "render" group, whose
 /// other cases are then dropped).
-fn runs_group(group: &str, prefix: &str) -> bool {
+pub(super) fn runs_group(group: &str, prefix: &str) -> bool {
     group.starts_with(prefix) || prefix.starts_with(group)
 }
 

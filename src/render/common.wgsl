@@ -74,7 +74,10 @@ fn shell_layers(instance: u32) -> Layers {
 }
 
 // Lighting at one point, affine in the (premultiplied) texel: lit = albedo × scale + alpha × add.
+// The marched shells darken `ambient` and the rest apart (`march_banks`); elsewhere it is zero,
+// folded into `scale`.
 struct HairLight {
+    ambient: vec3<f32>,
     scale: vec3<f32>,
     add: vec3<f32>,
 };

@@ -106,9 +106,11 @@ pub struct Lighting {
     /// shows `color / π` (the light units of `docs/ARCHITECTURE.md`, shared with the reference
     /// and Cycles). The default, π, lights such a surface to 1.
     pub color: [f32; 3],
-    /// Banks-style self-shadowing (Lengyel §2.4): hair at the skin is darkened by this share,
-    /// fading linearly to none at the tips; `[0, 1]`. Kajiya–Kay only: the transfer of PRT holds
-    /// the fur's own shadowing.
+    /// Banks-style self-shadowing (Lengyel §2.4): under the ambient light and a light straight
+    /// down the normal, hair at the skin is darkened by this share, fading linearly to none at
+    /// the tips; a light `θ` off the normal by `1 − (1 − self_shadow)^(1/cos θ)` (it crosses
+    /// more fur), and less as the light nears the view direction (none from the eye: the hot
+    /// spot). `[0, 1]`. Kajiya–Kay only: the transfer of PRT holds the fur's own shadowing.
     pub self_shadow: f32,
     /// The model.
     pub model: LightModel,
@@ -119,7 +121,7 @@ impl Default for Lighting {
         Lighting {
             direction: [0.4, -0.5, 0.75],
             color: [std::f32::consts::PI; 3],
-            self_shadow: 0.6,
+            self_shadow: 0.15,
             model: LightModel::default(),
         }
     }

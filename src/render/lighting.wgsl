@@ -8,6 +8,58 @@
 // around the terminator (wider than Lambert's, as light scatters through the fur).
 const TERMINATOR_WRAP: f32 = 0.3;
 
+// Banks darkening (Lengyel §2.4) is linear in height, 1 − b (1 − h): none at the tips, 1 − b at
+// the skin. `frame.fur.z` is b for a light straight down the growth direction. A slanted light
+// crosses 1/cos as much fur to reach the skin, so its darkening there is (1 − b)^(1/cos), as
+// Beer–Lambert has it; and the closer the light comes to the eye's direction, the more of its
+// path is the view ray's own, known clear (the hot spot, Hapke's shadow hiding): the exponent
+// falls to 0 as the light meets the view. The ambient light arrives from every direction and
+// keeps b.
+// Smallest cosine a light's slant is taken at: past the terminator the wrapped N·L fades it.
+const MIN_SLANT_COS: f32 = 0.1;
+// Angle, radians, over which the hot spot fades (e^−1 at this angle between light and view):
+// the reference's strands lose their lead over their own density volume (which has no hot
+// spot) between 0 and 20° and keep it beyond (docs/accuracy.md).
+const HOT_SPOT_WIDTH: f32 = 0.35;
+
+// The Banks strengths: x for the ambient light, y for the light from `light` seen from `view`.
+fn banks_strengths(normal: vec3<f32>, light: vec3<f32>, view: vec3<f32>) -> vec2<f32> {
+    let b = clamp(frame.fur.z, 0.0, 1.0);
+    let slant = 1.0 / max(dot(normal, light), MIN_SLANT_COS);
+    let apart = acos(clamp(dot(light, view), -1.0, 1.0));
+    let shared_path = exp(-apart / HOT_SPOT_WIDTH);
+    let direct = 1.0 - pow(max(1.0 - b, 1e-8), slant * (1.0 - shared_path));
+    return vec2<f32>(b, direct);
+}
+
+// Banks darkening of strength `b` at `height` (share of the fur depth).
+fn banks_at(b: f32, height: f32) -> f32 {
+    return 1.0 - b * (1.0 - clamp(height, 0.0, 1.0));
+}
+
+// The hair lighting at one point before Banks darkening, split by what darkens it: `ambient`
+// (strength `banks.x`), the direct light's `direct` and highlight `shine` (× the light color;
+// strength `banks.y`).
+struct HairParts {
+    ambient: vec3<f32>,
+    direct: vec3<f32>,
+    shine: f32,
+    banks: vec2<f32>,
+};
+
+fn hair_parts(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>) -> HairParts {
+    let l = frame.light_direction.xyz;
+    let h = unit_or(l + view, normal);
+    let u = dot(tangent, l);
+    let v = dot(tangent, h);
+    // The floor keeps pow's base positive (pow(0, y) is undefined in WGSL).
+    let diffuse = pow(max(1.0 - u * u, 1e-8), 0.5 * frame.kajiya_kay.z);
+    let specular = pow(max(1.0 - v * v, 1e-8), 0.5 * frame.kajiya_kay.w);
+    let lit = clamp((dot(normal, l) + TERMINATOR_WRAP) / (1.0 + TERMINATOR_WRAP), 0.0, 1.0);
+    return HairParts(frame.ambient.rgb, frame.light_color.rgb * lit * (frame.kajiya_kay.x * diffuse),
+                     lit * (frame.kajiya_kay.y * specular), banks_strengths(normal, l, view));
+}
+
 // The hair lighting at one point with its highlight left as a multiple of the light color:
 // `HairLight(scale, frame.light_color.rgb * shine)`, one float where a vertex passes it on.
 struct HairTerms {
@@ -17,23 +69,15 @@ struct HairTerms {
 
 // `height` is the share of the fur depth (0 at the skin, 1 at the top of the volume).
 fn hair_terms(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f32) -> HairTerms {
-    let l = frame.light_direction.xyz;
-    let h = unit_or(l + view, normal);
-    let u = dot(tangent, l);
-    let v = dot(tangent, h);
-    // The floor keeps pow's base positive (pow(0, y) is undefined in WGSL).
-    let diffuse = pow(max(1.0 - u * u, 1e-8), 0.5 * frame.kajiya_kay.z);
-    let specular = pow(max(1.0 - v * v, 1e-8), 0.5 * frame.kajiya_kay.w);
-    let lit = clamp((dot(normal, l) + TERMINATOR_WRAP) / (1.0 + TERMINATOR_WRAP), 0.0, 1.0);
-    let banks = 1.0 - frame.fur.z * (1.0 - clamp(height, 0.0, 1.0));
-    return HairTerms((frame.ambient.rgb + frame.light_color.rgb * lit * (frame.kajiya_kay.x * diffuse)) * banks,
-                     lit * (frame.kajiya_kay.y * specular) * banks);
+    let p = hair_parts(tangent, normal, view);
+    let direct = banks_at(p.banks.y, height);
+    return HairTerms(p.ambient * banks_at(p.banks.x, height) + p.direct * direct, p.shine * direct);
 }
 
 // The hair lighting at one point (see `HairLight` and `hair_terms`).
 fn hair_light(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f32) -> HairLight {
     let k = hair_terms(tangent, normal, view, height);
-    return HairLight(k.scale, frame.light_color.rgb * k.shine);
+    return HairLight(vec3<f32>(0.0), k.scale, frame.light_color.rgb * k.shine);
 }
 
 // `albedo` is premultiplied by `alpha`; so is the result.
@@ -47,9 +91,10 @@ fn shade(albedo: vec3<f32>, alpha: f32, tangent: vec3<f32>, normal: vec3<f32>, v
 // whole of what shows), lit by the wrapped N·L instead of the hair terms. Its tangent map holds
 // the roots' mean direction, nearly the normal, which Kajiya-Kay would light darkest exactly
 // where the light falls straight on. Banks-darkened like the roots above it.
-fn shade_skin(albedo: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
+fn shade_skin(albedo: vec3<f32>, normal: vec3<f32>, view: vec3<f32>) -> vec3<f32> {
     let l = frame.light_direction.xyz;
     let lit = clamp((dot(normal, l) + TERMINATOR_WRAP) / (1.0 + TERMINATOR_WRAP), 0.0, 1.0);
     let light = frame.light_color.rgb * (lit * frame.kajiya_kay.x);
-    return albedo * (frame.ambient.rgb + light) * (1.0 - frame.fur.z);
+    let b = banks_strengths(normal, l, view);
+    return albedo * (frame.ambient.rgb * (1.0 - b.x) + light * (1.0 - b.y));
 }

@@ -7,7 +7,7 @@
 // texture read each instead of a rasterized triangle, which is what a CPU adapter pays for.
 // Lighting is evaluated once per pixel, at the layer where the composite passes half opacity,
 // which has hair where the ray crosses it; the Banks darkening, linear in height, is applied to
-// the composite exactly, and PRT moves its transfer to the composite's mean height (`raised`).
+// the composite exactly (the ambient's and the direct light's apart), and PRT moves its transfer to the composite's mean height (`raised`).
 // The lighting model's file defines `march_frame`, `march_light` and `march_banks`.
 
 // The most ray length, in layer heights, that descends one layer: where a flat hull is seen
@@ -256,7 +256,9 @@ fn fs_main(v: SurfaceVarying) -> @location(0) vec4<f32> {
     }
     let mean = m.raised.a / max(m.color.a, 1e-6);
     let k = march_light(s, f, m.uv, m.shown, m.alpha, grad, mean);
-    let b = march_banks();
-    let c = (1.0 - b) * m.color + b * m.raised;
-    return vec4<f32>(c.rgb * s.color.rgb * k.scale + c.a * k.add, m.color.a);
+    let b = march_banks(f);
+    let ambient = (1.0 - b.x) * m.color.rgb + b.x * m.raised.rgb;
+    let c = (1.0 - b.y) * m.color + b.y * m.raised;
+    return vec4<f32>((ambient * k.ambient + c.rgb * k.scale) * s.color.rgb + c.a * k.add,
+                     m.color.a);
 }

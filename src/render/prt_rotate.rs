@@ -10,6 +10,7 @@ use std::num::NonZeroU64;
 
 use bytemuck::{Pod, Zeroable};
 
+use super::prt_light::WorldLighting;
 use crate::error::{PeltError, Result};
 use crate::prt::sh::{MAX_COEFFS, MAX_ORDER, ShRotation};
 
@@ -21,17 +22,26 @@ const WORKGROUP: u32 = 64;
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub(super) struct RotationUniforms {
     counts: [u32; 4],
+    sun_direction: [f32; 4],
     light: [[f32; 4]; MAX_COEFFS],
+    sun: [[f32; 4]; MAX_COEFFS],
 }
 
 impl RotationUniforms {
-    /// The uniforms for `vertices` surface vertices and the world lighting `light` (`n²` rows).
-    pub fn new(vertices: u32, order: usize, light: &[[f32; 4]]) -> Self {
-        let mut rows = [[0.0; 4]; MAX_COEFFS];
-        rows[..light.len()].copy_from_slice(light);
+    /// The uniforms for `vertices` surface vertices and the world lighting `light` (`n²` rows
+    /// each for the environment and the directional light).
+    pub fn new(vertices: u32, order: usize, light: &WorldLighting) -> Self {
+        let rows = |c: &[[f32; 4]]| {
+            let mut rows = [[0.0; 4]; MAX_COEFFS];
+            rows[..c.len()].copy_from_slice(c);
+            rows
+        };
+        let [x, y, z] = light.sun_direction;
         RotationUniforms {
             counts: [vertices, order as u32, (order * order) as u32, 0],
-            light: rows,
+            sun_direction: [x, y, z, 0.0],
+            light: rows(&light.environment),
+            sun: rows(&light.sun),
         }
     }
 }

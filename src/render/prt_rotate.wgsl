@@ -8,12 +8,24 @@
 // and the one fixed matrix D(Rx(90°)) (computed once on the CPU by the Ivanic-Ruedenberg
 // recurrence, its transpose giving Rx(-90°)) does the rest. That costs two dense products per
 // band instead of building each vertex's band matrices.
+//
+// The directional light is rotated apart and faded out past the vertex's terminator: the body
+// shadows it there, but its few bands spread it some 40° around its direction, which lit the
+// fur a back light cannot reach (5× the reference's light). The fade is the Kajiya–Kay
+// preview's wrapped terminator band.
+
+// Width of the band past the terminator (in N·L) over which the directional light fades out.
+const TERMINATOR_WRAP: f32 = 0.3;
 
 struct Rotation {
     // x: surface vertices, y: order n, z: coefficients n².
     counts: vec4<u32>,
-    // The world lighting, 1/π folded in; rgb per coefficient.
+    // xyz: unit direction toward the directional light (object space).
+    sun_direction: vec4<f32>,
+    // The world lighting without the directional light, 1/π folded in; rgb per coefficient.
     light: array<vec4<f32>, 64>,
+    // The directional light's cap, alike.
+    sun: array<vec4<f32>, 64>,
 };
 
 @group(0) @binding(0) var<uniform> params: Rotation;
@@ -111,24 +123,41 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>,
         alpha = atan2(select(y.x, -y.x, z.z < 0.0), y.y);
     }
 
+    let angles = vec3<f32>(gamma, beta, alpha);
     var c: Coefficients;
-    var d: Coefficients;
+    var sun: Coefficients;
     for (var k = 0u; k < n; k++) {
         c[k] = params.light[k];
+        sun[k] = params.sun[k];
     }
-    rotate_z(&c, gamma, order);
-    rotate_x90(&c, &d, order, false);
-    rotate_z(&d, beta, order);
-    rotate_x90(&d, &c, order, true);
-    rotate_z(&c, alpha, order);
-    // A mirrored frame flips y: the functions odd in y (m < 0) change sign.
-    for (var l = 1u; l < order; l++) {
-        for (var m = 1u; m <= l; m++) {
-            let k = l * l + l - m;
-            c[k] = select(c[k], -c[k], mirrored);
+    rotate_into_frame(&c, angles, order, mirrored);
+    let facing = dot(z, params.sun_direction.xyz);
+    let shown = clamp(facing / TERMINATOR_WRAP + 1.0, 0.0, 1.0);
+    if (shown > 0.0) {
+        rotate_into_frame(&sun, angles, order, mirrored);
+        for (var k = 0u; k < n; k++) {
+            c[k] += shown * sun[k];
         }
     }
     for (var k = 0u; k < n; k++) {
         rotated[v * n + k] = c[k];
+    }
+}
+
+// `c` turned by r = Rz(α) Ry(β) Rz(γ) (`angles` = γ, β, α), mirrored in y with `mirrored`.
+fn rotate_into_frame(c: ptr<function, Coefficients>, angles: vec3<f32>, order: u32,
+                     mirrored: bool) {
+    var d: Coefficients;
+    rotate_z(c, angles.x, order);
+    rotate_x90(c, &d, order, false);
+    rotate_z(&d, angles.y, order);
+    rotate_x90(&d, c, order, true);
+    rotate_z(c, angles.z, order);
+    // A mirrored frame flips y: the functions odd in y (m < 0) change sign.
+    for (var l = 1u; l < order; l++) {
+        for (var m = 1u; m <= l; m++) {
+            let k = l * l + l - m;
+            (*c)[k] = select((*c)[k], -(*c)[k], mirrored);
+        }
     }
 }

@@ -2,6 +2,7 @@
 //! Ivanic–Ruedenberg recurrence in f64, `prt::sh::ShRotation`): the pass takes another route
 //! (Euler angles and a fixed 90° matrix), so agreement checks both.
 
+use super::prt_light::WorldLighting;
 use super::prt_rotate::{RotatePipeline, RotationUniforms};
 use super::readback::read_buffer;
 use super::surface_mesh::SurfaceVertex;
@@ -77,58 +78,85 @@ fn frame_of(v: &SurfaceVertex) -> ([[f64; 3]; 3], bool) {
     ([x, y, z], dot(y, v.dpdv.map(f64::from)) < 0.0)
 }
 
+/// The pass's output for `vertices` under `light`: `n²` rows per vertex.
+fn run_pass(
+    renderer: &Renderer,
+    vertices: &[SurfaceVertex],
+    order: usize,
+    light: &WorldLighting,
+) -> Vec<[f32; 4]> {
+    use wgpu::util::DeviceExt;
+    let device = &renderer.device;
+    let rotate = RotatePipeline::new(device).unwrap();
+    let n = sh::coeff_count(order);
+    let geometry = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: None,
+        contents: bytemuck::cast_slice(vertices),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let uniforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: None,
+        contents: bytemuck::bytes_of(&RotationUniforms::new(vertices.len() as u32, order, light)),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let rotated = device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: (vertices.len() * n * 16) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let group = rotate.bind_group(device, &uniforms, &geometry, &rotated);
+    let mut encoder = device.create_command_encoder(&Default::default());
+    rotate
+        .dispatch(&mut encoder, &group, vertices.len() as u32, 65535)
+        .unwrap();
+    renderer.queue.submit([encoder.finish()]);
+    let bytes = read_buffer(device, &renderer.queue, &rotated).unwrap();
+    bytemuck::cast_slice(&bytes).to_vec()
+}
+
+/// `n` random RGB coefficients.
+fn random_coefficients(rng: &mut Rng, n: usize) -> Vec<[f32; 4]> {
+    (0..n)
+        .map(|_| [0; 4].map(|_| 2.0 * rng.next_f64() as f32 - 1.0))
+        .map(|[r, g, b, _]| [r, g, b, 0.0])
+        .collect()
+}
+
+/// `coefficients` rotated into `v`'s tile frame by the crate's own rotation, channel `c`.
+fn expected_in_frame(v: &SurfaceVertex, order: usize, coefficients: &[[f32; 4]], c: usize) -> Vec<f64> {
+    let (r, mirrored) = frame_of(v);
+    let rotation = ShRotation::new(order, r).unwrap();
+    let world: Vec<f64> = coefficients.iter().map(|row| f64::from(row[c])).collect();
+    let mut want = rotation.apply(&world).unwrap();
+    if mirrored {
+        for (k, w) in want.iter_mut().enumerate() {
+            if sh::band_of(k).1 < 0 {
+                *w = -*w;
+            }
+        }
+    }
+    want
+}
+
 #[test]
 fn rotation_pass_matches_the_sh_rotation_for_every_order() {
     let renderer = Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe)");
-    let device = &renderer.device;
-    let rotate = RotatePipeline::new(device).unwrap();
     let vertices = vertices();
     let mut rng = Rng::new(11);
     for order in 1..=MAX_ORDER {
         let n = sh::coeff_count(order);
-        let light: Vec<[f32; 4]> = (0..n)
-            .map(|_| [0; 4].map(|_| 2.0 * rng.next_f64() as f32 - 1.0))
-            .map(|[r, g, b, _]| [r, g, b, 0.0])
-            .collect();
-        use wgpu::util::DeviceExt;
-        let geometry = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: None,
-            contents: bytemuck::cast_slice(&vertices),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        let uniforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: None,
-            contents: bytemuck::bytes_of(&RotationUniforms::new(vertices.len() as u32, order, &light)),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let rotated = device.create_buffer(&wgpu::BufferDescriptor {
-            label: None,
-            size: (vertices.len() * n * 16) as u64,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let group = rotate.bind_group(device, &uniforms, &geometry, &rotated);
-        let mut encoder = device.create_command_encoder(&Default::default());
-        rotate
-            .dispatch(&mut encoder, &group, vertices.len() as u32, 65535)
-            .unwrap();
-        renderer.queue.submit([encoder.finish()]);
-        let bytes = read_buffer(device, &renderer.queue, &rotated).unwrap();
-        let got: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
+        let light = random_coefficients(&mut rng, n);
+        let world = WorldLighting {
+            environment: light.clone(),
+            sun: vec![[0.0; 4]; n],
+            sun_direction: [0.0, 0.0, 1.0],
+        };
+        let got = run_pass(&renderer, &vertices, order, &world);
         for (i, v) in vertices.iter().enumerate() {
-            let (r, mirrored) = frame_of(v);
-            let rotation = ShRotation::new(order, r).unwrap();
             for c in 0..3 {
-                let world: Vec<f64> = light.iter().map(|row| f64::from(row[c])).collect();
-                let mut want = rotation.apply(&world).unwrap();
-                if mirrored {
-                    for (k, w) in want.iter_mut().enumerate() {
-                        if sh::band_of(k).1 < 0 {
-                            *w = -*w;
-                        }
-                    }
-                }
-                let norm = world.iter().map(|w| w * w).sum::<f64>().sqrt();
+                let want = expected_in_frame(v, order, &light, c);
+                let norm = light.iter().map(|w| f64::from(w[c]).powi(2)).sum::<f64>().sqrt();
                 for (k, w) in want.iter().enumerate() {
                     let g = f64::from(got[i * n + k][c]);
                     // f32 trigonometry and sums, and the gimbal branch (sin β below 1e-4) cost a
@@ -141,4 +169,44 @@ fn rotation_pass_matches_the_sh_rotation_for_every_order() {
             }
         }
     }
+}
+
+#[test]
+fn the_directional_light_fades_out_past_each_vertex_terminator() {
+    // The body shadows a sun behind the terminator; its few bands must not light the fur there.
+    // Facing the sun (N·L ≥ 0) the vertex gets the sun's rotated coefficients whole, beyond the
+    // wrap band (N·L ≤ −0.3) nothing, and in between a linear share.
+    let renderer = Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe)");
+    let vertices = vertices();
+    let order = 4;
+    let n = sh::coeff_count(order);
+    let mut rng = Rng::new(5);
+    let sun = random_coefficients(&mut rng, n);
+    let sun_direction = [0.36f32, -0.48, 0.8];
+    let world = WorldLighting {
+        environment: vec![[0.0; 4]; n],
+        sun: sun.clone(),
+        sun_direction,
+    };
+    let got = run_pass(&renderer, &vertices, order, &world);
+    let (mut lit, mut dark) = (0, 0);
+    for (i, v) in vertices.iter().enumerate() {
+        let facing = dot(unit(v.normal.map(f64::from)), sun_direction.map(f64::from));
+        let share = (facing / 0.3 + 1.0).clamp(0.0, 1.0);
+        lit += usize::from(share == 1.0);
+        dark += usize::from(share == 0.0);
+        let want = expected_in_frame(v, order, &sun, 0);
+        for (k, w) in want.iter().enumerate() {
+            let g = f64::from(got[i * n + k][0]);
+            assert!(
+                (g - share * w).abs() <= 1e-4 * (1.0 + w.abs()),
+                "vertex {i} (N·L {facing:.3}), coefficient {k}: {g} vs {}",
+                share * w
+            );
+        }
+    }
+    assert!(
+        lit > 5 && dark > 5,
+        "{lit} vertices facing the sun, {dark} past its terminator"
+    );
 }

@@ -59,25 +59,29 @@ fn surface_vertex(v: SurfaceIn, layers: Layers, painted: bool) -> SurfaceVarying
                           vec3<u32>(layers.fine, layers.coarse, layers.height));
 }
 
-// The skin needs only its normal, tile UV and color (its texel layers are the frame's).
+// The skin needs only its position (for the view), normal, tile UV and color (its texel layers
+// are the frame's).
 struct SkinVarying {
     @builtin(position) clip: vec4<f32>,
-    @location(0) normal: vec3<f32>,
-    @location(1) uv: vec2<f32>,
+    @location(0) normal_u: vec4<f32>,
+    @location(1) position_v: vec4<f32>,
     @location(2) color: vec3<f32>,
 };
 
 // The skin stays where the mesh is (height 0).
 fn skin_vertex(v: SurfaceIn) -> SkinVarying {
-    return SkinVarying(clip_position(v.position), v.normal, v.uv, v.color.rgb);
+    return SkinVarying(clip_position(v.position), vec4<f32>(v.normal, v.uv.x),
+                       vec4<f32>(v.position, v.uv.y), v.color.rgb);
 }
 
 // Layer 0 of the level drawn (cross-faded into the coarser level's under LOD) × vertex color,
 // lit as the skin.
 fn skin_fragment(s: SkinVarying) -> vec3<f32> {
     let layers = skin_layers();
-    let texel = blended(layer_texels(s.uv, layers.fine, layers.coarse));
-    return shade_skin(texel.rgb * s.color, unit_or(s.normal, vec3<f32>(0.0, 0.0, 1.0)));
+    let uv = vec2<f32>(s.normal_u.w, s.position_v.w);
+    let texel = blended(layer_texels(uv, layers.fine, layers.coarse));
+    return shade_skin(texel.rgb * s.color, unit_or(s.normal_u.xyz, vec3<f32>(0.0, 0.0, 1.0)),
+                      view_vector(s.position_v.xyz));
 }
 
 // A shell's cross-faded texel × vertex color, lit as hair (the model is linear in the texel, so
@@ -112,10 +116,12 @@ fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alph
                grad: vec4<f32>, mean: f32) -> HairLight {
     let n = unit_or(f.normal, vec3<f32>(0.0, 0.0, 1.0));
     let t = hair_tangent(uv, layers.height, f.dpdu, f.dpdv, f.up, n);
-    return hair_light(t, n, view_vector(f.position), 1.0);
+    let p = hair_parts(t, n, view_vector(f.position));
+    return HairLight(p.ambient, p.direct, frame.light_color.rgb * p.shine);
 }
 
-// The Banks strength the march darkens its layers by.
-fn march_banks() -> f32 {
-    return frame.fur.z;
+// The Banks strengths the march darkens its layers by: x the ambient's, y the direct light's.
+fn march_banks(f: MarchFrame) -> vec2<f32> {
+    let n = unit_or(f.normal, vec3<f32>(0.0, 0.0, 1.0));
+    return banks_strengths(n, frame.light_direction.xyz, view_vector(f.position));
 }

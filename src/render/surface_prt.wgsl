@@ -128,10 +128,10 @@ fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alph
                grad: vec4<f32>, mean: f32) -> HairLight {
     let texel = transfer_radiance(s.ids, s.bary, uv, layers.fine, grad, alpha);
     let shift = mean_radiance_change(s.ids, s.bary, f32(layers.height) * frame.fur.y, mean);
-    return HairLight(max(texel + shift, vec3<f32>(0.0)), vec3<f32>(0.0));
+    return HairLight(vec3<f32>(0.0), max(texel + shift, vec3<f32>(0.0)), vec3<f32>(0.0));
 }
 
 // The transfer holds the hair's self-shadowing: no Banks darkening on top.
-fn march_banks() -> f32 {
-    return 0.0;
+fn march_banks(f: MarchFrame) -> vec2<f32> {
+    return vec2<f32>(0.0);
 }
