@@ -37,14 +37,13 @@ fn banks_at(b: f32, height: f32) -> f32 {
     return 1.0 - b * (1.0 - clamp(height, 0.0, 1.0));
 }
 
-// The hair lighting at one point before Banks darkening, split by what darkens it: `ambient`
-// (strength `banks.x`), the direct light's `direct` and highlight `shine` (× the light color;
-// strength `banks.y`).
+// The hair lighting at one point before Banks darkening, split by what darkens it (see
+// `banks_strengths`): `ambient`, and the direct light's `direct` and highlight `shine` (× the
+// light color).
 struct HairParts {
     ambient: vec3<f32>,
     direct: vec3<f32>,
     shine: f32,
-    banks: vec2<f32>,
 };
 
 fn hair_parts(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>) -> HairParts {
@@ -57,7 +56,7 @@ fn hair_parts(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>) -> HairPar
     let specular = pow(max(1.0 - v * v, 1e-8), 0.5 * frame.kajiya_kay.w);
     let lit = clamp((dot(normal, l) + TERMINATOR_WRAP) / (1.0 + TERMINATOR_WRAP), 0.0, 1.0);
     return HairParts(frame.ambient.rgb, frame.light_color.rgb * lit * (frame.kajiya_kay.x * diffuse),
-                     lit * (frame.kajiya_kay.y * specular), banks_strengths(normal, l, view));
+                     lit * (frame.kajiya_kay.y * specular));
 }
 
 // The hair lighting at one point with its highlight left as a multiple of the light color:
@@ -70,8 +69,9 @@ struct HairTerms {
 // `height` is the share of the fur depth (0 at the skin, 1 at the top of the volume).
 fn hair_terms(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f32) -> HairTerms {
     let p = hair_parts(tangent, normal, view);
-    let direct = banks_at(p.banks.y, height);
-    return HairTerms(p.ambient * banks_at(p.banks.x, height) + p.direct * direct, p.shine * direct);
+    let b = banks_strengths(normal, frame.light_direction.xyz, view);
+    let direct = banks_at(b.y, height);
+    return HairTerms(p.ambient * banks_at(b.x, height) + p.direct * direct, p.shine * direct);
 }
 
 // The hair lighting at one point (see `HairLight` and `hair_terms`).
