@@ -5,8 +5,8 @@
 //!
 //! The preview gets the scene's lights as the add-on hands Blender's to it: a sun's strength ×
 //! color as [`Lighting::color`] with the (black) World's ambient, the sky as SH (PRT) or its mean
-//! radiance as the Kajiya–Kay ambient; everything else stays at the preview's defaults, so the figures show what a user
-//! sees. The volume has 65 layers (untrimmed), so every shell count up to 64 can be drawn.
+//! radiance as the Kajiya–Kay ambient; everything else stays at the preview's defaults, so the
+//! figures show what a user sees. The volume has 65 layers (untrimmed), so every shell count up to 64 can be drawn.
 
 use std::path::Path;
 
