@@ -52,7 +52,8 @@ def _enter_vertex_paint(operator, context, names: tuple[str, ...], prepare) -> s
 
 
 def _ensure_color(obj) -> tuple[list, str]:
-    return [point_data.ensure_point_attribute(obj, COLOR, "FLOAT_COLOR", paint_math.DEFAULT_COLOR)], COLOR
+    fill = paint_math.starting_color(obj.pelt.root_color, obj.pelt.tip_color)
+    return [point_data.ensure_point_attribute(obj, COLOR, "FLOAT_COLOR", fill)], COLOR
 
 
 def _ensure_length_paint(obj) -> tuple[list, str]:
@@ -89,8 +90,9 @@ def apply_length_paint(obj) -> tuple[np.ndarray, list]:
 
 
 class PELT_OT_paint_color(bpy.types.Operator):
-    """Paint the fur color: Vertex Paint on the pelt_color attribute (created mid brown when
-    missing, converted to a per-vertex color when it is another kind of attribute)"""
+    """Paint the fur color: Vertex Paint on the pelt_color attribute, whose colors the fur then
+    shows as painted (created in the coat's own color when missing, converted to a per-vertex
+    color when it is another kind of attribute)"""
 
     bl_idname = "pelt.paint_color"
     bl_label = "Paint Color"

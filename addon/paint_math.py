@@ -9,8 +9,6 @@ as linear light: black is bald, mid gray (0.5) the default length 1, white ``LEN
 
 import numpy as np
 
-# Linear RGBA of a mid brown, the color of fur nobody has painted yet.
-DEFAULT_COLOR = (0.15, 0.08, 0.04, 1.0)
 # pelt_length where nobody painted: the hair parameters' full length.
 DEFAULT_LENGTH = 1.0
 # Length painted by white. Longer painted lengths are clamped to it when the helper is made.
@@ -27,6 +25,14 @@ def linear_to_srgb(linear: np.ndarray) -> np.ndarray:
     """The sRGB transfer function (IEC 61966-2-1)."""
     c = np.clip(np.asarray(linear, dtype=np.float64), 0.0, 1.0)
     return np.where(c <= 0.0031308, c * 12.92, 1.055 * c ** (1.0 / 2.4) - 0.055)
+
+
+def starting_color(root_color, tip_color) -> tuple[float, float, float, float]:
+    """Linear RGBA that a new ``pelt_color`` is filled with: per channel the brighter of the coat's
+    root and tip colors. Over painted colors the bake keeps only the coat's shading (its colors
+    divided by exactly this), so the fur looks as it did before anything was painted."""
+    rgb = np.maximum(np.asarray(root_color, np.float64), np.asarray(tip_color, np.float64))
+    return (*(float(c) for c in rgb), 1.0)
 
 
 def length_to_paint(length: np.ndarray) -> np.ndarray:

@@ -135,7 +135,7 @@ class PeltObjectSettings(bpy.types.PropertyGroup):
     )
     root_color: bpy.props.FloatVectorProperty(
         name="Root Color",
-        description="Hair color at the root (multiplied by the painted pelt_color)",
+        description="Hair color at the root. Where pelt_color is painted, only its share of the tip counts",
         subtype="COLOR",
         size=3,
         default=(0.12, 0.08, 0.05),
@@ -144,7 +144,7 @@ class PeltObjectSettings(bpy.types.PropertyGroup):
     )
     tip_color: bpy.props.FloatVectorProperty(
         name="Tip Color",
-        description="Hair color at the tip (multiplied by the painted pelt_color)",
+        description="Hair color at the tip. Where pelt_color is painted, the paint shows in its place",
         subtype="COLOR",
         size=3,
         default=(0.45, 0.32, 0.2),

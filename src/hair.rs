@@ -182,6 +182,33 @@ impl HairParams {
         check_color("tip_color", self.tip_color)?;
         check_range("color_jitter", self.color_jitter, 0.0, 1.0)
     }
+
+    /// The coat grown over a mesh with painted colors (`pelt_color`), which multiply the texels:
+    /// the colors divided, per channel, by the brighter of root and tip, so the painted color
+    /// shows as painted where the hair is brightest and the coat keeps only its shading (the
+    /// root's share of the tip, the jitter). A channel black at both ends becomes white. A mesh
+    /// without painted colors (`painted` false) gets the coat as set.
+    #[must_use]
+    pub fn under_paint(&self, painted: bool) -> HairParams {
+        if !painted {
+            return self.clone();
+        }
+        let brightest: [f32; 3] = std::array::from_fn(|c| self.root_color[c].max(self.tip_color[c]));
+        let share = |color: [f32; 3]| {
+            std::array::from_fn(|c| {
+                if brightest[c] > 0.0 {
+                    color[c] / brightest[c]
+                } else {
+                    1.0
+                }
+            })
+        };
+        HairParams {
+            root_color: share(self.root_color),
+            tip_color: share(self.tip_color),
+            ..self.clone()
+        }
+    }
 }
 
 /// Which coat a strand belongs to.
@@ -448,6 +475,29 @@ mod tests {
             }
             assert!(grow_strands(&params).is_err(), "{field}");
         }
+    }
+
+    #[test]
+    fn under_paint_keeps_the_coats_shading_and_leaves_its_color_to_the_paint() {
+        let coat = HairParams {
+            root_color: [0.12, 0.5, 0.0],
+            tip_color: [0.48, 0.25, 0.0],
+            ..HairParams::default()
+        };
+        assert_eq!(coat.under_paint(false), coat);
+        let painted = coat.under_paint(true);
+        // Per channel: the brighter end at 1, the other at its share of it; black stays neutral.
+        assert_eq!(painted.tip_color, [1.0, 0.5, 1.0]);
+        assert_eq!(painted.root_color, [0.25, 1.0, 1.0]);
+        assert!(painted.validate().is_ok());
+        assert_eq!(
+            HairParams {
+                root_color: coat.root_color,
+                tip_color: coat.tip_color,
+                ..painted
+            },
+            coat
+        );
     }
 
     #[test]

@@ -45,7 +45,8 @@ class FurMesh:
     """A validated triangle mesh with per-vertex hair attributes.
 
     ``positions`` is ``[N, 3]``, ``triangles`` ``[M, 3]`` (any integer dtype), ``normals`` and
-    ``comb`` ``[N, 3]``, ``color`` ``[N, 4]`` (linear RGBA), ``length`` ``[N]`` in ``[0, 1000]``,
+    ``comb`` ``[N, 3]``, ``color`` ``[N, 4]`` (linear RGBA, the hair's painted color: the coat then
+    keeps only its shading, see :class:`Pipeline`), ``length`` ``[N]`` in ``[0, 1000]``,
     ``polygons`` ``[M]`` (the polygon each triangle was cut from; triangles of one polygon stay in
     one lapped patch).
     float32 / uint32 C-contiguous arrays are read in place; others are converted. Raises
@@ -376,7 +377,11 @@ class FurAsset:
 class Pipeline:
     """A bake cache, one per furred object: keeps the last result of each stage (patches, volume,
     transfer) keyed by exactly the inputs it reads, so a re-bake runs only what changed (a new
-    vertex color runs nothing, a new comb the patches, new hair the volume and transfer)."""
+    vertex color runs nothing, a new comb the patches, new hair the volume and transfer).
+
+    Over a mesh with colors the coat's ``root_color`` and ``tip_color`` are divided, per channel,
+    by the brighter of the two, so the painted color shows as painted at the hair's brightest
+    and the coat adds only its shading (adding or removing the colors re-runs the volume)."""
 
     def __init__(self) -> None: ...
     def clear(self) -> None:

@@ -188,7 +188,7 @@ fn object_cases(
     let mut pipeline = Pipeline::new();
     let asset = pipeline.bake(first.mesh.clone(), &params, None)?;
     let mut fur = FurScene::new(renderer, &asset.mesh, &asset.patches.uv, &asset.volume)?;
-    let strands = grow_strands(&params.hair)?;
+    let strands = grow_strands(&params.grown_hair(&asset.mesh))?;
     let geometry = FurGeometry::from_bake(&asset.mesh, &asset.patches, &strands, params.fur_depth())?;
     let traced = ReferenceScene::new(geometry)?;
     let (width, height) = (first.camera.width as usize, first.camera.height as usize);

@@ -16,7 +16,7 @@ use crate::reference::{FurGeometry, ReferenceScene, ReferenceSettings, render_re
 pub(super) fn reference_render(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let side = if options.quick { 128 } else { 512 };
     let scene = canonical_scene(Shape::Sphere, FurLength::Short, LightSetup::Side, side)?;
-    let strands = grow_strands(&scene.params.hair)?;
+    let strands = grow_strands(&scene.params.grown_hair(&scene.mesh))?;
     let patches = build_patches(&scene.mesh, &scene.params.patches)?;
     let fur_depth = scene.params.fur_depth();
     let settings = ReferenceSettings::default();

@@ -83,6 +83,12 @@ impl BakeParams {
         self.fur_depth.unwrap_or(self.patches.tile_size)
     }
 
+    /// The hair the volume is grown with over `mesh`: [`HairParams::under_paint`] when the mesh
+    /// carries painted colors, so they show as painted, else the coat as set.
+    pub fn grown_hair(&self, mesh: &FurMesh) -> HairParams {
+        self.hair.under_paint(mesh.color().is_some())
+    }
+
     /// Checks every stage's parameters and the bake's memory, so a bad one fails before any
     /// stage runs.
     ///
@@ -310,14 +316,21 @@ impl Pipeline {
             Ok((patches, summary))
         })?;
 
+        // Painted colors change the coat's colors (not which stage runs when they are repainted).
+        let hair = params.grown_hair(&mesh);
         let volume_key = KeyHasher::new("volume")
+            .params(&hair)
+            .params(&params.volume)
+            .finish();
+        // The transfer reads the volume's coverage, never its colors: painting does not re-run it.
+        let coverage_key = KeyHasher::new("volume")
             .params(&params.hair)
             .params(&params.volume)
             .finish();
         let volume = run_stage(&mut self.volume, volume_key, "volume", &mut report, || {
             let callback = stage_callback(progress, "volume");
             let call = |f: f64| callback.as_ref().is_none_or(|c| c(f));
-            let volume = bake_volume(&params.hair, &params.volume, Some(&call))?;
+            let volume = bake_volume(&hair, &params.volume, Some(&call))?;
             let s = &volume.stats;
             let summary = format!(
                 "{} strands, {} layers of {}² ({} trimmed), fin {}×{}",
@@ -334,7 +347,7 @@ impl Pipeline {
             }
             Some(choice) => {
                 let transfer_key = KeyHasher::new("transfer")
-                    .key(volume_key)
+                    .key(coverage_key)
                     .params(choice)
                     .params(&depth_in_tiles)
                     .finish();

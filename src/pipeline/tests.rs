@@ -52,7 +52,7 @@ fn first_bake_runs_every_stage_and_matches_the_stages_run_alone() {
         *asset.patches,
         lapped::build_patches(&mesh, &params.patches).unwrap()
     );
-    let volume = bake_volume(&params.hair, &params.volume, None).unwrap();
+    let volume = bake_volume(&params.grown_hair(&mesh), &params.volume, None).unwrap();
     assert_eq!(asset.volume.shells, volume.shells);
     let transfer = asset.transfer.as_ref().unwrap();
     assert_eq!(transfer.transfer.order, 2);
@@ -125,6 +125,73 @@ fn a_rebake_runs_only_the_stages_whose_inputs_changed() {
     let plain_asset = pipeline.bake(side_bald(), &plain, None).unwrap();
     assert!(plain_asset.transfer.is_none());
     assert_eq!(plain_asset.report.len(), 2);
+}
+
+/// The channels' shares of the linear color summed over the hair texels of the top quarter of the
+/// layers, multiplied by `tint`: the color the hair tips show. Also the 95th percentile of the
+/// shown red.
+fn tips_shown(volume: &HairVolume, tint: [f32; 4]) -> ([f32; 3], f32) {
+    let decode = crate::color::srgb8_to_linear_table();
+    let texels = volume.resolution * volume.resolution;
+    let top = &volume.shells[(volume.layers * 3 / 4) * texels * 4..];
+    let mut sum = [0.0f64; 3];
+    let mut reds = Vec::new();
+    for px in top.chunks_exact(4).filter(|px| px[3] > 0) {
+        let shown: [f32; 3] = std::array::from_fn(|c| decode[px[c] as usize] * tint[c]);
+        for c in 0..3 {
+            sum[c] += f64::from(shown[c]);
+        }
+        reds.push(shown[0]);
+    }
+    let total: f64 = sum.iter().sum();
+    reds.sort_by(f32::total_cmp);
+    (sum.map(|c| (c / total) as f32), reds[reds.len() * 95 / 100])
+}
+
+#[test]
+fn painted_colors_show_as_painted_and_the_coat_keeps_its_shading() {
+    let mut params = small_params();
+    params.hair.density = 3000;
+    params.volume.resolution = 32;
+    params.volume.layers = 16;
+    let orange = [1.0, 0.45, 0.1, 1.0];
+    let share = orange[..3].iter().sum::<f32>();
+    let mut pipeline = Pipeline::new();
+    let painted = pipeline.bake(sphere(orange, DOWN, 1.0), &params, None).unwrap();
+    let (hue, bright) = tips_shown(&painted.volume, orange);
+    // The tips show the paint's hue and, brightest, the paint itself (the coat's color would
+    // give red 0.45 of it and a hue twice as red as green).
+    for c in 0..3 {
+        let expected = orange[c] / share;
+        assert!(
+            (hue[c] - expected).abs() < 0.1 * expected,
+            "{hue:?} against {orange:?}"
+        );
+    }
+    assert!(bright > 0.85, "brightest tips {bright}, painted 1.0");
+
+    // Without paint the coat shows its own colors, and the transfer (coverage only) is kept.
+    let (positions, triangles) = uv_sphere(16, 8);
+    let comb = vec![DOWN; positions.len()];
+    let unpainted = FurMesh::new(MeshInput::new(&positions, &triangles).with_comb(&comb)).unwrap();
+    let plain = pipeline.bake(Arc::new(unpainted), &params, None).unwrap();
+    assert_eq!(
+        ran(&plain),
+        [("patches", true), ("volume", true), ("transfer", false)]
+    );
+    let tip = params.hair.tip_color;
+    let (hue, bright) = tips_shown(&plain.volume, [1.0; 4]);
+    let tip_share = tip.iter().sum::<f32>();
+    for c in 0..3 {
+        assert!(
+            (hue[c] - tip[c] / tip_share).abs() < 0.1 * tip[c] / tip_share,
+            "{hue:?}"
+        );
+    }
+    assert!(
+        (bright - tip[0]).abs() < 0.1 * tip[0],
+        "brightest tips {bright}, tip {tip:?}"
+    );
 }
 
 #[test]

@@ -18,7 +18,8 @@ use crate::volume::VolumeParams;
 use crate::volume::coverage::CoverageMode;
 
 /// A bake cache: keeps the last result of every stage, so a re-bake runs only what changed.
-/// One per furred object. Thread-safe: a bake holds the cache for its whole run.
+/// One per furred object. Thread-safe: a bake holds the cache for its whole run. Over a mesh
+/// with colors the coat's colors count only as shading, so the painted colors show as painted.
 #[pyclass(name = "Pipeline", module = "pelt", frozen)]
 pub(super) struct PyPipeline {
     inner: Mutex<Pipeline>,

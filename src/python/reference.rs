@@ -144,7 +144,7 @@ pub(super) fn render_reference_py<'py>(
     let report = |f: f64| reporter.report(f);
     let callback: Option<crate::progress::ProgressCallback<'_>> = reporter.is_some().then_some(&report);
     let result = detached(py, || {
-        let strands = grow_strands(&asset.params.hair)?;
+        let strands = grow_strands(&asset.params.grown_hair(&asset.mesh))?;
         let fur_depth = asset.params.fur_depth();
         if volume_mode {
             let scene =

@@ -38,7 +38,7 @@ use crate::volume::{HairVolume, VolumeParams, bake_volume};
 /// - ``length_jitter`` (0.1, [0, 1]): random shortening of each strand.
 /// - ``clump_strength`` (0, [0, 1]) and ``clump_count`` (0, [0, 256]): clumping.
 /// - ``root_color`` ([0.12, 0.08, 0.05]) and ``tip_color`` ([0.45, 0.32, 0.2]): linear RGB,
-///   each in [0, 1].
+///   each in [0, 1]; over a mesh with painted colors only their ratio counts (`Pipeline`).
 /// - ``color_jitter`` (0.15, [0, 1]): random darkening per strand.
 #[pyclass(name = "HairParams", module = "pelt")]
 pub(super) struct PyHairParams {

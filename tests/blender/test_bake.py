@@ -74,6 +74,11 @@ def test_rebake_after_a_color_change_skips_every_stage(addon):
     n = len(obj.data.vertices)
     color = obj.data.attributes.new("pelt_color", "FLOAT_COLOR", "POINT")
     color.data.foreach_set("color", np.tile([0.8, 0.1, 0.1, 1.0], n).astype(np.float32))
+    # Painted colors for the first time: the coat's colors become its shading (the volume); the
+    # transfer reads the hair's coverage alone.
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    assert last_bake(obj) == {"patches": False, "volume": True, "transfer": False}
+    color.data.foreach_set("color", np.tile([0.1, 0.8, 0.1, 1.0], n).astype(np.float32))
     assert bpy.ops.pelt.bake() == {"FINISHED"}
     assert last_bake(obj) == {"patches": False, "volume": False, "transfer": False}
     # New hair parameters rerun the volume and the transfer only.

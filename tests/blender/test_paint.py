@@ -7,8 +7,6 @@ import numpy as np
 import pytest
 from conftest import add_suzanne, datablock_snapshot
 
-BROWN = np.array([0.15, 0.08, 0.04, 1.0], np.float32)
-
 
 def srgb_to_linear(c):
     c = np.asarray(c, np.float64)
@@ -32,12 +30,16 @@ def make_active(obj):
     obj.select_set(True)
 
 
-def test_paint_color_creates_brown_and_enters_vertex_paint(addon):
+def test_paint_color_starts_in_the_coats_color_and_enters_vertex_paint(addon):
     obj = add_suzanne()
+    obj.pelt.root_color = (0.3, 0.1, 0.05)
+    obj.pelt.tip_color = (0.2, 0.4, 0.1)
     assert bpy.ops.pelt.paint_color() == {"FINISHED"}
     mesh = obj.data
     assert kind(mesh, "pelt_color") == ("POINT", "FLOAT_COLOR")
-    np.testing.assert_allclose(read(mesh, "pelt_color", "color", 4), np.tile(BROWN, (len(mesh.vertices), 1)))
+    # Per channel the brighter end of the coat, which the bake divides the coat by.
+    start = np.array([0.3, 0.4, 0.1, 1.0], np.float32)
+    np.testing.assert_allclose(read(mesh, "pelt_color", "color", 4), np.tile(start, (len(mesh.vertices), 1)))
     assert mesh.attributes.active_color_name == "pelt_color"
     assert obj.mode == "VERTEX_PAINT"
 

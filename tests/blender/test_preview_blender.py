@@ -136,3 +136,44 @@ def test_the_preview_is_stored_scene_linear_for_the_view_transform(addon):
     linear = preview.render_camera(bpy.context, obj)
     assert linear.dtype == np.float32
     np.testing.assert_allclose(preview_pixels(), linear[::-1], atol=1e-6)
+
+
+def _fur_mean(pixels: np.ndarray, covered: np.ndarray) -> np.ndarray:
+    """Mean linear RGB of the covered pixels, made straight (the preview is premultiplied)."""
+    return pixels[covered, :3].sum(axis=0) / pixels[covered, 3].sum()
+
+
+def test_painted_colors_show_as_painted(addon):
+    # Painted colors once multiplied the coat's own: Paint Color's starting brown darkened the
+    # fur about 7 times, and white paint showed the coat's brown. Now the coat only shades the paint.
+    obj = furred_suzanne_with_camera()
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    sun.data.energy = 3.0
+    sun.rotation_euler = (math.radians(60), 0.0, math.radians(-20))
+    bpy.context.scene.collection.objects.link(sun)
+    assert bpy.ops.pelt.render_preview() == {"FINISHED"}
+    unpainted = preview_pixels()
+    covered = unpainted[..., 3] > 0.5
+    coat = _fur_mean(unpainted, covered)
+
+    # A new pelt_color starts in the coat's own color: nothing changes until one paints.
+    bpy.context.view_layer.objects.active = obj
+    assert bpy.ops.pelt.paint_color() == {"FINISHED"}
+    bpy.ops.object.mode_set(mode="OBJECT")
+    assert bpy.ops.pelt.render_preview() == {"FINISHED"}
+    np.testing.assert_allclose(_fur_mean(preview_pixels(), covered), coat, rtol=0.03)
+
+    shown = {}
+    for name, paint in (("white", (1.0, 1.0, 1.0)), ("orange", (1.0, 0.45, 0.1))):
+        colors = np.tile(np.array([*paint, 1.0], np.float32), (len(obj.data.vertices), 1))
+        obj.data.attributes["pelt_color"].data.foreach_set("color", colors.ravel())
+        obj.data.update()
+        assert bpy.ops.pelt.render_preview() == {"FINISHED"}
+        shown[name] = _fur_mean(preview_pixels(), covered)
+    # White paint shows white fur (the coat's brown has red twice its blue), brighter than the
+    # coat's; orange shows orange: per channel the white fur times the paint (the highlight is
+    # the light's color, a few percent of the white fur: that is the tolerance).
+    white = shown["white"]
+    assert white.max() < 1.1 * white.min(), white
+    assert white.mean() > 2.0 * coat.mean(), (white, coat)
+    np.testing.assert_allclose(shown["orange"], white * np.array([1.0, 0.45, 0.1]), atol=0.05 * white.mean())

@@ -190,7 +190,7 @@ fn canonical(args: &ReferenceArgs) -> Result<Prepared, String> {
         return Err(format!("{:?}: expected SHAPE.LENGTH.LIGHT", args.source));
     }
     let scene = canonical_scene(shape, length, light, args.size).map_err(|e| e.to_string())?;
-    let strands = grow_strands(&scene.params.hair).map_err(|e| e.to_string())?;
+    let strands = grow_strands(&scene.params.grown_hair(&scene.mesh)).map_err(|e| e.to_string())?;
     let patches =
         pelt::lapped::build_patches(&scene.mesh, &scene.params.patches).map_err(|e| e.to_string())?;
     let volume = bake_strands(&strands, &scene.params.volume, None).map_err(|e| e.to_string())?;
@@ -219,7 +219,7 @@ fn baked_folder(args: &ReferenceArgs) -> Result<Prepared, String> {
     let mut without_transfer = params.clone();
     without_transfer.transfer = None;
     let asset = bake_object(&record, &without_transfer, name, data)?;
-    let strands = grow_strands(&asset.params.hair).map_err(|e| e.to_string())?;
+    let strands = grow_strands(&asset.params.grown_hair(&asset.mesh)).map_err(|e| e.to_string())?;
     let (lo, hi) = bounds(asset.mesh.positions());
     let centre = std::array::from_fn(|k| 0.5 * (lo[k] + hi[k]));
     let radius = 0.5 * (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f32>().sqrt();

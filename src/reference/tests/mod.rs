@@ -245,7 +245,7 @@ fn perspective(eye: Vec3, side: u32) -> Camera {
 }
 
 fn geometry_of(mesh: &FurMesh, asset: &crate::pipeline::FurAsset) -> crate::error::Result<FurGeometry> {
-    let strands = crate::hair::grow_strands(&asset.params.hair).unwrap();
+    let strands = crate::hair::grow_strands(&asset.params.grown_hair(&asset.mesh)).unwrap();
     FurGeometry::from_bake(mesh, &asset.patches, &strands, asset.params.fur_depth())
 }
 

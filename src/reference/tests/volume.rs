@@ -212,7 +212,7 @@ fn white_hair_over_a_black_skin_scatters_once_as_the_closed_form_says() {
 #[test]
 fn the_volume_of_a_baked_sphere_agrees_with_its_strands() {
     let (mesh, asset) = furred_sphere(1024);
-    let strands = crate::hair::grow_strands(&asset.params.hair).unwrap();
+    let strands = crate::hair::grow_strands(&asset.params.grown_hair(&asset.mesh)).unwrap();
     let geometry = geometry_of(&mesh, &asset).unwrap();
     let strands_scene = ReferenceScene::new(geometry).unwrap();
     let volume = VolumeScene::from_bake(
