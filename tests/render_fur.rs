@@ -55,20 +55,25 @@ fn oblique(size: u32) -> Camera {
 /// Half the side of the orthographic top view, object units.
 const TOP_HALF: f64 = 1.6;
 
-/// Orthographic camera looking down the torus's axis: pixel centres map to `[-TOP_HALF, TOP_HALF]²`.
-fn top() -> Camera {
+/// Orthographic camera at `eye` looking at the origin: pixel centres map to `[-half, half]²`,
+/// view depths 0.5 .. 5.5 to clip depths 0 .. 1.
+fn orthographic(eye: [f64; 3], up: [f64; 3], half: f64, size: u32) -> Camera {
     Camera {
-        view: look_at([0.0, 0.0, 3.0], [0.0, 1.0, 0.0]),
+        view: look_at(eye, up),
         projection: column_major([
-            [1.0 / TOP_HALF, 0.0, 0.0, 0.0],
-            [0.0, 1.0 / TOP_HALF, 0.0, 0.0],
-            // view depth 0.5 .. 5.5 to clip depth 0 .. 1
+            [1.0 / half, 0.0, 0.0, 0.0],
+            [0.0, 1.0 / half, 0.0, 0.0],
             [0.0, 0.0, -0.2, -0.1],
             [0.0, 0.0, 0.0, 1.0],
         ]),
-        width: SIZE,
-        height: SIZE,
+        width: size,
+        height: size,
     }
+}
+
+/// Orthographic camera looking down the torus's axis: pixel centres map to `[-TOP_HALF, TOP_HALF]²`.
+fn top() -> Camera {
+    orthographic([0.0, 0.0, 3.0], [0.0, 1.0, 0.0], TOP_HALF, SIZE)
 }
 
 fn settings() -> RenderSettings {
@@ -630,5 +635,72 @@ fn a_light_from_the_eye_sees_no_self_shadow_and_a_slanted_one_crosses_more_fur()
     assert!(
         (slanted / expected - 1.0).abs() < 0.03,
         "60°: {slanted}, expected {expected}"
+    );
+}
+
+/// Mean alpha of each row of `rgba` (`width` texels a row), `[0, 1]`.
+fn row_alpha(rgba: &[u8], width: usize) -> Vec<f64> {
+    rgba.chunks_exact(4 * width)
+        .map(|row| row.chunks_exact(4).map(|p| f64::from(p[3])).sum::<f64>() / (255.0 * width as f64))
+        .collect()
+}
+
+#[test]
+fn a_fin_seen_face_on_shows_its_textures_height_profile_however_often_the_texture_repeats() {
+    // One long edge facing an orthographic camera, its fin eight tiles long but hardly taller
+    // than its texture: the fin texture is squeezed 10× across and barely along its height. A
+    // mip level picked by the larger squeeze blurred the fin's rows into a few texels, spilling
+    // the opaque roots up to the tips (the fringe stood too opaque, too high). Each pixel row
+    // must show the texture row it stands at, averaged along the fin.
+    let renderer = Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe) must exist");
+    let volume = common::volume::small_volume(8);
+    // The edge (−1, 0, 0)–(1, 0, 0) faces −y; the other two run almost along y, so their fins
+    // face sideways and fade out. The triangle itself, and every shell, is seen edge-on.
+    let positions = [[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 10.0, 0.0]];
+    let tile = 0.25f32;
+    let uv = positions.map(|p| [p[0] / tile, p[1] / tile]);
+    let mesh = FurMesh::new(MeshInput::new(&positions, &[[0, 1, 2]])).unwrap();
+    let scene = FurScene::new(&renderer, &mesh, &[uv], &volume).unwrap();
+    let (size, half, depth) = (128u32, 1.2f64, 0.5f32);
+    let camera = orthographic([0.0, -5.0, 0.0], [0.0, 0.0, 1.0], half, size);
+    let settings = RenderSettings {
+        fur_depth: depth,
+        shell_count: Some(0),
+        ..RenderSettings::default()
+    };
+    let image = renderer
+        .render(&scene, &camera, &Lighting::default(), &settings)
+        .unwrap();
+    let [fin_width, fin_height] = volume.fin_size;
+    let texture = row_alpha(&volume.fin, fin_width);
+    let (mut worst, mut sum, mut rows) = (0.0f64, 0.0, 0);
+    for y in 0..size {
+        let z = half - (f64::from(y) + 0.5) / f64::from(size) * 2.0 * half;
+        let height = z / f64::from(depth);
+        if !(0.04..=0.96).contains(&height) {
+            continue;
+        }
+        // Pixel columns well inside the edge's ends (x in [−0.8, 0.8]).
+        let inside = (0..size).filter(|&x| {
+            let px = (f64::from(x) + 0.5) / f64::from(size) * 2.0 * half - half;
+            px.abs() < 0.8
+        });
+        let (count, shown) = inside.fold((0, 0.0), |(n, s), x| {
+            (n + 1, s + f64::from(image.pixel(x, y).unwrap()[3]) / 255.0)
+        });
+        let shown = shown / f64::from(count);
+        // The texture's row mean at this height, linearly between row centres (row 0 on top).
+        let t = ((1.0 - height) * fin_height as f64 - 0.5).clamp(0.0, fin_height as f64 - 1.0);
+        let (r, f) = (t.floor() as usize, t.fract());
+        let expected = texture[r] * (1.0 - f) + texture[(r + 1).min(fin_height - 1)] * f;
+        worst = worst.max((shown - expected).abs());
+        sum += (shown - expected).abs();
+        rows += 1;
+    }
+    assert!(rows > 20, "{rows} pixel rows on the fin");
+    assert!(
+        worst < 0.04 && sum / f64::from(rows) < 0.015,
+        "fin alpha against its texture's rows: worst {worst:.3}, mean {:.3}",
+        sum / f64::from(rows)
     );
 }

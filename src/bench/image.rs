@@ -365,6 +365,10 @@ fn case(
             flip_down4: errors.flip_down4,
             luminance_ratio: errors.luminance_ratio,
             alpha_profile_error: errors.alpha_profile_error,
+            alpha_profile: errors
+                .alpha_profile
+                .clone()
+                .map(|bins| bins.into_iter().map(|b| b.is_finite().then_some(b)).collect()),
             dolly_jump: dolly.map(|d| d.0),
             dolly_drift: dolly.map(|d| d.1),
             volume_error: None,

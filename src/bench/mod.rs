@@ -60,6 +60,9 @@ pub struct ImageFigures {
     pub luminance_ratio: f64,
     /// Largest difference of the silhouette's mean coverage per distance bin.
     pub alpha_profile_error: f64,
+    /// The silhouette's mean coverage per tenth of a fur depth from the skin's outline, the
+    /// preview's then the reference's; `None` where a bin has no pixel.
+    pub alpha_profile: [Vec<Option<f64>>; 2],
     /// LOD cases: the largest frame-to-frame change of mean luminance along a dolly out to 30×.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dolly_jump: Option<f64>,

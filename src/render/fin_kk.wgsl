@@ -24,7 +24,7 @@ fn fin_vertex(v: FinIn, c: FinCorner) -> FinOut {
 
 // Premultiplied: texel × vertex color × opacity, lit.
 fn fin_fragment(f: FinOut) -> vec4<f32> {
-    let texel = textureSample(fin_texture, fin_sampler, vec2<f32>(f.scale_u.w, f.shine_v_opacity.y));
+    let texel = fin_texel(vec2<f32>(f.scale_u.w, f.shine_v_opacity.y));
     let add = frame.light_color.rgb * f.shine_v_opacity.x;
     return vec4<f32>(texel.rgb * f.scale_u.rgb + texel.a * add, texel.a * f.shine_v_opacity.z);
 }

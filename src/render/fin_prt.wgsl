@@ -19,7 +19,7 @@ fn fin_vertex(v: FinIn, c: FinCorner) -> FinOut {
 // Premultiplied: texel × vertex color × opacity, lit per fragment.
 fn fin_fragment(f: FinOut) -> vec4<f32> {
     let uv = f.uv_along.xy;
-    let texel = textureSample(fin_texture, fin_sampler, uv);
+    let texel = fin_texel(uv);
     let opacity = f.color_opacity.w;
     let albedo = texel.rgb * f.color_opacity.rgb * opacity;
     let ids = vec3<u32>(f.ends, f.ends.x);

@@ -26,6 +26,24 @@ struct FinCorner {
     opacity: f32,
 };
 
+// Squeezes of the fin texture along the edge beyond this many times its squeeze along the height
+// are left to alias rather than blurred into the height.
+const FIN_ANISOTROPY: f32 = 8.0;
+
+// The fin texel at `uv`, its mip level picked by the texture's footprint along the fur's height
+// (up to FIN_ANISOTROPY times finer than the footprint along the edge): a fin near the
+// silhouette is squeezed along its edge far more than along its height, and a level picked by
+// the larger squeeze blurred its rows together, spilling the opaque roots up to the tips. One
+// trilinear read, where the sampler's own anisotropic filtering cost a CPU adapter 2-3 times
+// the fins' time.
+fn fin_texel(uv: vec2<f32>) -> vec4<f32> {
+    let size = vec2<f32>(textureDimensions(fin_texture));
+    let across = length(dpdx(uv) * size);
+    let down = length(dpdy(uv) * size);
+    let footprint = max(min(across, down), max(across, down) / FIN_ANISOTROPY);
+    return textureSampleLevel(fin_texture, fin_sampler, uv, log2(max(footprint, 1e-6)));
+}
+
 @vertex
 fn vs_main(v: FinIn) -> FinOut {
     // p at the edge's midpoint: all four corners agree, so a faded-out fin is dropped whole.
