@@ -34,14 +34,14 @@ from _setup import REPO, register_addon
 
 
 def paint_defaults(mesh) -> None:
-    """Default paint: a color multiplier darker toward the bottom (the hair's own colors come from
-    the preset); combed down (object -Z); length 1."""
+    """Default paint: a warm brown, darker toward the bottom (painted colors show as painted; the
+    coat's root and tip colors only shade them); combed down (object -Z); length 1."""
     n = len(mesh.vertices)
     co = np.empty(3 * n, np.float32)
     mesh.vertices.foreach_get("co", co)
     height = co.reshape(n, 3)[:, 2]
     t = (height - height.min()) / max(float(np.ptp(height)), 1e-6)
-    root, tip = np.array([0.5, 0.45, 0.4]), np.array([1.0, 1.0, 1.0])
+    root, tip = np.array([0.3, 0.19, 0.11]), np.array([0.62, 0.42, 0.24])
     color = np.concatenate([root + t[:, None] * (tip - root), np.ones((n, 1))], axis=1)
     mesh.attributes.new("pelt_color", "FLOAT_COLOR", "POINT").data.foreach_set("color", color.ravel())
     comb = np.tile(np.array([0.0, 0.0, -1.0], np.float32), n)
