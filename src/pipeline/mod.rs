@@ -318,15 +318,15 @@ impl Pipeline {
 
         // Painted colors change the coat's colors (not which stage runs when they are repainted).
         let hair = params.grown_hair(&mesh);
-        let volume_key = KeyHasher::new("volume")
-            .params(&hair)
-            .params(&params.volume)
-            .finish();
+        let volume_key_of = |hair: &HairParams| {
+            KeyHasher::new("volume")
+                .params(hair)
+                .params(&params.volume)
+                .finish()
+        };
+        let volume_key = volume_key_of(&hair);
         // The transfer reads the volume's coverage, never its colors: painting does not re-run it.
-        let coverage_key = KeyHasher::new("volume")
-            .params(&params.hair)
-            .params(&params.volume)
-            .finish();
+        let coverage_key = volume_key_of(&params.hair);
         let volume = run_stage(&mut self.volume, volume_key, "volume", &mut report, || {
             let callback = stage_callback(progress, "volume");
             let call = |f: f64| callback.as_ref().is_none_or(|c| c(f));
