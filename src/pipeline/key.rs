@@ -67,17 +67,13 @@ impl KeyHasher {
 /// vertices are bald (the lengths themselves only scale the fur at render time).
 pub(super) fn patch_mesh_key(hasher: KeyHasher, mesh: &FurMesh) -> KeyHasher {
     let normals = mesh.normals_given().then(|| mesh.normals());
-    let bald = mesh
-        .length()
-        .map(|length| length.iter().map(|&l| u32::from(l == 0.0)));
-    let hasher = hasher
+    // The bald vertices' indices: no lengths and lengths that are all nonzero give the same key.
+    let bald = mesh.length().unwrap_or_default().iter().enumerate();
+    hasher
         .floats(Some(mesh.positions()))
         .ints(mesh.triangles().iter().flatten().copied())
         .floats(normals)
         .floats(mesh.comb())
-        .ints(mesh.polygons().unwrap_or_default().iter().copied());
-    match bald {
-        Some(bald) => hasher.ints(bald),
-        None => hasher.ints(std::iter::empty()),
-    }
+        .ints(mesh.polygons().unwrap_or_default().iter().copied())
+        .ints(bald.filter(|&(_, &l)| l == 0.0).map(|(v, _)| v as u32))
 }

@@ -170,14 +170,15 @@ fn painted_colors_show_as_painted_and_the_coat_keeps_its_shading() {
     }
     assert!(bright > 0.85, "brightest tips {bright}, painted 1.0");
 
-    // Without paint the coat shows its own colors, and the transfer (coverage only) is kept.
+    // Without paint the coat shows its own colors, and the patches (no vertex bald either way)
+    // and the transfer (coverage only) are kept.
     let (positions, triangles) = uv_sphere(16, 8);
     let comb = vec![DOWN; positions.len()];
     let unpainted = FurMesh::new(MeshInput::new(&positions, &triangles).with_comb(&comb)).unwrap();
     let plain = pipeline.bake(Arc::new(unpainted), &params, None).unwrap();
     assert_eq!(
         ran(&plain),
-        [("patches", true), ("volume", true), ("transfer", false)]
+        [("patches", false), ("volume", true), ("transfer", false)]
     );
     let tip = params.hair.tip_color;
     let (hue, bright) = tips_shown(&plain.volume, [1.0; 4]);
