@@ -300,7 +300,7 @@ def bake_transfer(
     directions: int = 256,
     phase: Literal["isotropic", "kajiya-kay"] = "isotropic",
     method: Literal["sweep", "brute"] = "sweep",
-    sigma: float = 1.0,
+    sigma: float = 0.5,
     progress: Callable[[float], bool | None] | None = None,
 ) -> TransferResult:
     """Bake the precomputed radiance transfer of a hair density volume.
@@ -308,7 +308,8 @@ def bake_transfer(
     ``density`` is ``[L, R, R]`` (layer 0 is the skin; coverage share per texel, >= 0),
     ``tangents`` ``[L, R, R, 3]`` hair directions (x, y along the skin, z up; zero where there is
     no hair), required for ``phase="kajiya-kay"``. ``layer_spacing`` is the height between layers
-    in texel widths; ``sigma`` the optical depth per texel width through full coverage.
+    in texel widths; ``sigma`` the optical depth per texel width through density 1 (a bake from a
+    pipeline hands it the coverage over the hair's ``|t_z|``, the hair length per unit height).
 
     ``order=None`` bakes 8 bands and keeps the smallest order whose relative RMS lighting error
     under the test lights is within ``tolerance`` (``bands`` holds the table and

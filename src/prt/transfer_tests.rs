@@ -303,6 +303,7 @@ fn grazing_directions_stay_finite_and_match_the_slab() {
         }
     }
     // A thin homogeneous slab seen at ω_z = 5e-5: T = exp(−σρ(H − z)/ω_z), tile-independent.
+    let sigma = f64::from(TransferParams::default().sigma);
     let slab = vec![1e-5f32; layers * res * res];
     let vol = volume(res, layers, 1.0, &slab);
     for method in [Method::Brute, Method::Sweep] {
@@ -316,7 +317,7 @@ fn grazing_directions_stay_finite_and_match_the_slab() {
         let t = transmittance(&vol, &p, dir).unwrap();
         for (v, &tv) in t.iter().enumerate() {
             let z = (v / (res * res)) as f64;
-            let exact = (-1e-5 * (3.0 - z) / cz).exp();
+            let exact = (-sigma * 1e-5 * (3.0 - z) / cz).exp();
             assert!(
                 (f64::from(tv) - exact).abs() < 1e-5,
                 "{method:?} voxel {v}: {tv} vs {exact}"
