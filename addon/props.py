@@ -246,7 +246,7 @@ class PeltObjectSettings(bpy.types.PropertyGroup):
     prt_tolerance: bpy.props.FloatProperty(
         name="Tolerance",
         description="Largest relative lighting error the auto order accepts",
-        default=0.02,
+        default=0.025,
         min=0.001,
         max=0.5,
         subtype="FACTOR",

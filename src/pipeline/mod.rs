@@ -187,9 +187,9 @@ impl BakeParams {
         let volume = crate::volume::peak::grown_volume_peak_bytes(&self.volume, &self.hair);
         let transfer = self.transfer.as_ref().map_or(0.0, |choice| {
             let (l, r) = (self.volume.layers, self.volume.resolution);
-            // The transfer's own tangents: 12 bytes per voxel.
+            // The transfer's own tangents and path density (`VolumeInput`): 16 bytes per voxel.
             crate::volume::peak::volume_bytes(&self.volume)
-                + 12.0 * (l * r * r) as f64
+                + 16.0 * (l * r * r) as f64
                 + crate::prt::peak::transfer_peak_bytes(l, r, &choice.params, choice.auto, true)
         });
         volume.max(transfer)
