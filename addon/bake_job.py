@@ -12,6 +12,13 @@ import time
 
 import pelt
 
+# Per pipeline (by id; the cache keeps it alive), how many of its bakes ran a stage. Whatever was
+# built from an earlier bake of it (the preview's scene) is stale once this moves on, whichever
+# operator ran the newer bake. Counts only grow, so a new pipeline that reuses an id never
+# matches an older count.
+_BAKES_THAT_RAN: dict[int, int] = {}
+_BAKES_LOCK = threading.Lock()
+
 
 class BakeJob:
     """One bake through ``pipeline`` with keyword arguments ``options`` of the mesh that
@@ -29,6 +36,8 @@ class BakeJob:
         self.asset: pelt.FurAsset | None = None
         self.error: BaseException | None = None
         self.seconds = 0.0
+        # After the run: how many bakes of the pipeline, this one included, ran a stage.
+        self.bakes_that_ran = 0
 
     def start(self) -> "BakeJob":
         self._thread.start()
@@ -62,6 +71,11 @@ class BakeJob:
                 raise pelt.BakeCancelled("cancelled")
             mesh = self._make_mesh()
             self.asset = self._pipeline.bake(mesh, progress=self._progress, **self._options)
+            ran = any(stage["ran"] for stage in self.asset.report)
+            with _BAKES_LOCK:
+                key = id(self._pipeline)
+                _BAKES_THAT_RAN[key] = _BAKES_THAT_RAN.get(key, 0) + ran
+                self.bakes_that_ran = _BAKES_THAT_RAN[key]
         except BaseException as error:  # handed to the main thread, which reports it
             self.error = error
         finally:

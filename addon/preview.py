@@ -22,7 +22,7 @@ from .ownership import find_owned, tag
 PREVIEW_IMAGE = "Pelt Preview"
 PREVIEW_ROLE = "preview"
 
-# session_uid -> pelt.Preview
+# session_uid -> (pelt.Preview, the pipeline's `bakes_that_ran` it was built at)
 _PREVIEWS: dict = {}
 
 
@@ -73,18 +73,20 @@ def object_lighting(scene, obj, model: str, order: int | None) -> dict:
 
 
 def preview_of(obj) -> tuple[pelt.Preview, pelt.FurAsset]:
-    """The object's preview, rebuilt when its bake ran a stage (else colors and lengths updated)."""
+    """The object's preview, rebuilt when a bake of its pipeline ran a stage since it was built
+    (this one, or Bake's or an export's before it), else with colors and lengths updated."""
     job = bake.start_job(obj).start()
     job.wait()
     if job.error is not None:
         raise job.error
     asset = job.asset
-    preview = _PREVIEWS.get(obj.session_uid)
-    if preview is None or any(stage["ran"] for stage in asset.report):
+    cached = _PREVIEWS.get(obj.session_uid)
+    if cached is None or cached[1] != job.bakes_that_ran:
         prefs = preferences.get()
         preview = pelt.Preview(asset, adapter=prefs.adapter if prefs is not None else "auto")
-        _PREVIEWS[obj.session_uid] = preview
+        _PREVIEWS[obj.session_uid] = (preview, job.bakes_that_ran)
     else:
+        preview = cached[0]
         mesh = asset.mesh
         preview.update(color=mesh.color, length=mesh.length)
     return preview, asset
@@ -93,6 +95,9 @@ def preview_of(obj) -> tuple[pelt.Preview, pelt.FurAsset]:
 def render_options(obj, asset) -> dict:
     settings = obj.pelt
     return {
+        # The bake's, not the preview's: a new fur depth re-runs no stage (under Kajiya-Kay), so
+        # the preview built before it is kept.
+        "fur_depth": asset.fur_depth,
         "fins": settings.fins,
         "shell_method": settings.shell_method.lower(),
         "lod": settings.lod,

@@ -76,6 +76,27 @@ def test_render_preview_draws_the_shells_as_the_object_asks(addon):
     assert np.array_equal(images["AUTO"], images["MARCHED" if cpu else "INSTANCED"])
 
 
+def test_render_preview_after_bake_draws_the_new_bake(addon):
+    # Bake runs the stages in its own job, so the preview's next job finds them all reused: it
+    # once kept the scene built from the bake before and drew the old shells (and, after a change
+    # of topology, refused to draw: "color must have one row per vertex"). A new fur depth runs
+    # no stage at all under Kajiya-Kay, and the preview kept its old depth.
+    obj = furred_suzanne_with_camera()
+    assert bpy.ops.pelt.render_preview() == {"FINISHED"}
+    before = preview_pixels()
+    obj.pelt.fur_depth = 0.3
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    assert bpy.ops.pelt.render_preview() == {"FINISHED"}
+    deeper = preview_pixels()
+    # Fur twice as deep reaches further out around the head.
+    assert (deeper[..., 3] > 0.5).sum() > (before[..., 3] > 0.5).sum()
+    # More shells: Bake re-runs the volume, the preview's own job then reuses it.
+    obj.pelt.layers = 16
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    assert bpy.ops.pelt.render_preview() == {"FINISHED"}
+    assert not np.array_equal(preview_pixels(), deeper)
+
+
 def test_render_preview_without_a_camera_changes_nothing(addon):
     furred_suzanne_with_camera()
     bpy.context.scene.camera = None
