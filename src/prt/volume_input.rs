@@ -16,6 +16,8 @@
 //! the same height scale, and zeroed where no hair is (the bake gives such voxels the isotropic
 //! mean of the Kajiya–Kay phase).
 
+use glam::Vec3;
+
 use crate::volume::HairVolume;
 
 use super::transfer::TransferVolume;
@@ -81,12 +83,9 @@ impl VolumeInput {
 /// `|t_z|` of the unit tangent along `t`, at least [`MIN_CROSSING_COSINE`]; 1 for no hair (a
 /// zero tangent, where the coverage is zero anyway).
 fn crossing_cosine(t: [f32; 3]) -> f32 {
-    let norm = (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt();
-    if norm > 0.0 {
-        (t[2].abs() / norm).max(MIN_CROSSING_COSINE)
-    } else {
-        1.0
-    }
+    Vec3::from(t)
+        .try_normalize()
+        .map_or(1.0, |unit| unit.z.abs().max(MIN_CROSSING_COSINE))
 }
 
 #[cfg(test)]

@@ -49,7 +49,8 @@ impl PyPipeline {
     #[pyo3(signature = (
         mesh, *, tile_size=1.0, seed=1, down=None, hair=None, layers=16, resolution=128,
         coverage="exact", fin_size=(512, 128), fur_depth=None, transfer=true, order=None,
-        tolerance=0.025, directions=256, phase="kajiya-kay", progress=None
+        tolerance=crate::prt::bands::DEFAULT_TOLERANCE, directions=256, phase="kajiya-kay",
+        progress=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn bake(
@@ -98,8 +99,8 @@ impl PyPipeline {
     #[staticmethod]
     #[pyo3(signature = (
         *, tile_size=1.0, seed=1, down=None, hair=None, layers=16, resolution=128, coverage="exact",
-        fin_size=(512, 128), fur_depth=None, transfer=true, order=None, tolerance=0.025, directions=256,
-        phase="kajiya-kay"
+        fin_size=(512, 128), fur_depth=None, transfer=true, order=None,
+        tolerance=crate::prt::bands::DEFAULT_TOLERANCE, directions=256, phase="kajiya-kay"
     ))]
     #[allow(clippy::too_many_arguments)]
     fn peak_bytes(

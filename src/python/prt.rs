@@ -61,8 +61,9 @@ fn bands_list<'py>(py: Python<'py>, report: Option<&BandReport>) -> PyResult<Bou
 /// Bakes the transfer of a density volume; see the stub for the arguments and the result.
 #[pyfunction]
 #[pyo3(signature = (
-    density, tangents=None, *, layer_spacing, order=None, tolerance=0.025, directions=256,
-    phase="isotropic", method="sweep", sigma=crate::prt::transfer::DEFAULT_SIGMA, progress=None
+    density, tangents=None, *, layer_spacing, order=None,
+    tolerance=crate::prt::bands::DEFAULT_TOLERANCE, directions=256, phase="isotropic",
+    method="sweep", sigma=crate::prt::transfer::DEFAULT_SIGMA, progress=None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn bake_transfer<'py>(

@@ -38,6 +38,8 @@ use crate::error::{PeltError, Result};
 use crate::hair::Strand;
 use crate::lapped::{NO_PATCH, Patches};
 use crate::mesh::FurMesh;
+// The transfer bake's bound on `|t · n|`, so the two density models agree.
+use crate::prt::volume_input::MIN_CROSSING_COSINE;
 use crate::rng::Rng;
 use crate::volume::HairVolume;
 
@@ -47,9 +49,6 @@ use crate::volume::HairVolume;
 const STEPS_PER_TEXEL: f32 = 0.5;
 /// Most steps in one prism span (a grazing ray across a large triangle).
 const MAX_SPAN_STEPS: usize = 256;
-/// Smallest `|t · n|` in the extinction: hairs lying flat would otherwise make it unbounded,
-/// where the slice coverage the bake counts no longer describes them.
-const MIN_CROSSING_COSINE: f32 = 0.1;
 
 /// One triangle's prism.
 #[derive(Debug, Clone)]
