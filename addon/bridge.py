@@ -78,7 +78,7 @@ def _corner_vertices(mesh) -> np.ndarray:
     return _read(mesh.loops, "vertex_index", len(mesh.loops), 1, np.uint32)
 
 
-def _positions(mesh) -> np.ndarray:
+def read_positions(mesh) -> np.ndarray:
     """Vertex positions ``[N, 3]`` float32 (the ``position`` attribute reads in one copy; a mesh
     without vertices has none)."""
     position = mesh.attributes.get("position")
@@ -105,7 +105,7 @@ def read_mesh(mesh) -> MeshArrays:
     # end of its arrays computing normals for such a mesh, so skip them and let pelt name the index.
     indices_valid = len(triangles) == 0 or int(triangles.max()) < vertex_count
     return MeshArrays(
-        positions=_positions(mesh),
+        positions=read_positions(mesh),
         triangles=triangles,
         normals=_read(mesh.vertex_normals, "vector", vertex_count, 3, np.float32) if indices_valid else None,
         triangle_polygons=polygons.view(np.uint32),

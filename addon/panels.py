@@ -6,7 +6,7 @@ import json
 
 import bpy
 
-from . import bake, comb_tools, point_data, preferences
+from . import bake, comb_tools, point_data, pose, preferences
 
 # Statistics rows shown after a check: (key, label).
 STAT_ROWS = (
@@ -60,6 +60,11 @@ class VIEW3D_PT_pelt(_PeltPanel, bpy.types.Panel):
             text = f"Memory: about {preferences.format_bytes(peak)} of {preferences.format_bytes(limit)}"
             row.label(text=text + (": lower Resolution or Layers" if peak > limit else ""),
                       icon="ERROR" if peak > limit else "MEMORY")  # fmt: skip
+        note = pose.NOTES.get(context.active_object.session_uid)
+        if note is not None:
+            row = layout.row()
+            row.alert = True
+            row.label(text=f"Pose: {note}", icon="ERROR")
         layout.operator("pelt.check_mesh", icon="CHECKMARK")
         last_bake = _json(settings.last_bake)
         if last_bake:

@@ -2,7 +2,8 @@
 """See the fur: "Render Preview" renders the scene camera's view of the active object with Pelt's
 wgpu renderer into the float image ``Pelt Preview``, scene-linear so that Blender shows it through
 the scene's view transform like its own renders (headless too); "Live Preview" draws the same
-renderer over the 3D viewport, re-rendered when the view changes.
+renderer over the 3D viewport, re-rendered when the view or the pose changes. Both draw the
+object as posed (``pose.py``).
 
 One ``pelt.Preview`` (device + uploaded scene) is kept per object and rebuilt only when a bake
 ran a stage; otherwise only the painted colors and lengths are re-sent. Lighting comes from the
@@ -16,7 +17,7 @@ import bpy
 import numpy as np
 import pelt
 
-from . import bake, bridge, lighting, preferences
+from . import bake, bridge, lighting, pose, preferences
 from .ownership import find_owned, tag
 
 PREVIEW_IMAGE = "Pelt Preview"
@@ -117,10 +118,11 @@ def render_camera(context, obj) -> np.ndarray:
     width = max(1, render.resolution_x * render.resolution_percentage // 100)
     height = max(1, render.resolution_y * render.resolution_percentage // 100)
     preview, asset = preview_of(obj)
+    depsgraph = context.evaluated_depsgraph_get()
+    pose.apply(preview, asset, obj, depsgraph)
     projection = camera.calc_matrix_camera(
-        context.evaluated_depsgraph_get(), x=width, y=height, scale_x=render.pixel_aspect_x,
-        scale_y=render.pixel_aspect_y,
-    )  # fmt: skip
+        depsgraph, x=width, y=height, scale_x=render.pixel_aspect_x, scale_y=render.pixel_aspect_y
+    )
     view = camera.matrix_world.inverted() @ obj.matrix_world
     model = "prt" if obj.pelt.lighting == "PRT" and asset.transfer is not None else "kajiya-kay"
     return preview.render(
@@ -158,6 +160,9 @@ class PELT_OT_render_preview(bpy.types.Operator):
             bpy.data.images, PREVIEW_IMAGE, pixels, image=find_owned(bpy.data.images, obj.name, PREVIEW_ROLE)
         )
         tag(image, obj.name, PREVIEW_ROLE)
+        note = pose.NOTES.get(obj.session_uid)
+        if note is not None:
+            self.report({"WARNING"}, f"Pelt: {obj.name}: {note}")
         self.report({"INFO"}, f"Pelt: rendered {image.name} ({pixels.shape[1]}×{pixels.shape[0]})")
         return {"FINISHED"}
 
@@ -181,10 +186,13 @@ def _draw_live():
 
     width, height = region.width, region.height
     view = region_3d.view_matrix @ obj.matrix_world
-    key = (tuple(map(tuple, view)), tuple(map(tuple, region_3d.window_matrix)), width, height)
+    depsgraph = context.evaluated_depsgraph_get()
+    key = (tuple(map(tuple, view)), tuple(map(tuple, region_3d.window_matrix)), width, height,
+           pose.digest(obj, depsgraph))  # fmt: skip
     if key != _LiveState.key:
         try:
             preview, asset = preview_of(obj)
+            pose.apply(preview, asset, obj, depsgraph)
             model = "prt" if obj.pelt.lighting == "PRT" and asset.transfer is not None else "kajiya-kay"
             pixels = preview.render(
                 np.array(view, np.float32),

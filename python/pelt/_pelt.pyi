@@ -461,6 +461,7 @@ class UploadStats(TypedDict):
     geometry_bytes: int
     attribute_bytes: int
     transfer_bytes: int
+    pose_bytes: int
 
 class FrameInfo(TypedDict):
     shells: int
@@ -526,6 +527,14 @@ class Preview:
     def update(self, *, color: npt.ArrayLike | None = None, length: npt.ArrayLike | None = None) -> None:
         """Rewrite the per-vertex colors (``[V, 4]`` or ``[V, 3]``, linear) and/or length
         multipliers (``[V]``, 0..1000) in place; nothing else is uploaded (see :attr:`uploads`)."""
+    def deform(self, positions: npt.ArrayLike, normals: npt.ArrayLike | None = None) -> None:
+        """Pose the fur: the bake's mesh with its vertices at ``positions`` (``[V, 3]``, object
+        space; an armature's or shape keys' result, the same vertices and triangles) and unit
+        ``normals`` (``[V, 3]``; computed from the posed triangles when omitted). Only the skin,
+        shell and fin vertices are re-sent (:attr:`uploads` ``pose_bytes``): no bake, no
+        texture upload; the fur keeps its place on the skin and the comb turns with it. Each
+        pose is taken from the rest shape. A wrong row count or a non-finite value raises
+        :class:`InvalidMeshError` naming ``positions`` or ``normals``; the preview is unchanged."""
     def set_transfer(self, transfer: FurAsset | TransferResult) -> None:
         """Replace the PRT transfer textures with another bake's of the same hair volume (same
         layers and resolution, else :class:`InvalidParameterError`)."""

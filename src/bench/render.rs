@@ -14,8 +14,8 @@ use super::{BenchOptions, CaseResult, time_fallible};
 use crate::error::Result;
 use crate::hair::HairParams;
 use crate::lapped::{PatchParams, build_patches};
-use crate::mesh::FurMesh;
 use crate::mesh::shapes::{subdivide, suzanne};
+use crate::mesh::{FurMesh, MeshInput};
 use crate::prt::pack::pack_f16;
 use crate::prt::sh::{self, ShRotation};
 use crate::prt::volume_input::VolumeInput;
@@ -121,7 +121,7 @@ fn rotate_on_cpu(frames: &[[[f64; 3]; 3]], light: &[[f64; 3]]) -> Result<Vec<[f6
 /// (baseline: the near frame); each shell method forced (`.instanced*`, `.marched*`); PRT
 /// (`.prt` and `.instanced.prt`, order 5, not in `--quick`) with the CPU rotation it avoids
 /// (`render.prt.rotate.cpu`); and the scene's upload and a color update
-/// (`render.scene.upload`, `render.scene.update`).
+/// (`render.scene.upload`, `render.scene.update`) and a pose (`render.scene.deform`).
 pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let renderer = Renderer::new(AdapterChoice::PreferHardware)?;
     let name = note_adapter(&renderer);
@@ -379,7 +379,10 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
 
 /// `render.scene.upload`: a whole [`FurScene::new`] (split at seams, geometric levels with their
 /// fins and vertex hosts, buffers and textures sent); `render.scene.update`: one
-/// [`FurScene::update_attributes`] of new colors, with the check of which levels still hold them.
+/// [`FurScene::update_attributes`] of new colors, with the check of which levels still hold them;
+/// `render.scene.deform`: one [`FurScene::deform`] (the skin's posed vertices rebuilt and sent,
+/// normals from the posed triangles; `.normals` with the normals given, as the add-on passes
+/// Blender's), two twists in turn.
 fn scene_upload(
     renderer: &Renderer,
     mesh: &FurMesh,
@@ -419,5 +422,44 @@ fn scene_upload(
         ),
         timing,
     );
-    Ok(vec![upload, update])
+    let twists: [Vec<[f32; 3]>; 2] = [0.4f32, -0.4].map(|rate| {
+        mesh.positions()
+            .iter()
+            .map(|&[x, y, z]| {
+                let (sin, cos) = (rate * y).sin_cos();
+                [cos * x + sin * z, y, cos * z - sin * x]
+            })
+            .collect()
+    });
+    // The add-on's pose: Blender's own normals come with the positions.
+    let twisted_normals: [Vec<[f32; 3]>; 2] = std::array::from_fn(|k| {
+        FurMesh::new(MeshInput::new(&twists[k], mesh.triangles()))
+            .map(|posed| posed.normals().to_vec())
+            .unwrap_or_default()
+    });
+    let posed = format!(
+        "{} vertices posed ({} GPU vertices, {} fin quads)",
+        mesh.vertex_count(),
+        scene.surface_vertex_count(),
+        scene.uploaded_fin_count()
+    );
+    let timing = time_fallible(reps.max(3) * 3, || {
+        turn ^= 1;
+        scene.deform(&twists[turn], None)
+    })?;
+    let deform = CaseResult::timed(
+        "render.scene.deform",
+        format!("{posed}, normals from the posed triangles"),
+        timing,
+    );
+    let timing = time_fallible(reps.max(3) * 3, || {
+        turn ^= 1;
+        scene.deform(&twists[turn], Some(&twisted_normals[turn]))
+    })?;
+    let deform_given = CaseResult::timed(
+        "render.scene.deform.normals",
+        format!("{posed}, normals given (as Blender's)"),
+        timing,
+    );
+    Ok(vec![upload, update, deform, deform_given])
 }

@@ -36,6 +36,31 @@ pub fn quad_triangles(quad: u32) -> [u32; 6] {
     [0, 1, 3, 0, 3, 2].map(|k| 4 * quad + k)
 }
 
+/// The unit normal of the fin plane over the edge `ends` with unit vertex `normals` (edge ×
+/// the sum of the end normals) and the edge's length, or `None` for a collapsed edge or one
+/// whose end normals cancel or run along it (no fin plane).
+pub fn fin_plane(ends: [[f32; 3]; 2], normals: [[f32; 3]; 2]) -> Option<([f32; 3], f64)> {
+    let [pa, pb] = ends;
+    let e: [f64; 3] = std::array::from_fn(|i| f64::from(pb[i]) - f64::from(pa[i]));
+    let len = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
+    let n: [f64; 3] = std::array::from_fn(|i| f64::from(normals[0][i]) + f64::from(normals[1][i]));
+    let f = [
+        n[1] * e[2] - n[2] * e[1],
+        n[2] * e[0] - n[0] * e[2],
+        n[0] * e[1] - n[1] * e[0],
+    ];
+    let f_len = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+    if len == 0.0 || f_len.is_nan() || f_len <= 1e-9 * len {
+        return None;
+    }
+    Some((f.map(|c| (c / f_len) as f32), len))
+}
+
+/// The midpoint of the edge `a`–`b` (where a fin's fade is evaluated), summed in f64.
+pub fn midpoint(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    std::array::from_fn(|i| ((f64::from(a[i]) + f64::from(b[i])) * 0.5) as f32)
+}
+
 /// The fins of every edge that has a length and a well-defined fin plane, in edge order;
 /// `uv_scale` is tile units per object unit (see [`crate::mesh::UvSplit::uv_scale`]).
 pub fn fin_quads(mesh: &FurMesh, uv_scale: f64) -> Vec<FinQuad> {
@@ -55,26 +80,15 @@ pub fn fin_quads_of_edges(
     let mut fins = Vec::new();
     for (index, [a, b]) in edges.into_iter().enumerate() {
         let (pa, pb) = (positions[a as usize], positions[b as usize]);
-        let e: [f64; 3] = std::array::from_fn(|i| f64::from(pb[i]) - f64::from(pa[i]));
-        let len = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
-        let n: [f64; 3] =
-            std::array::from_fn(|i| f64::from(normals[a as usize][i]) + f64::from(normals[b as usize][i]));
-        let f = [
-            n[1] * e[2] - n[2] * e[1],
-            n[2] * e[0] - n[0] * e[2],
-            n[0] * e[1] - n[1] * e[0],
-        ];
-        let f_len = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
-        // A collapsed edge, or one whose end normals cancel or run along it, has no fin plane.
-        if len == 0.0 || f_len.is_nan() || f_len <= 1e-9 * len {
+        let Some((normal, len)) = fin_plane([pa, pb], [normals[a as usize], normals[b as usize]]) else {
             continue;
-        }
+        };
         let u0 = Rng::stream(FIN_SEED, 0, index as u64).next_f64();
         fins.push(FinQuad {
             edge: index as u32,
             vertices: [a, b],
-            normal: f.map(|c| (c / f_len) as f32),
-            center: std::array::from_fn(|i| ((f64::from(pa[i]) + f64::from(pb[i])) * 0.5) as f32),
+            normal,
+            center: midpoint(pa, pb),
             u0,
             u1: u0 + len * uv_scale,
         });

@@ -22,11 +22,11 @@ mod topology;
 pub mod uv_split;
 mod validate;
 
-pub use fins::{FinQuad, fin_quads, fin_quads_of_edges, quad_triangles};
+pub use fins::{FinQuad, fin_plane, fin_quads, fin_quads_of_edges, midpoint, quad_triangles};
 pub use frames::orthonormal_basis;
 pub use stats::MeshStats;
 pub use topology::{Edge, NO_COMPONENT, NO_EDGE, Topology, edge_key};
-pub use uv_split::{UvSplit, split_at_uv_seams};
+pub use uv_split::{SplitLayout, UvSplit, split_at_uv_seams};
 
 use crate::error::Result;
 use crate::threads::pool;
@@ -162,6 +162,42 @@ impl FurMesh {
             degenerate,
             topology,
             stats,
+        })
+    }
+
+    /// Unit vertex normals of this mesh's vertices and triangles moved to `positions` (a pose
+    /// of it: one row per vertex, the same triangles): `normals` scaled to unit length when
+    /// given, else area-weighted as [`FurMesh::new`] computes them. What a renderer needs to
+    /// follow a skinned or shape-keyed mesh without building a new one.
+    ///
+    /// # Errors
+    /// [`crate::PeltError::InvalidMesh`] naming the first bad row of `positions` or `normals`
+    /// (wrong row count, a NaN or infinity, a zero normal), as [`FurMesh::new`] would.
+    pub fn pose_normals(
+        &self,
+        positions: &[[f32; 3]],
+        normals: Option<&[[f32; 3]]>,
+    ) -> Result<Vec<[f32; 3]>> {
+        if positions.len() != self.positions.len() {
+            return Err(crate::error::MeshError::AttributeLength {
+                array: "positions",
+                expected: self.positions.len(),
+                got: positions.len(),
+            }
+            .into());
+        }
+        let mut input = MeshInput::new(positions, &self.triangles);
+        if let Some(normals) = normals {
+            input = input.with_normals(normals);
+        }
+        pool().install(|| {
+            validate::validate(&input)?;
+            Ok(match normals {
+                Some(given) => frames::normalize_given(given),
+                None => {
+                    frames::vertex_normals(&self.topology, &frames::face_normals(positions, &self.triangles))
+                }
+            })
         })
     }
 

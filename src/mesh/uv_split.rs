@@ -10,7 +10,9 @@
 
 use crate::FurMesh;
 use crate::error::{PeltError, Result};
+use crate::mesh::orthonormal_basis;
 use crate::vec3::{cross, dot};
+use rayon::prelude::*;
 
 /// A mesh split at UV seams. Arrays indexed by split vertex have one row per copy.
 #[derive(Debug, Clone, PartialEq)]
@@ -91,9 +93,9 @@ fn uv_key(uv: [f32; 2]) -> [u32; 2] {
 }
 
 /// Splits `mesh` at the seams of `corner_uvs` (tile units, `corner_uvs[f][k]` for corner `k` of
-/// triangle `f`) and computes the surface derivatives. Serial: every sum runs in a fixed order,
-/// so the result is bit-identical on every run; split vertices are ordered by mesh vertex, then
-/// by UV bits.
+/// triangle `f`) and computes the surface derivatives. Every sum runs in a fixed order (each
+/// vertex's triangles in triangle order), so the result is bit-identical on every run and
+/// thread count; split vertices are ordered by mesh vertex, then by UV bits.
 ///
 /// # Errors
 /// [`PeltError::InvalidParameter`] naming `corner_uvs` when its length or a value is wrong, or
@@ -122,7 +124,6 @@ pub fn split_at_uv_seams(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result
 
     let mut uv_length = 0.0f64;
     let mut length_3d = 0.0f64;
-    let mut sums = vec![([0.0f64; 3], [0.0f64; 3], 0.0f64); source.len()];
     for (f, tri) in triangles.iter().enumerate() {
         let uv = corner_uvs[f].map(|c| c.map(f64::from));
         for k in 0..3 {
@@ -131,36 +132,16 @@ pub fn split_at_uv_seams(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result
             uv_length += (uv[b][0] - uv[a][0]).hypot(uv[b][1] - uv[a][1]);
             length_3d += dot(e, e).sqrt();
         }
-        let e1 = sub(positions[tri[1] as usize], positions[tri[0] as usize]);
-        let e2 = sub(positions[tri[2] as usize], positions[tri[0] as usize]);
-        let (du1, dv1) = (uv[1][0] - uv[0][0], uv[1][1] - uv[0][1]);
-        let (du2, dv2) = (uv[2][0] - uv[0][0], uv[2][1] - uv[0][1]);
-        let det = du1 * dv2 - du2 * dv1;
-        let n = cross(e1, e2);
-        let area = dot(n, n).sqrt();
-        // A face whose UVs collapse has no parameterization to contribute.
-        if det.abs() <= 1e-12 * (du1.abs() + du2.abs() + dv1.abs() + dv2.abs()).powi(2) || area == 0.0 {
-            continue;
-        }
-        let dpdu: [f64; 3] = std::array::from_fn(|i| (e1[i] * dv2 - e2[i] * dv1) / det);
-        let dpdv: [f64; 3] = std::array::from_fn(|i| (e2[i] * du1 - e1[i] * du2) / det);
-        for k in 0..3 {
-            let s = &mut sums[indices[3 * f + k] as usize];
-            for i in 0..3 {
-                // Area-weighted: large faces define the local scale more reliably than slivers.
-                s.0[i] += area * dpdu[i];
-                s.1[i] += area * dpdv[i];
-            }
-            s.2 += area;
-        }
     }
+    let layout = SplitLayout::new(source, uvs, indices);
+    let sums = layout.derivative_sums(positions, triangles);
     let mut uv_scale = uv_length / length_3d;
     if !(uv_scale.is_finite() && uv_scale > 0.0) || sums.iter().all(|s| s.2 == 0.0) {
         // A mesh bald everywhere has no patches and needs no texture frame: the skin is drawn
-        // alone, so the mesh's own frame at unit scale serves.
+        // alone, so the mesh's own frame at unit scale serves (no triangle has a UV layout, so
+        // every vertex takes the fallback frame below).
         if bald_everywhere(mesh) {
             uv_scale = 1.0;
-            sums.iter_mut().for_each(|s| *s = ([0.0; 3], [0.0; 3], 0.0));
         } else {
             return Err(PeltError::parameter(
                 "corner_uvs",
@@ -168,29 +149,10 @@ pub fn split_at_uv_seams(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result
             ));
         }
     }
-
-    let normals = mesh.normals();
-    let (tangents, bitangents) = (mesh.tangents(), mesh.bitangents());
-    let (dpdu, dpdv) = source
-        .iter()
-        .zip(&sums)
-        .map(|(&v, &(su, sv, w))| {
-            let v = v as usize;
-            let n = normals[v].map(f64::from);
-            let (mut dpdu, mut dpdv) = if w > 0.0 {
-                (tangential(su.map(|c| c / w), n), tangential(sv.map(|c| c / w), n))
-            } else {
-                ([0.0; 3], [0.0; 3])
-            };
-            // A vertex only on collapsed faces (or whose derivatives are normal to the surface)
-            // falls back to the mesh's own frame at the mean scale.
-            if dot(dpdu, dpdu) == 0.0 || dot(dpdv, dpdv) == 0.0 {
-                dpdu = tangents[v].map(|c| f64::from(c) / uv_scale);
-                dpdv = bitangents[v].map(|c| f64::from(c) / uv_scale);
-            }
-            (dpdu.map(|c| c as f32), dpdv.map(|c| c as f32))
-        })
-        .unzip();
+    let (dpdu, dpdv) = frames_from_sums(&sums, mesh.normals(), &layout.source, uv_scale);
+    let SplitLayout {
+        source, uvs, indices, ..
+    } = layout;
     Ok(UvSplit {
         source,
         uvs,
@@ -199,6 +161,146 @@ pub fn split_at_uv_seams(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result
         indices,
         uv_scale,
     })
+}
+
+/// Area-weighted `∂P/∂u`, `∂P/∂v` and the area they weigh, of a face or summed over a vertex's.
+type WeightedDerivatives = ([f64; 3], [f64; 3], f64);
+
+/// Where a split's vertices come from, without their derivatives: what
+/// [`SplitLayout::derivatives`] needs to compute those at any pose of the mesh (the renderer
+/// recomputes them for a deformed mesh: the UVs stay, so the patches ride on the skin).
+#[derive(Debug, Clone)]
+pub struct SplitLayout {
+    /// As [`UvSplit::source`].
+    pub source: Vec<u32>,
+    /// As [`UvSplit::uvs`].
+    pub uvs: Vec<[f32; 2]>,
+    /// As [`UvSplit::indices`].
+    pub indices: Vec<u32>,
+    /// The corners (`3·triangle + k`) of each split vertex in ascending order, vertex `i`'s at
+    /// `corners[corner_offsets[i]..corner_offsets[i + 1]]`: each vertex sums its triangles in
+    /// triangle order, in parallel, with the same bits as a serial pass over the triangles.
+    corner_offsets: Vec<u32>,
+    corners: Vec<u32>,
+}
+
+impl SplitLayout {
+    /// The layout of split vertices `source` with `uvs`, and the triangles' `indices` into them.
+    pub fn new(source: Vec<u32>, uvs: Vec<[f32; 2]>, indices: Vec<u32>) -> Self {
+        let mut corner_offsets = vec![0u32; source.len() + 1];
+        for &i in &indices {
+            corner_offsets[i as usize + 1] += 1;
+        }
+        for i in 0..source.len() {
+            corner_offsets[i + 1] += corner_offsets[i];
+        }
+        let mut next = corner_offsets.clone();
+        let mut corners = vec![0u32; indices.len()];
+        for (corner, &i) in indices.iter().enumerate() {
+            corners[next[i as usize] as usize] = corner as u32;
+            next[i as usize] += 1;
+        }
+        SplitLayout {
+            source,
+            uvs,
+            indices,
+            corner_offsets,
+            corners,
+        }
+    }
+
+    /// `∂P/∂u`, `∂P/∂v` of each split vertex over the mesh's `triangles` at `positions` with
+    /// unit vertex `normals`: the area-weighted mean of its triangles' derivatives, projected
+    /// into the tangent plane; a vertex with none takes the mesh frame of its normal at
+    /// `uv_scale` (tile units per object unit).
+    pub fn derivatives(
+        &self,
+        positions: &[[f32; 3]],
+        normals: &[[f32; 3]],
+        triangles: &[[u32; 3]],
+        uv_scale: f64,
+    ) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
+        frames_from_sums(
+            &self.derivative_sums(positions, triangles),
+            normals,
+            &self.source,
+            uv_scale,
+        )
+    }
+
+    /// Per split vertex: area-weighted sums of its triangles' `∂P/∂u`, `∂P/∂v`, and the area,
+    /// each summed in triangle order (the same bits on every run and thread count).
+    fn derivative_sums(&self, positions: &[[f32; 3]], triangles: &[[u32; 3]]) -> Vec<WeightedDerivatives> {
+        let faces: Vec<Option<WeightedDerivatives>> = triangles
+            .par_iter()
+            .enumerate()
+            .map(|(f, tri)| {
+                let uv = [0, 1, 2].map(|k| self.uvs[self.indices[3 * f + k] as usize].map(f64::from));
+                let e1 = sub(positions[tri[1] as usize], positions[tri[0] as usize]);
+                let e2 = sub(positions[tri[2] as usize], positions[tri[0] as usize]);
+                let (du1, dv1) = (uv[1][0] - uv[0][0], uv[1][1] - uv[0][1]);
+                let (du2, dv2) = (uv[2][0] - uv[0][0], uv[2][1] - uv[0][1]);
+                let det = du1 * dv2 - du2 * dv1;
+                let n = cross(e1, e2);
+                let area = dot(n, n).sqrt();
+                // A face whose UVs collapse has no parameterization to contribute.
+                if det.abs() <= 1e-12 * (du1.abs() + du2.abs() + dv1.abs() + dv2.abs()).powi(2) || area == 0.0
+                {
+                    return None;
+                }
+                // Area-weighted: large faces define the local scale more reliably than slivers.
+                let dpdu: [f64; 3] = std::array::from_fn(|i| area * ((e1[i] * dv2 - e2[i] * dv1) / det));
+                let dpdv: [f64; 3] = std::array::from_fn(|i| area * ((e2[i] * du1 - e1[i] * du2) / det));
+                Some((dpdu, dpdv, area))
+            })
+            .collect();
+        (0..self.source.len())
+            .into_par_iter()
+            .map(|i| {
+                let range = self.corner_offsets[i] as usize..self.corner_offsets[i + 1] as usize;
+                self.corners[range]
+                    .iter()
+                    .filter_map(|&c| faces[c as usize / 3])
+                    .fold(([0.0; 3], [0.0; 3], 0.0), |(su, sv, w), (u, v, a)| {
+                        (
+                            std::array::from_fn(|k| su[k] + u[k]),
+                            std::array::from_fn(|k| sv[k] + v[k]),
+                            w + a,
+                        )
+                    })
+            })
+            .collect()
+    }
+}
+
+/// The derivatives of [`derivative_sums`], with the mesh frame where a vertex has none.
+fn frames_from_sums(
+    sums: &[WeightedDerivatives],
+    normals: &[[f32; 3]],
+    source: &[u32],
+    uv_scale: f64,
+) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
+    source
+        .par_iter()
+        .zip(sums)
+        .map(|(&v, &(su, sv, w))| {
+            let normal = normals[v as usize];
+            let n = normal.map(f64::from);
+            let (mut dpdu, mut dpdv) = if w > 0.0 {
+                (tangential(su.map(|c| c / w), n), tangential(sv.map(|c| c / w), n))
+            } else {
+                ([0.0; 3], [0.0; 3])
+            };
+            // A vertex only on collapsed faces (or whose derivatives are normal to the surface)
+            // falls back to the mesh's own frame at the mean scale.
+            if dot(dpdu, dpdu) == 0.0 || dot(dpdv, dpdv) == 0.0 {
+                let [t, b] = orthonormal_basis(normal);
+                dpdu = t.map(|c| f64::from(c) / uv_scale);
+                dpdv = b.map(|c| f64::from(c) / uv_scale);
+            }
+            (dpdu.map(|c| c as f32), dpdv.map(|c| c as f32))
+        })
+        .unzip()
 }
 
 /// Whether every vertex has hair length 0.

@@ -10,7 +10,7 @@ use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyUntypedArray, PyUntypedArray
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 
-use super::arrays::{flat, float_ndarray};
+use super::arrays::{flat, float_array, float_ndarray, rows};
 use super::detached;
 use super::pipeline::PyFurAsset;
 use crate::error::PeltError;
@@ -352,6 +352,22 @@ impl PyPreview {
         })
     }
 
+    /// Poses the preview: positions `[V, 3]` (object space, the bake's vertices and triangles)
+    /// and optional normals `[V, 3]`; only the vertex buffers are rewritten. See the stub.
+    #[pyo3(signature = (positions, normals=None))]
+    fn deform(
+        &self,
+        py: Python<'_>,
+        positions: &Bound<'_, PyAny>,
+        normals: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let positions = float_array(positions, "positions", Some(3))?;
+        let normals = normals.map(|n| float_array(n, "normals", Some(3))).transpose()?;
+        let positions = rows::<f32, 3>(&positions)?;
+        let normals = normals.as_ref().map(rows::<f32, 3>).transpose()?;
+        detached(py, || self.lock_scene().deform(positions, normals))
+    }
+
     /// Replaces the PRT transfer textures: a `FurAsset`'s or a `bake_transfer` result's. A
     /// transfer from another bake (other layers or resolution) raises `InvalidParameterError`
     /// and leaves the preview as it was.
@@ -372,7 +388,7 @@ impl PyPreview {
     }
 
     /// Bytes sent to the GPU so far: `{"texture_bytes", "geometry_bytes", "attribute_bytes",
-    /// "transfer_bytes"}`.
+    /// "transfer_bytes", "pose_bytes"}`.
     #[getter]
     fn uploads<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let u = self.lock_scene().uploads();
@@ -381,6 +397,7 @@ impl PyPreview {
         d.set_item("geometry_bytes", u.geometry_bytes)?;
         d.set_item("attribute_bytes", u.attribute_bytes)?;
         d.set_item("transfer_bytes", u.transfer_bytes)?;
+        d.set_item("pose_bytes", u.pose_bytes)?;
         Ok(d)
     }
 

@@ -33,6 +33,18 @@ struct Frame {
 @group(0) @binding(3) var fin_texture: texture_2d<f32>;
 @group(0) @binding(4) var tile_sampler: sampler;
 @group(0) @binding(5) var fin_sampler: sampler;
+// The skin's vertices, SurfaceVertex rows of SKIN_FLOATS floats: position at 0, normal 3, dP/du
+// 6, dP/dv 9, uv 12, comb 14. The fins read their ends from them and PRT's passes pull their
+// corners from them, so that a pose, which rewrites them alone, moves everything drawn.
+@group(0) @binding(6) var<storage, read> skin_vertices: array<f32>;
+
+const SKIN_FLOATS: u32 = 17u;
+
+// The vec3 at float `offset` of skin vertex `vertex`.
+fn skin_vec3(vertex: u32, offset: u32) -> vec3<f32> {
+    let b = vertex * SKIN_FLOATS + offset;
+    return vec3<f32>(skin_vertices[b], skin_vertices[b + 1u], skin_vertices[b + 2u]);
+}
 
 // A layer index meaning "none" (an odd shell has nothing in the next coarser level).
 const NO_LAYER: u32 = 0xffffffffu;

@@ -2,37 +2,30 @@
 //! Figure 3) as GPU vertices, extruded in the vertex shader along each end's growth direction
 //! (normal + comb shear) and textured with the fin texture (§2.2, "Fin texture").
 //!
-//! Each fin carries its own normal and midpoint so that the shader can fade it by
-//! `max(0, 2|p| − 1)` with the same `p` at all four corners and drop a faded-out fin whole.
+//! A fin vertex holds only what is its own (texture coordinate, the edge's two ends): the shader
+//! reads the ends' positions, normals and comb from the skin's vertex buffer, and the fin's plane
+//! and midpoint from both ends, so that it fades the fin by `max(0, 2|p| − 1)` with the same `p`
+//! at all four corners, and a pose (`deform.rs`), which rewrites the skin's vertices, moves the
+//! fins with nothing of theirs re-sent.
 
 use bytemuck::{Pod, Zeroable};
 
 use std::ops::Range;
 
-use crate::FurMesh;
 use crate::mesh::{FinQuad, quad_triangles};
 
 /// One GPU vertex of a fin (vertex buffer 0 of the fin pass).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub(super) struct FinVertex {
-    /// The edge end this corner stands on.
-    pub position: [f32; 3],
-    /// That end's vertex normal.
-    pub normal: [f32; 3],
-    /// That end's comb vector.
-    pub comb: [f32; 3],
-    /// Unit normal of the fin plane (edge × averaged normal).
-    pub fin_normal: [f32; 3],
-    /// Midpoint of the edge, where the fade is evaluated.
-    pub center: [f32; 3],
     /// Fin texture coordinate: `u` along the edge (tile units, wraps), `v` 0 at the top of the
     /// fur (the fin texture's row 0) and 1 at the skin.
     pub uv: [f32; 2],
-    /// The surface (GPU) vertices of the edge's two ends, whose rotated PRT lighting the fin
-    /// interpolates (the same at all four corners).
+    /// The surface (GPU) vertices of the edge's two ends (the same at all four corners): the
+    /// corner stands on one, the fin's plane and its PRT lighting come from both.
     pub ends: [u32; 2],
-    /// 0 at the first end, 1 at the second: the weight of `ends[1]`.
+    /// 0 at the first end, 1 at the second: which end the corner stands on, the weight of
+    /// `ends[1]`.
     pub along: f32,
 }
 
@@ -50,6 +43,10 @@ pub(super) struct FinMesh {
     /// Each level's mean fin (edge) length over level 0's, 1 where either has no fins: how many
     /// times as far apart its fins stand ([`super::scene_levels::MeshLevel::fin_spacing`]).
     pub spacing: Vec<f32>,
+    /// Each fin's plane (as `fins.wgsl` finds it): the edge's midpoint and unit normal, from
+    /// which the CPU collects the fins a frame draws.
+    pub centers: Vec<[f32; 3]>,
+    pub normals: Vec<[f32; 3]>,
 }
 
 /// Mean edge length of `quads` in fin texture units (their `u` interval), 0 for none.
@@ -61,9 +58,7 @@ fn mean_length(quads: &[FinQuad]) -> f64 {
 /// Packs the fins of each level (`levels[k]`: the quads of level `k`'s edges), `surface_vertex[v]`
 /// a surface (GPU) vertex made from mesh vertex `v` (every edge end has one: edges come from
 /// triangles).
-pub(super) fn build(mesh: &FurMesh, levels: &[Vec<FinQuad>], surface_vertex: &[u32]) -> FinMesh {
-    let (positions, normals) = (mesh.positions(), mesh.normals());
-    let comb = mesh.comb();
+pub(super) fn build(levels: &[Vec<FinQuad>], surface_vertex: &[u32]) -> FinMesh {
     let total: usize = levels.iter().map(Vec::len).sum();
     let mut fins = FinMesh {
         vertices: Vec::with_capacity(4 * total),
@@ -71,6 +66,8 @@ pub(super) fn build(mesh: &FurMesh, levels: &[Vec<FinQuad>], surface_vertex: &[u
         indices: Vec::new(),
         levels: Vec::with_capacity(levels.len()),
         spacing: Vec::with_capacity(levels.len()),
+        centers: Vec::with_capacity(total),
+        normals: Vec::with_capacity(total),
     };
     let full = levels.first().map_or(0.0, |q| mean_length(q));
     for quads in levels {
@@ -85,17 +82,14 @@ pub(super) fn build(mesh: &FurMesh, levels: &[Vec<FinQuad>], surface_vertex: &[u
                 (b, quad.u1, 0.0),
             ] {
                 fins.vertices.push(FinVertex {
-                    position: positions[vertex as usize],
-                    normal: normals[vertex as usize],
-                    comb: comb.map_or([0.0; 3], |c| c[vertex as usize]),
-                    fin_normal: quad.normal,
-                    center: quad.center,
                     uv: [u as f32, v],
                     ends,
                     along: if vertex == a { 0.0 } else { 1.0 },
                 });
                 fins.source.push(vertex);
             }
+            fins.centers.push(quad.center);
+            fins.normals.push(quad.normal);
         }
         fins.levels.push(first..first + quads.len() as u32);
         fins.spacing.push(match mean_length(quads) / full {

@@ -5,14 +5,11 @@
 // (`FinOut`, made by `fin_vertex`) and its color (`fin_fragment`).
 
 struct FinIn {
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) comb: vec3<f32>,
-    @location(3) fin_normal: vec3<f32>,
-    @location(4) center: vec3<f32>,
     @location(5) uv: vec2<f32>,
     @location(6) color: vec4<f32>,
     @location(7) length: f32,
+    // The skin vertices of the edge's two ends (`skin_vertices`: a corner takes its end's
+    // position, normal and comb, the fin its plane from both); which one this corner stands on.
     @location(8) ends: vec2<u32>,
     @location(9) along: f32,
 };
@@ -21,6 +18,8 @@ struct FinIn {
 struct FinCorner {
     clip: vec4<f32>,
     position: vec3<f32>,
+    // The end's vertex normal and growth direction.
+    normal: vec3<f32>,
     growth: vec3<f32>,
     // Fade × fin opacity × vertex opacity.
     opacity: f32,
@@ -46,14 +45,26 @@ fn fin_texel(uv: vec2<f32>) -> vec4<f32> {
 
 @vertex
 fn vs_main(v: FinIn) -> FinOut {
+    let p0 = skin_vec3(v.ends.x, 0u);
+    let p1 = skin_vec3(v.ends.y, 0u);
+    let n0 = skin_vec3(v.ends.x, 3u);
+    let n1 = skin_vec3(v.ends.y, 3u);
+    // The fin plane of `mesh::fin_plane`: the ends' summed normals × the edge; none (the fin
+    // dropped) where that has no direction.
+    let edge = p1 - p0;
+    let plane = cross(n0 + n1, edge);
+    let span = length(plane);
+    let fin_normal = select(vec3<f32>(0.0), plane / span, span > 1e-9 * length(edge));
     // p at the edge's midpoint: all four corners agree, so a faded-out fin is dropped whole.
-    let p = dot(v.fin_normal, view_vector(v.center));
+    let p = dot(fin_normal, view_vector(0.5 * (p0 + p1)));
     let fade = max(0.0, 2.0 * abs(p) - 1.0) * frame.fin.x;
-    let g = growth(v.normal, v.comb);
+    let second = v.along > 0.5;
+    let normal = select(n0, n1, second);
+    let g = growth(normal, skin_vec3(select(v.ends.x, v.ends.y, second), 14u));
     // uv.y is 0 at the top of the fur (the fin texture's first row) and 1 at the skin.
-    let position = v.position + (1.0 - v.uv.y) * frame.fur.x * v.length * g;
+    let position = select(p0, p1, second) + (1.0 - v.uv.y) * frame.fur.x * v.length * g;
     let clip = select(CULLED, clip_position(position), fade > 0.0);
-    return fin_vertex(v, FinCorner(clip, position, g, fade * v.color.a));
+    return fin_vertex(v, FinCorner(clip, position, normal, g, fade * v.color.a));
 }
 
 @fragment

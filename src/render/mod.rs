@@ -13,7 +13,7 @@
 //! §2.4). The smoke pass proves the device works end to end.
 //!
 //! Files: `camera.rs`, `lighting.rs`, `settings.rs` (the per-frame inputs, validated);
-//! `surface_mesh.rs`, `fin_mesh.rs` (CPU geometry); `geometry_lod.rs` (simplified levels of the
+//! `surface_mesh.rs`, `fin_mesh.rs` (CPU geometry), `deform.rs` (the same in a pose); `geometry_lod.rs` (simplified levels of the
 //! mesh), `scene_levels.rs` (their indices and fins) and `level_hosts.rs` (whether they hold
 //! after a repaint); `textures.rs` (volume upload, premultiplied),
 //! `transfer.rs` (PRT textures); `scene.rs`; `pipelines.rs` (shared layouts, pipelines per
@@ -25,6 +25,7 @@
 //! `window.rs` (a window's surface).
 
 mod camera;
+mod deform;
 mod fin_cull;
 mod fin_mesh;
 mod fins;

@@ -1,6 +1,7 @@
 //! What the three fur passes share: target formats, bind group layouts (group 0: frame uniforms,
-//! shell, tangent and fin textures, samplers; group 1 for PRT: transfer textures, rotated
-//! lighting, layer means and the surface buffers for vertex pulling), vertex layouts and the
+//! shell, tangent and fin textures, samplers, the skin's vertices, which the fins and PRT's
+//! vertex pulling read; group 1 for PRT: transfer textures, rotated lighting, layer means, the
+//! surface indices, colors and lengths for vertex pulling), vertex layouts and the
 //! pipeline recipe. Each pass file (`skin.rs`, `fins.rs`, `shells.rs`) states only what is its
 //! own: shader per lighting model, culling, depth writes and blending (Lengyel et al. 2001, §2.3).
 //!
@@ -20,19 +21,16 @@ pub(super) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth3
 /// Bytes of one vertex of buffer 0 of the skin and shells ([`super::surface_mesh::SurfaceVertex`]:
 /// five `vec3`s and a `vec2`).
 const SURFACE_STRIDE: u64 = 68;
-/// Bytes of one fin vertex ([`super::fin_mesh::FinVertex`]: five `vec3`s, a `vec2`, two `u32`
-/// and an `f32`).
-const FIN_STRIDE: u64 = 80;
+/// Bytes of one fin vertex ([`super::fin_mesh::FinVertex`]: a `vec2`, two `u32` and an `f32`).
+const FIN_STRIDE: u64 = 20;
 
 /// Attributes of buffer 0 of the skin and shell passes (`SurfaceIn` in `surface_kk.wgsl`).
 static SURFACE_ATTRIBUTES: [wgpu::VertexAttribute; 6] = wgpu::vertex_attr_array![
     0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32x3, 4 => Float32x2, 5 => Float32x3
 ];
 /// Attributes of buffer 0 of the fin pass (`FinIn` in `fins.wgsl`).
-static FIN_ATTRIBUTES: [wgpu::VertexAttribute; 8] = wgpu::vertex_attr_array![
-    0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32x3, 4 => Float32x3, 5 => Float32x2,
-    8 => Uint32x2, 9 => Float32
-];
+static FIN_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
+    wgpu::vertex_attr_array![5 => Float32x2, 8 => Uint32x2, 9 => Float32];
 static COLOR_ATTRIBUTE: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![6 => Float32x4];
 static LENGTH_ATTRIBUTE: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![7 => Float32];
 
@@ -246,6 +244,9 @@ impl FurPipelines {
                     texture_entry(3, wgpu::TextureViewDimension::D2),
                     sampler_entry(4),
                     sampler_entry(5),
+                    // The skin's vertices: the fins read their ends from them, PRT's passes their
+                    // corners (and the marched shells' fragments their frame).
+                    storage_entry(6, wgpu::ShaderStages::VERTEX_FRAGMENT),
                 ],
             });
             let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -284,8 +285,6 @@ impl FurPipelines {
                     storage_entry(1, fragment),
                     storage_entry(2, fragment),
                     storage_entry(3, vertex),
-                    // The marched shells' fragments read the surface geometry too.
-                    storage_entry(4, vertex | fragment),
                     storage_entry(5, vertex),
                     storage_entry(6, vertex),
                 ],

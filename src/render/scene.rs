@@ -6,6 +6,7 @@ use wgpu::util::DeviceExt;
 
 use std::ops::Range;
 
+use super::deform::Deformer;
 use super::fin_cull::FinPlanes;
 use super::frame_uniforms::FrameUniforms;
 use super::level_hosts::LevelHosts;
@@ -39,6 +40,9 @@ pub struct UploadStats {
     pub geometry_bytes: u64,
     /// Colors and lengths, summed over the initial upload and every update.
     pub attribute_bytes: u64,
+    /// Skin vertices (which the shells and fins are drawn from) rewritten by
+    /// [`FurScene::deform`], summed over every pose.
+    pub pose_bytes: u64,
 }
 
 /// The vertex and index buffers of one kind of geometry (surface or fins). They are storage
@@ -66,12 +70,13 @@ impl GpuMesh {
                 usage,
             })
         };
-        let vertex = wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE;
-        let dynamic = vertex | wgpu::BufferUsages::COPY_DST;
+        // Every vertex buffer is rewritten in place: colors and lengths by a repaint, the
+        // geometry by a pose (`FurScene::deform`).
+        let dynamic = wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
         // The fin pass rewrites its index buffer every frame (`fin_cull`).
         let index = wgpu::BufferUsages::INDEX | wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
         GpuMesh {
-            geometry: buffer("geometry", geometry, vertex),
+            geometry: buffer("geometry", geometry, dynamic),
             color: buffer("color", bytemuck::cast_slice(colors), dynamic),
             length: buffer("length", bytemuck::cast_slice(lengths), dynamic),
             index: buffer("index", bytemuck::cast_slice(indices), index),
@@ -140,6 +145,8 @@ pub struct FurScene {
     pub(super) extent: Extent,
     pub(super) transfer: Option<SceneTransfer>,
     uploads: UploadStats,
+    /// The rest shape, to pose the scene.
+    deformer: Deformer,
 }
 
 /// A scene's PRT state: the transfer textures and what the rotation pass and the PRT passes
@@ -317,6 +324,10 @@ impl FurScene {
                             binding: 5,
                             resource: wgpu::BindingResource::Sampler(&pipelines.fin_sampler),
                         },
+                        wgpu::BindGroupEntry {
+                            binding: 6,
+                            resource: surface_gpu.geometry.as_entire_binding(),
+                        },
                     ],
                 });
                 Ok::<_, PeltError>((surface_gpu, fins_gpu, volume_gpu, uniforms, bind_group))
@@ -330,17 +341,16 @@ impl FurScene {
                 + 4 * (surface_indices.len() + fins.indices.len())) as u64,
             attribute_bytes: attribute_rows * (16 + 4),
             transfer_bytes: 0,
+            pose_bytes: 0,
         };
+        let deformer = Deformer::new(mesh, &surface, &fins.source);
         let extent = extent(mesh.positions(), &lengths);
         Ok(FurScene {
             renderer_id: renderer.id,
             queue: renderer.queue.clone(),
             surface: surface_gpu,
             fins: fins_gpu,
-            fin_planes: FinPlanes::new(
-                fins.vertices.iter().step_by(4).map(|v| v.center).collect(),
-                fins.vertices.iter().step_by(4).map(|v| v.fin_normal).collect(),
-            ),
+            fin_planes: FinPlanes::new(fins.centers, fins.normals),
             drawable: mesh_levels.len(),
             mesh_levels,
             level_hosts,
@@ -358,6 +368,7 @@ impl FurScene {
             extent,
             transfer: None,
             uploads,
+            deformer,
         })
     }
 
@@ -450,7 +461,6 @@ impl FurScene {
                     buffer(1, &rotated),
                     buffer(2, &means_buffer),
                     buffer(3, &self.surface.index),
-                    buffer(4, &self.surface.geometry),
                     buffer(5, &self.surface.color),
                     buffer(6, &self.surface.length),
                 ],
@@ -532,6 +542,26 @@ impl FurScene {
             self.attributes.1.copy_from_slice(l);
         }
         self.drawable = scene_levels::drawable(&self.level_hosts, &self.attributes.0, &self.attributes.1);
+        Ok(())
+    }
+
+    /// Poses the scene: the mesh's vertices at `positions` (one row per mesh vertex, object
+    /// space, the triangles of the bake) with `normals` (scaled to unit length), or normals
+    /// computed from the posed triangles when `None`. Only the skin's vertex buffer is
+    /// rewritten (the shells are drawn from it, the fins read their ends from it; see
+    /// `deform.rs`); the textures, the transfer and the painted attributes stay, so a skinned character follows its armature every frame
+    /// without a bake. Poses do not accumulate: each is taken from the rest shape.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidMesh`] naming `positions` or `normals` (a row count other than the
+    /// mesh's, a NaN or infinity, a zero normal); the scene is unchanged then.
+    pub fn deform(&mut self, positions: &[[f32; 3]], normals: Option<&[[f32; 3]]>) -> Result<()> {
+        let pose = pool().install(|| self.deformer.pose(positions, normals))?;
+        let vertices = bytemuck::cast_slice::<_, u8>(&pose.surface);
+        self.queue.write_buffer(&self.surface.geometry, 0, vertices);
+        self.uploads.pose_bytes += vertices.len() as u64;
+        self.fin_planes = pose.fin_planes;
+        self.extent = extent(positions, &self.attributes.1);
         Ok(())
     }
 

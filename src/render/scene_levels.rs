@@ -68,7 +68,7 @@ impl SceneLevels {
             })
             .collect();
         let first = first_copies(&surface.source, mesh.vertex_count());
-        let fins = fin_mesh::build(mesh, &level_fins, &first);
+        let fins = fin_mesh::build(&level_fins, &first);
         let hosts = made
             .iter()
             .skip(1)

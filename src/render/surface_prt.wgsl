@@ -4,13 +4,10 @@
 // triangle's three surface vertices from the index buffer (vertex pulling), and hands them on
 // (flat) with a barycentric one-hot; the fragment interpolates the three vertices' lighting.
 
+// The corners read the skin's vertices (`skin_vertices`, common.wgsl) through these indices.
 @group(1) @binding(3) var<storage, read> surface_indices: array<u32>;
-// SurfaceVertex rows of 17 floats: position, normal, dP/du, dP/dv, uv, comb.
-@group(1) @binding(4) var<storage, read> surface_geometry: array<f32>;
 @group(1) @binding(5) var<storage, read> surface_colors: array<vec4<f32>>;
 @group(1) @binding(6) var<storage, read> surface_lengths: array<f32>;
-
-const SURFACE_FLOATS: u32 = 17u;
 
 struct SurfaceIn {
     @builtin(vertex_index) corner: u32,
@@ -45,16 +42,11 @@ fn surface_fragment(v: SurfaceVarying) -> SurfaceOut {
                       v.bary);
 }
 
-fn vec3_at(base: u32) -> vec3<f32> {
-    return vec3<f32>(surface_geometry[base], surface_geometry[base + 1u],
-                     surface_geometry[base + 2u]);
-}
-
 fn load_surface(v: u32) -> SurfaceData {
-    let b = v * SURFACE_FLOATS;
-    let uv = vec2<f32>(surface_geometry[b + 12u], surface_geometry[b + 13u]);
-    return SurfaceData(vec3_at(b), vec3_at(b + 3u), vec3_at(b + 6u), vec3_at(b + 9u), uv,
-                       vec3_at(b + 14u), surface_colors[v], surface_lengths[v]);
+    let b = v * SKIN_FLOATS;
+    let uv = vec2<f32>(skin_vertices[b + 12u], skin_vertices[b + 13u]);
+    return SurfaceData(skin_vec3(v, 0u), skin_vec3(v, 3u), skin_vec3(v, 6u), skin_vec3(v, 9u), uv,
+                       skin_vec3(v, 14u), surface_colors[v], surface_lengths[v]);
 }
 
 // The corner lifted to its layers' height, with its painted length (`painted`) or the length
@@ -107,12 +99,12 @@ fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>) -
 // the fragment stage reads no color or length buffer, within the storage buffer limit).
 fn march_frame(s: SurfaceOut) -> MarchFrame {
     let w = s.bary;
-    let b = s.ids * SURFACE_FLOATS;
+    let ids = s.ids;
     var at: array<vec3<f32>, 5>;
     // position, normal, dP/du, dP/dv at float offsets 0, 3, 6, 9; comb at 14.
     for (var k = 0u; k < 5u; k++) {
         let o = select(3u * k, 14u, k == 4u);
-        at[k] = w.x * vec3_at(b.x + o) + w.y * vec3_at(b.y + o) + w.z * vec3_at(b.z + o);
+        at[k] = w.x * skin_vec3(ids.x, o) + w.y * skin_vec3(ids.y, o) + w.z * skin_vec3(ids.z, o);
     }
     let up = frame.fur.x * s.length * growth(at[1], at[4]);
     let height = f32(shell_layers(frame.counts.x - 1u).height) * frame.fur.y;

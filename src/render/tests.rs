@@ -233,14 +233,19 @@ fn vertices_split_only_where_uvs_differ_and_derivatives_match_the_map() {
 fn one_fin_per_edge_standing_on_it() {
     let mesh = square();
     // Surface vertex of mesh vertex v: 10 + v, to see that the fins name them.
-    let fins = fin_mesh::build(&mesh, &[crate::mesh::fin_quads(&mesh, 0.5)], &[10, 11, 12, 13]);
+    let fins = fin_mesh::build(&[crate::mesh::fin_quads(&mesh, 0.5)], &[10, 11, 12, 13]);
     assert_eq!(fins.vertices.len(), 4 * 5);
     assert_eq!(fins.indices.len(), 6 * 5);
-    for quad in fins.vertices.chunks_exact(4) {
-        let (a, b) = (quad[0].position, quad[1].position);
+    assert_eq!((fins.centers.len(), fins.normals.len()), (5, 5));
+    for (k, quad) in fins.vertices.chunks_exact(4).enumerate() {
+        let source = &fins.source[4 * k..4 * k + 4];
+        let (a, b) = (
+            mesh.positions()[source[0] as usize],
+            mesh.positions()[source[1] as usize],
+        );
         let e = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
         let len = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
-        let f = quad[0].fin_normal;
+        let f = fins.normals[k];
         // The fin stands on the edge along the (flat) normal +z: its normal is in the plane,
         // perpendicular to the edge.
         assert!(
@@ -248,7 +253,7 @@ fn one_fin_per_edge_standing_on_it() {
             "{f:?}"
         );
         assert!(((f[0] * f[0] + f[1] * f[1]).sqrt() - 1.0).abs() < 1e-6);
-        assert_eq!(quad[0].center, [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0, 0.0]);
+        assert_eq!(fins.centers[k], [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0, 0.0]);
         // The texture interval is the edge length in tile units, starting in [0, 1).
         assert!((0.0..1.0).contains(&quad[0].uv[0]));
         assert!((quad[1].uv[0] - quad[0].uv[0] - 0.5 * len).abs() < 1e-5);
@@ -256,8 +261,8 @@ fn one_fin_per_edge_standing_on_it() {
             [quad[0].uv[1], quad[1].uv[1], quad[2].uv[1], quad[3].uv[1]],
             [1.0, 1.0, 0.0, 0.0]
         );
-        assert_eq!((quad[2].position, quad[3].position), (a, b));
-        // Each corner names both ends' surface vertices and weighs its own end fully.
+        assert_eq!((source[2], source[3]), (source[0], source[1]));
+        // Each corner names both ends' surface vertices and stands on one of them.
         let ends = quad[0].ends;
         assert_eq!(ends.map(|e| mesh.positions()[e as usize - 10]), [a, b]);
         for (corner, along) in quad.iter().zip([0.0, 1.0, 0.0, 1.0]) {

@@ -228,6 +228,34 @@ def test_updates_rewrite_only_colors_and_lengths(asset):
     assert preview.uploads["texture_bytes"] == before["texture_bytes"]
 
 
+def test_a_pose_moves_the_fur_and_a_bad_pose_is_named(asset):
+    preview = pelt.Preview(asset, adapter="cpu")
+    mesh = asset.mesh
+    rest = preview.render(VIEW, PROJECTION, SIDE, SIDE)
+    before = preview.uploads
+    # Squashed to half its height: the covered area shrinks; only the skin's vertices go up.
+    squash = np.array([1.0, 1.0, 0.5], np.float32)
+    preview.deform(mesh.positions * squash)
+    squashed = preview.render(VIEW, PROJECTION, SIDE, SIDE)
+    assert (squashed[..., 3] > 0).sum() < 0.9 * (rest[..., 3] > 0).sum()
+    after = preview.uploads
+    assert after["pose_bytes"] > before["pose_bytes"]
+    for kind in ("texture_bytes", "geometry_bytes", "attribute_bytes", "transfer_bytes"):
+        assert after[kind] == before[kind]
+    for positions, normals, name in [
+        (mesh.positions[:-1], None, "positions"),
+        (np.full_like(mesh.positions, np.nan), None, "positions"),
+        (mesh.positions, np.zeros_like(mesh.normals), "normals"),
+        (mesh.positions[:, :2], None, "positions"),
+    ]:
+        with pytest.raises(pelt.InvalidMeshError, match=name):
+            preview.deform(positions, normals)
+    assert np.array_equal(preview.render(VIEW, PROJECTION, SIDE, SIDE), squashed)
+    # Back at the rest shape: the rest's very picture.
+    preview.deform(mesh.positions, mesh.normals)
+    assert np.array_equal(preview.render(VIEW, PROJECTION, SIDE, SIDE), rest)
+
+
 def test_bad_input_names_the_problem_and_the_preview_survives(asset):
     preview = pelt.Preview(asset, adapter="cpu")
     good = preview.render(VIEW, PROJECTION, SIDE, SIDE)

@@ -1,0 +1,77 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The fur in the object's pose: Pelt bakes the mesh as edited (the rest shape, without
+modifiers), and the preview follows the evaluated mesh (an armature, shape keys, any modifier
+that keeps the vertices), re-sending only its positions and normals (``pelt.Preview.deform``, no
+bake). Where the modifiers change the topology (Mirror, Subdivision), the preview keeps the rest
+shape and the panel says why."""
+
+import numpy as np
+import pelt
+
+from . import bridge
+
+# session_uid -> why the object's preview shows the rest shape instead of its pose
+NOTES: dict[int, str] = {}
+# id(pelt.Preview) of the previews drawn in a pose (to return to the rest shape)
+_POSED: set[int] = set()
+
+
+def moved(obj) -> bool:
+    """Whether anything evaluated may move the mesh's vertices: a modifier shown in the
+    viewport, or shape keys."""
+    return any(m.show_viewport for m in obj.modifiers) or obj.data.shape_keys is not None
+
+
+def evaluated_pose(obj, depsgraph, vertex_count: int) -> tuple[np.ndarray, np.ndarray]:
+    """Positions and vertex normals ``[V, 3]`` float32 of ``obj``'s evaluated mesh (object
+    space). Raises ``pelt.InvalidMeshError`` when its vertices are not the ``vertex_count`` baked."""
+    evaluated = obj.evaluated_get(depsgraph)
+    mesh = evaluated.to_mesh()
+    try:
+        count = len(mesh.vertices)
+        if count != vertex_count:
+            raise pelt.InvalidMeshError(
+                f"the modifiers change the topology ({count} vertices evaluated, {vertex_count} baked): "
+                "the preview shows the mesh without them"
+            )
+        positions = bridge.read_positions(mesh)
+        normals = np.empty(count * 3, np.float32)
+        mesh.vertex_normals.foreach_get("vector", normals)
+        return positions, normals.reshape(count, 3)
+    finally:
+        evaluated.to_mesh_clear()
+
+
+def digest(obj, depsgraph) -> int | None:
+    """A hash of the evaluated positions (``None`` when nothing moves the mesh): what the live
+    preview compares to redraw when the pose changes."""
+    if not moved(obj):
+        return None
+    evaluated = obj.evaluated_get(depsgraph)
+    mesh = evaluated.to_mesh()
+    try:
+        return hash(bridge.read_positions(mesh).tobytes())
+    finally:
+        evaluated.to_mesh_clear()
+
+
+def apply(preview: pelt.Preview, asset: pelt.FurAsset, obj, depsgraph) -> np.ndarray | None:
+    """Poses ``preview`` (of ``obj``'s bake ``asset``) as ``depsgraph`` evaluates ``obj`` and
+    returns the posed positions (``None`` at the rest shape). A pose that cannot be applied
+    leaves the rest shape drawn and its reason in ``NOTES``."""
+    NOTES.pop(obj.session_uid, None)
+    pose = None
+    if moved(obj):
+        try:
+            pose = evaluated_pose(obj, depsgraph, asset.mesh.vertex_count)
+        except pelt.PeltError as error:
+            NOTES[obj.session_uid] = str(error)
+    if pose is not None:
+        preview.deform(*pose)
+        _POSED.add(id(preview))
+        return pose[0]
+    if id(preview) in _POSED:
+        mesh = asset.mesh
+        preview.deform(mesh.positions, mesh.normals)
+        _POSED.discard(id(preview))
+    return None

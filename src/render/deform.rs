@@ -1,0 +1,117 @@
+//! A furred mesh in a pose (an armature's skinning, shape keys): the skin's GPU vertices rebuilt
+//! from the posed positions and normals, with nothing re-baked and no texture re-sent; the shells
+//! are drawn from those vertices and the fins read their ends from them (`fins.wgsl`), so they
+//! follow. The fur stays where the rest shape put it: each vertex keeps its tile UV (the lapped
+//! patches ride on the skin, Lengyel et al. 2001, §2.1), its surface derivatives `∂P/∂u`, `∂P/∂v`
+//! are recomputed over the posed triangles (so a stretched skin stretches its texture, as any
+//! UV-mapped texture does), and its comb vector turns with the frame it was painted in (a shear
+//! relative to the normal, §3, so it turns without stretching). Fins keep their texture interval
+//! and stand in the posed edge's plane.
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::fin_cull::FinPlanes;
+use super::surface_mesh::{SurfaceMesh, SurfaceVertex};
+use crate::FurMesh;
+use crate::error::Result;
+use crate::mesh::{SplitLayout, fin_plane, midpoint};
+
+/// What a scene keeps of its rest shape to pose it.
+pub(super) struct Deformer {
+    /// The rest mesh: its triangles and adjacency give the posed normals.
+    rest: FurMesh,
+    /// The split vertices and the full mesh's triangles over them (the first level of the
+    /// index buffer).
+    layout: SplitLayout,
+    uv_scale: f64,
+    /// Each surface vertex's comb vector in its rest frame `(t, b, n)`, `t` along `∂P/∂u`.
+    comb_in_frame: Vec<[f32; 3]>,
+    /// Each fin's ends (mesh vertices), for the planes the CPU collects fins by.
+    fin_ends: Vec<[u32; 2]>,
+}
+
+/// What a pose sends and keeps.
+pub(super) struct Pose {
+    pub surface: Vec<SurfaceVertex>,
+    pub fin_planes: FinPlanes,
+}
+
+/// The orthonormal frame `(t, b, n)` of a surface vertex: `t` along `∂P/∂u` (tangential), `b`
+/// completing it.
+fn frame(normal: [f32; 3], dpdu: [f32; 3]) -> [Vec3; 3] {
+    let n = Vec3::from(normal);
+    let t = Vec3::from(dpdu).normalize_or(n.any_orthonormal_vector());
+    [t, n.cross(t), n]
+}
+
+impl Deformer {
+    /// Keeps what posing needs of `mesh` as `surface` split it, with the fins standing on the
+    /// mesh vertices `fin_source` (four corners per fin, the edge's ends first).
+    pub fn new(mesh: &FurMesh, surface: &SurfaceMesh, fin_source: &[u32]) -> Self {
+        let comb_in_frame = surface
+            .vertices
+            .par_iter()
+            .map(|v| {
+                let c = Vec3::from(v.comb);
+                frame(v.normal, v.dpdu).map(|axis| axis.dot(c))
+            })
+            .collect();
+        Deformer {
+            rest: mesh.clone(),
+            layout: SplitLayout::new(
+                surface.source.clone(),
+                surface.vertices.iter().map(|v| v.uv).collect(),
+                surface.indices.clone(),
+            ),
+            uv_scale: surface.uv_scale,
+            comb_in_frame,
+            fin_ends: fin_source.chunks_exact(4).map(|c| [c[0], c[1]]).collect(),
+        }
+    }
+
+    /// The skin's GPU vertices at `positions` (one row per mesh vertex) with unit `normals`
+    /// given or computed from the posed triangles, and the fins' planes there.
+    ///
+    /// # Errors
+    /// As [`FurMesh::pose_normals`]: the first bad row of `positions` or `normals`.
+    pub fn pose(&self, positions: &[[f32; 3]], normals: Option<&[[f32; 3]]>) -> Result<Pose> {
+        let normals = self.rest.pose_normals(positions, normals)?;
+        let layout = &self.layout;
+        let (dpdu, dpdv) = layout.derivatives(positions, &normals, self.rest.triangles(), self.uv_scale);
+        let surface = (0..layout.source.len())
+            .into_par_iter()
+            .map(|i| {
+                let v = layout.source[i] as usize;
+                let [t, b, n] = frame(normals[v], dpdu[i]);
+                let [ct, cb, cn] = self.comb_in_frame[i];
+                SurfaceVertex {
+                    position: positions[v],
+                    normal: normals[v],
+                    dpdu: dpdu[i],
+                    dpdv: dpdv[i],
+                    uv: layout.uvs[i],
+                    comb: (ct * t + cb * b + cn * n).into(),
+                }
+            })
+            .collect();
+        // A fin whose posed edge has no plane gets none: `fins.wgsl` drops it, and so does the
+        // CPU's list.
+        let (centers, planes) = self
+            .fin_ends
+            .par_iter()
+            .map(|&[a, b]| {
+                let (a, b) = (a as usize, b as usize);
+                let plane = fin_plane([positions[a], positions[b]], [normals[a], normals[b]]);
+                (
+                    midpoint(positions[a], positions[b]),
+                    plane.map_or([0.0; 3], |(n, _)| n),
+                )
+            })
+            .unzip();
+        Ok(Pose {
+            surface,
+            fin_planes: FinPlanes::new(centers, planes),
+        })
+    }
+}

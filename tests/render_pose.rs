@@ -1,0 +1,213 @@
+//! A furred scene in a pose (`FurScene::deform`) on the CPU adapter: checked against the rest
+//! scene seen through the inverse motion (a rigid pose), against a scene built from the posed
+//! mesh (a bend), and against itself before a pose (poses do not accumulate, bad poses change
+//! nothing). The test fails (never skips) when no CPU adapter exists.
+#![cfg(feature = "render")]
+
+mod common;
+
+use std::sync::OnceLock;
+
+use glam::{DMat4, Mat3, Vec3};
+use pelt::render::{Camera, FurScene, Lighting, RenderSettings, RgbaImage};
+use pelt::{FurMesh, MeshInput, PeltError};
+
+use common::torus::{FurredTorus, covered};
+use common::{column_major, look_at_rows};
+
+const SIZE: u32 = 128;
+
+fn fixture() -> &'static FurredTorus {
+    static FIXTURE: OnceLock<FurredTorus> = OnceLock::new();
+    FIXTURE.get_or_init(|| FurredTorus::new(32, 16, [6.0, 2.0]))
+}
+
+fn settings() -> RenderSettings {
+    RenderSettings {
+        fur_depth: 0.08,
+        // The full mesh: a scene built from a posed mesh simplifies it otherwise.
+        mesh_error: 0.0,
+        ..RenderSettings::default()
+    }
+}
+
+/// A perspective camera (60°) whose view matrix is `view` (object to eye, row-major).
+fn camera(view: DMat4) -> Camera {
+    let (near, far, t) = (0.5, 10.0, 1.0 / 30f64.to_radians().tan());
+    Camera {
+        view: view.as_mat4().to_cols_array(),
+        projection: column_major([
+            [t, 0.0, 0.0, 0.0],
+            [0.0, t, 0.0, 0.0],
+            [0.0, 0.0, far / (near - far), near * far / (near - far)],
+            [0.0, 0.0, -1.0, 0.0],
+        ]),
+        width: SIZE,
+        height: SIZE,
+    }
+}
+
+fn rest_view() -> DMat4 {
+    DMat4::from_cols_array_2d(&look_at_rows([0.0, -2.6, 2.2], [0.0; 3], [0.0, 0.0, 1.0])).transpose()
+}
+
+fn render(scene: &FurScene, camera: &Camera, lighting: &Lighting) -> RgbaImage {
+    render_with(scene, camera, lighting, &settings())
+}
+
+fn render_with(
+    scene: &FurScene,
+    camera: &Camera,
+    lighting: &Lighting,
+    settings: &RenderSettings,
+) -> RgbaImage {
+    fixture()
+        .renderer
+        .render(scene, camera, lighting, settings)
+        .unwrap()
+}
+
+/// Share of pixels whose channels differ by more than `tolerance` levels.
+fn differing(a: &RgbaImage, b: &RgbaImage, tolerance: u8) -> f64 {
+    let count = a
+        .pixels
+        .chunks_exact(4)
+        .zip(b.pixels.chunks_exact(4))
+        .filter(|(p, q)| p.iter().zip(*q).any(|(x, y)| x.abs_diff(*y) > tolerance))
+        .count();
+    count as f64 / f64::from(SIZE * SIZE)
+}
+
+/// The torus with a comb along its ring (a shear of 0.6), so that the comb's turn is seen.
+fn combed_torus() -> FurMesh {
+    let mesh = &fixture().mesh;
+    let comb: Vec<[f32; 3]> = mesh
+        .positions()
+        .iter()
+        .map(|p| (0.6 * Vec3::new(-p[1], p[0], 0.0).normalize()).to_array())
+        .collect();
+    FurMesh::new(MeshInput::new(mesh.positions(), mesh.triangles()).with_comb(&comb)).unwrap()
+}
+
+fn moved(positions: &[[f32; 3]], motion: impl Fn(Vec3) -> Vec3) -> Vec<[f32; 3]> {
+    positions
+        .iter()
+        .map(|&p| motion(Vec3::from(p)).to_array())
+        .collect()
+}
+
+#[test]
+fn a_rigid_pose_draws_the_rest_seen_through_the_inverse_motion() {
+    let f = fixture();
+    let mesh = combed_torus();
+    let rest = FurScene::new(&f.renderer, &mesh, &f.uvs, &f.volume).unwrap();
+    let mut posed = FurScene::new(&f.renderer, &mesh, &f.uvs, &f.volume).unwrap();
+    let turn = Mat3::from_axis_angle(Vec3::new(1.0, 2.0, 0.5).normalize(), 0.7);
+    let shift = Vec3::new(0.3, -0.2, 0.1);
+    let positions = moved(mesh.positions(), |p| turn * p + shift);
+    let normals = moved(mesh.normals(), |n| turn * n);
+    posed.deform(&positions, Some(&normals)).unwrap();
+
+    // The eye moves with the mesh and the light turns with it: the same picture.
+    let motion = DMat4::from_translation(shift.as_dvec3()) * DMat4::from_mat3(turn.as_dmat3());
+    let light = Lighting::default();
+    let turned_light = Lighting {
+        direction: (turn * Vec3::from(light.direction)).to_array(),
+        ..light.clone()
+    };
+    let expected = render(&rest, &camera(rest_view()), &light);
+    let got = render(&posed, &camera(rest_view() * motion.inverse()), &turned_light);
+    // Rasterization of the moved triangles may round differently at an edge (none do here).
+    let off = differing(&expected, &got, 4);
+    assert!(off < 0.002, "{:.2}% of the pixels differ", 100.0 * off);
+    assert!(covered(&got) > 2000);
+
+    // Seen from the rest camera, the pose has moved: the check above can fail.
+    let unmoved = render(&posed, &camera(rest_view()), &turned_light);
+    assert!(differing(&expected, &unmoved, 12) > 0.2);
+}
+
+/// A bend and a stretch: every vertex turned about the torus axis by an angle that grows with
+/// its height, and pushed outward.
+fn bend(p: Vec3) -> Vec3 {
+    let turn = Mat3::from_rotation_z(1.2 * p.z);
+    turn * Vec3::new(p.x * (1.0 + 0.25 * p.z), p.y, 1.3 * p.z)
+}
+
+#[test]
+fn a_pose_draws_what_a_scene_of_the_posed_mesh_draws() {
+    let f = fixture();
+    let mut posed = f.scene();
+    let positions = moved(f.mesh.positions(), bend);
+    posed.deform(&positions, None).unwrap();
+    let bent = FurMesh::new(MeshInput::new(&positions, f.mesh.triangles())).unwrap();
+    let built = FurScene::new(&f.renderer, &bent, &f.uvs, &f.volume).unwrap();
+    let camera = camera(rest_view());
+    let light = Lighting::default();
+    // Without fins: a posed fin keeps the texture interval of its rest edge (its texture
+    // stretches with the edge, as the shells' does with the skin), while a scene built from the
+    // bent mesh measures the edges anew. The rigid pose above covers the fins.
+    let no_fins = RenderSettings {
+        fins: false,
+        ..settings()
+    };
+    let expected = render_with(&built, &camera, &light, &no_fins);
+    let got = render_with(&posed, &camera, &light, &no_fins);
+    assert_eq!(differing(&expected, &got, 2), 0.0);
+    assert!(differing(&expected, &render_with(&f.scene(), &camera, &light, &no_fins), 12) > 0.05);
+}
+
+#[test]
+fn poses_start_from_the_rest_and_bad_poses_change_nothing() {
+    let f = fixture();
+    let mut scene = f.scene();
+    let camera = camera(rest_view());
+    let light = Lighting::default();
+    let rest = render(&scene, &camera, &light);
+    let before = scene.uploads();
+
+    scene.deform(&moved(f.mesh.positions(), bend), None).unwrap();
+    let bent = render(&scene, &camera, &light);
+    assert_ne!(bent.pixels, rest.pixels);
+    let after = scene.uploads();
+    // The skin's vertices alone: the shells and fins are drawn from them.
+    assert_eq!(after.pose_bytes, 68 * scene.surface_vertex_count() as u64);
+    assert_eq!(
+        (
+            after.texture_bytes,
+            after.geometry_bytes,
+            after.attribute_bytes,
+            after.transfer_bytes
+        ),
+        (
+            before.texture_bytes,
+            before.geometry_bytes,
+            before.attribute_bytes,
+            before.transfer_bytes
+        )
+    );
+
+    let name = |e: PeltError| match e {
+        PeltError::InvalidMesh(m) => m.to_string(),
+        other => panic!("expected InvalidMesh, got {other:?}"),
+    };
+    let positions = f.mesh.positions();
+    let short = name(scene.deform(&positions[1..], None).unwrap_err());
+    assert!(short.contains("positions"), "{short}");
+    let mut nan = positions.to_vec();
+    nan[7][1] = f32::NAN;
+    let message = name(scene.deform(&nan, None).unwrap_err());
+    assert!(
+        message.contains("positions") && message.contains('7'),
+        "{message}"
+    );
+    let mut zero = f.mesh.normals().to_vec();
+    zero[3] = [0.0; 3];
+    let message = name(scene.deform(positions, Some(&zero)).unwrap_err());
+    assert!(message.contains("normal") && message.contains('3'), "{message}");
+    assert_eq!(render(&scene, &camera, &light).pixels, bent.pixels);
+
+    // Back at the rest positions: the rest's very bytes.
+    scene.deform(positions, None).unwrap();
+    assert_eq!(render(&scene, &camera, &light).pixels, rest.pixels);
+}
