@@ -13,7 +13,7 @@ use pelt::render::{Camera, FurScene, Lighting, RenderSettings, RgbaImage};
 use pelt::{FurMesh, MeshInput, PeltError};
 
 use common::torus::{FurredTorus, covered};
-use common::{column_major, look_at_rows};
+use common::{column_major, look_at_rows, perspective_rows};
 
 const SIZE: u32 = 128;
 
@@ -33,15 +33,9 @@ fn settings() -> RenderSettings {
 
 /// A perspective camera (60°) whose view matrix is `view` (object to eye, row-major).
 fn camera(view: DMat4) -> Camera {
-    let (near, far, t) = (0.5, 10.0, 1.0 / 30f64.to_radians().tan());
     Camera {
         view: view.as_mat4().to_cols_array(),
-        projection: column_major([
-            [t, 0.0, 0.0, 0.0],
-            [0.0, t, 0.0, 0.0],
-            [0.0, 0.0, far / (near - far), near * far / (near - far)],
-            [0.0, 0.0, -1.0, 0.0],
-        ]),
+        projection: column_major(perspective_rows(60.0, 0.5, 10.0)),
         width: SIZE,
         height: SIZE,
     }

@@ -178,20 +178,8 @@ impl FurMesh {
         positions: &[[f32; 3]],
         normals: Option<&[[f32; 3]]>,
     ) -> Result<Vec<[f32; 3]>> {
-        if positions.len() != self.positions.len() {
-            return Err(crate::error::MeshError::AttributeLength {
-                array: "positions",
-                expected: self.positions.len(),
-                got: positions.len(),
-            }
-            .into());
-        }
-        let mut input = MeshInput::new(positions, &self.triangles);
-        if let Some(normals) = normals {
-            input = input.with_normals(normals);
-        }
         pool().install(|| {
-            validate::validate(&input)?;
+            validate::validate_pose(positions, normals, self.positions.len())?;
             Ok(match normals {
                 Some(given) => frames::normalize_given(given),
                 None => {

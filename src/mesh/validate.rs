@@ -46,10 +46,7 @@ pub(super) fn validate(input: &MeshInput<'_>) -> Result<(), MeshError> {
     finite_rows("positions", input.positions)?;
     indices_in_range(input.triangles, n)?;
     if let Some(normals) = input.normals {
-        finite_rows("normals", normals)?;
-        if let Some(row) = normals.par_iter().position_first(|v| v.iter().all(|&c| c == 0.0)) {
-            return Err(MeshError::ZeroNormal { row });
-        }
+        usable_normals(normals)?;
     }
     if let Some(color) = input.color {
         finite_rows("color", color)?;
@@ -72,6 +69,40 @@ pub(super) fn validate(input: &MeshInput<'_>) -> Result<(), MeshError> {
         }
     }
     Ok(())
+}
+
+/// Checks a pose of a valid mesh of `vertex_count` vertices (its triangles are the mesh's, so
+/// only the rows need checking), in the order of [`validate`].
+pub(super) fn validate_pose(
+    positions: &[[f32; 3]],
+    normals: Option<&[[f32; 3]]>,
+    vertex_count: usize,
+) -> Result<(), MeshError> {
+    for (array, rows) in [
+        ("positions", Some(positions.len())),
+        ("normals", normals.map(<[_]>::len)),
+    ] {
+        if let Some(got) = rows
+            && got != vertex_count
+        {
+            return Err(MeshError::AttributeLength {
+                array,
+                expected: vertex_count,
+                got,
+            });
+        }
+    }
+    finite_rows("positions", positions)?;
+    normals.map_or(Ok(()), usable_normals)
+}
+
+/// Fails on the first normal row that is not finite or is zero.
+fn usable_normals(normals: &[[f32; 3]]) -> Result<(), MeshError> {
+    finite_rows("normals", normals)?;
+    match normals.par_iter().position_first(|v| v.iter().all(|&c| c == 0.0)) {
+        Some(row) => Err(MeshError::ZeroNormal { row }),
+        None => Ok(()),
+    }
 }
 
 /// Fails on the first row holding a NaN or infinity.

@@ -534,6 +534,9 @@ impl FurScene {
                 bytes += size_of_val(rows.as_slice()) as u64;
             }
         }
+        // Sent now, as a pose is (`FurScene::deform`): repaints without a frame between them
+        // would otherwise pile up their staging copies.
+        self.queue.submit(std::iter::empty());
         self.uploads.attribute_bytes += bytes;
         if let Some(c) = color {
             self.attributes.0.copy_from_slice(c);
@@ -559,6 +562,9 @@ impl FurScene {
         let pose = pool().install(|| self.deformer.pose(positions, normals))?;
         let vertices = bytemuck::cast_slice::<_, u8>(&pose.surface);
         self.queue.write_buffer(&self.surface.geometry, 0, vertices);
+        // Sent now: poses without a frame between them would otherwise pile up their staging
+        // copies until the next frame's submit.
+        self.queue.submit(std::iter::empty());
         self.uploads.pose_bytes += vertices.len() as u64;
         self.fin_planes = pose.fin_planes;
         self.extent = extent(positions, &self.attributes.1);

@@ -49,6 +49,19 @@ def add_suzanne():
     return bpy.context.active_object
 
 
+def small_fur(obj, *, density: int = 3000, tile_size: float = 0.3, fur_depth: float | None = None):
+    """Pelt on for ``obj`` with a small, quick bake (8 layers of 64²); its settings."""
+    settings = obj.pelt
+    settings.enabled = True
+    settings.layers = 8
+    settings.resolution = "64"
+    settings.density = density
+    settings.tile_size = tile_size
+    if fur_depth is not None:
+        settings.fur_depth = fur_depth
+    return settings
+
+
 def datablock_snapshot() -> dict:
     """Every ID datablock by collection, with the attributes, UV maps and coordinates of each mesh
     and the Pelt settings of each object: what an operator that fails must leave exactly as it was."""

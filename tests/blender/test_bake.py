@@ -8,17 +8,12 @@ import bpy
 import numpy as np
 import pelt
 import pytest
-from conftest import add_suzanne, datablock_snapshot
+from conftest import add_suzanne, datablock_snapshot, small_fur
 
 
 def furred_suzanne(*, prt: bool = False):
     obj = add_suzanne()
-    settings = obj.pelt
-    settings.enabled = True
-    settings.layers = 8
-    settings.resolution = "64"
-    settings.density = 2000
-    settings.tile_size = 0.5
+    settings = small_fur(obj, density=2000, tile_size=0.5)
     settings.lighting = "PRT" if prt else "KAJIYA_KAY"
     settings.prt_auto_order = False
     settings.prt_order = 2

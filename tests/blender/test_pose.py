@@ -7,6 +7,7 @@ import math
 import bpy
 import numpy as np
 import pytest
+from conftest import small_fur
 
 RINGS, AROUND = 13, 16
 
@@ -30,13 +31,7 @@ def tube() -> bpy.types.Object:
 
 
 def furred(obj) -> bpy.types.Object:
-    settings = obj.pelt
-    settings.enabled = True
-    settings.layers = 8
-    settings.resolution = "64"
-    settings.density = 3000
-    settings.tile_size = 0.3
-    settings.fur_depth = 0.12
+    small_fur(obj, fur_depth=0.12)
     bpy.context.view_layer.objects.active = obj
     return obj
 

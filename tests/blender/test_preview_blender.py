@@ -6,18 +6,12 @@ import math
 import bpy
 import numpy as np
 import pytest
-from conftest import add_suzanne, datablock_snapshot
+from conftest import add_suzanne, datablock_snapshot, small_fur
 
 
 def furred_suzanne_with_camera(*, prt=False):
     obj = add_suzanne()
-    settings = obj.pelt
-    settings.enabled = True
-    settings.layers = 8
-    settings.resolution = "64"
-    settings.density = 3000
-    settings.tile_size = 0.3
-    settings.fur_depth = 0.15
+    settings = small_fur(obj, fur_depth=0.15)
     settings.lighting = "PRT" if prt else "KAJIYA_KAY"
     settings.prt_auto_order = False
     settings.prt_order = 2
