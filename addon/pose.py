@@ -3,17 +3,47 @@
 modifiers), and the preview follows the evaluated mesh (an armature, shape keys, any modifier
 that keeps the vertices), re-sending only its positions and normals (``pelt.Preview.deform``, no
 bake). Where the modifiers change the topology (Mirror, Subdivision), the preview keeps the rest
-shape and the panel says why."""
+shape and the panel says why.
+
+Pelt's own Geometry Nodes fur (``geonodes.py``, added by Bake) joins the skin first, its vertices
+in their order, then shells and fins: under it the pose is the evaluated mesh's first rows, when
+every modifier before it only moves vertices."""
 
 import numpy as np
 import pelt
 
-from . import bridge
+from . import bridge, geonodes
 
 # session_uid -> why the object's preview shows the rest shape instead of its pose
 NOTES: dict[int, str] = {}
 # id(pelt.Preview) of the previews drawn in a pose (to return to the rest shape)
 _POSED: set[int] = set()
+# Modifier types that move vertices and keep the mesh's vertices and faces as they are.
+DEFORM_ONLY = frozenset(
+    {
+        "ARMATURE", "CAST", "CLOTH", "CORRECTIVE_SMOOTH", "CURVE", "DISPLACE", "HOOK",
+        "LAPLACIANDEFORM", "LAPLACIANSMOOTH", "LATTICE", "MESH_CACHE", "MESH_DEFORM",
+        "SHRINKWRAP", "SIMPLE_DEFORM", "SMOOTH", "SOFT_BODY", "SURFACE_DEFORM", "WARP", "WAVE",
+    }
+)  # fmt: skip
+
+
+def _fur_modifier_rows(obj, vertex_count: int) -> int | None:
+    """How many leading rows of the evaluated mesh are the posed skin when Pelt's fur modifier
+    is shown (``vertex_count``), ``None`` without it. Raises ``pelt.InvalidMeshError`` when a
+    modifier before it may change the topology."""
+    fur = geonodes.find_modifier(obj)
+    if fur is None or not fur.show_viewport:
+        return None
+    for modifier in obj.modifiers:
+        if modifier == fur:
+            return vertex_count
+        if modifier.show_viewport and modifier.type not in DEFORM_ONLY:
+            raise pelt.InvalidMeshError(
+                f"the modifier {modifier.name!r} ({modifier.type.title()}) before Pelt's fur may change "
+                "the topology: the preview shows the mesh without it"
+            )
+    return vertex_count
 
 
 def moved(obj) -> bool:
@@ -25,19 +55,20 @@ def moved(obj) -> bool:
 def evaluated_pose(obj, depsgraph, vertex_count: int) -> tuple[np.ndarray, np.ndarray]:
     """Positions and vertex normals ``[V, 3]`` float32 of ``obj``'s evaluated mesh (object
     space). Raises ``pelt.InvalidMeshError`` when its vertices are not the ``vertex_count`` baked."""
+    skin_rows = _fur_modifier_rows(obj, vertex_count)
     evaluated = obj.evaluated_get(depsgraph)
     mesh = evaluated.to_mesh()
     try:
         count = len(mesh.vertices)
-        if count != vertex_count:
+        if count != vertex_count and (skin_rows is None or count < skin_rows):
             raise pelt.InvalidMeshError(
                 f"the modifiers change the topology ({count} vertices evaluated, {vertex_count} baked): "
                 "the preview shows the mesh without them"
             )
-        positions = bridge.read_positions(mesh)
         normals = np.empty(count * 3, np.float32)
         mesh.vertex_normals.foreach_get("vector", normals)
-        return positions, normals.reshape(count, 3)
+        rows = slice(0, vertex_count)
+        return bridge.read_positions(mesh)[rows], normals.reshape(count, 3)[rows]
     finally:
         evaluated.to_mesh_clear()
 
@@ -50,7 +81,8 @@ def digest(obj, depsgraph) -> int | None:
     evaluated = obj.evaluated_get(depsgraph)
     mesh = evaluated.to_mesh()
     try:
-        return hash(bridge.read_positions(mesh).tobytes())
+        # The skin's rows alone: under Pelt's fur modifier the shells and fins follow them.
+        return hash(bridge.read_positions(mesh)[: len(obj.data.vertices)].tobytes())
     finally:
         evaluated.to_mesh_clear()
 

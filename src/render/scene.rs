@@ -552,8 +552,9 @@ impl FurScene {
     /// space, the triangles of the bake) with `normals` (scaled to unit length), or normals
     /// computed from the posed triangles when `None`. Only the skin's vertex buffer is
     /// rewritten (the shells are drawn from it, the fins read their ends from it; see
-    /// `deform.rs`); the textures, the transfer and the painted attributes stay, so a skinned character follows its armature every frame
-    /// without a bake. Poses do not accumulate: each is taken from the rest shape.
+    /// `deform.rs`); the textures, the transfer and the painted attributes stay, so a skinned
+    /// character follows its armature every frame without a bake. Poses do not accumulate:
+    /// each is taken from the rest shape.
     ///
     /// # Errors
     /// [`PeltError::InvalidMesh`] naming `positions` or `normals` (a row count other than the
