@@ -9,6 +9,8 @@ Pelt's own Geometry Nodes fur (``geonodes.py``, added by Bake) joins the skin fi
 in their order, then shells and fins: under it the pose is the evaluated mesh's first rows, when
 every modifier before it only moves vertices."""
 
+from contextlib import contextmanager
+
 import numpy as np
 import pelt
 
@@ -28,22 +30,32 @@ DEFORM_ONLY = frozenset(
 )  # fmt: skip
 
 
-def _fur_modifier_rows(obj, vertex_count: int) -> int | None:
-    """How many leading rows of the evaluated mesh are the posed skin when Pelt's fur modifier
-    is shown (``vertex_count``), ``None`` without it. Raises ``pelt.InvalidMeshError`` when a
-    modifier before it may change the topology."""
+def _under_fur_modifier(obj) -> bool:
+    """Whether Pelt's fur modifier is shown, so that the posed skin is the evaluated mesh's
+    first rows. Raises ``pelt.InvalidMeshError`` when a modifier before it may change the
+    topology."""
     fur = geonodes.find_modifier(obj)
     if fur is None or not fur.show_viewport:
-        return None
+        return False
     for modifier in obj.modifiers:
         if modifier == fur:
-            return vertex_count
+            break
         if modifier.show_viewport and modifier.type not in DEFORM_ONLY:
             raise pelt.InvalidMeshError(
                 f"the modifier {modifier.name!r} ({modifier.type.title()}) before Pelt's fur may change "
                 "the topology: the preview shows the mesh without it"
             )
-    return vertex_count
+    return True
+
+
+@contextmanager
+def _evaluated_mesh(obj, depsgraph):
+    """``obj``'s evaluated mesh, freed on leaving."""
+    evaluated = obj.evaluated_get(depsgraph)
+    try:
+        yield evaluated.to_mesh()
+    finally:
+        evaluated.to_mesh_clear()
 
 
 def moved(obj) -> bool:
@@ -55,12 +67,10 @@ def moved(obj) -> bool:
 def evaluated_pose(obj, depsgraph, vertex_count: int) -> tuple[np.ndarray, np.ndarray]:
     """Positions and vertex normals ``[V, 3]`` float32 of ``obj``'s evaluated mesh (object
     space). Raises ``pelt.InvalidMeshError`` when its vertices are not the ``vertex_count`` baked."""
-    skin_rows = _fur_modifier_rows(obj, vertex_count)
-    evaluated = obj.evaluated_get(depsgraph)
-    mesh = evaluated.to_mesh()
-    try:
+    under_fur = _under_fur_modifier(obj)
+    with _evaluated_mesh(obj, depsgraph) as mesh:
         count = len(mesh.vertices)
-        if count != vertex_count and (skin_rows is None or count < skin_rows):
+        if count != vertex_count and not (under_fur and count > vertex_count):
             raise pelt.InvalidMeshError(
                 f"the modifiers change the topology ({count} vertices evaluated, {vertex_count} baked): "
                 "the preview shows the mesh without them"
@@ -69,8 +79,6 @@ def evaluated_pose(obj, depsgraph, vertex_count: int) -> tuple[np.ndarray, np.nd
         mesh.vertex_normals.foreach_get("vector", normals)
         rows = slice(0, vertex_count)
         return bridge.read_positions(mesh)[rows], normals.reshape(count, 3)[rows]
-    finally:
-        evaluated.to_mesh_clear()
 
 
 def digest(obj, depsgraph) -> int | None:
@@ -78,19 +86,14 @@ def digest(obj, depsgraph) -> int | None:
     preview compares to redraw when the pose changes."""
     if not moved(obj):
         return None
-    evaluated = obj.evaluated_get(depsgraph)
-    mesh = evaluated.to_mesh()
-    try:
+    with _evaluated_mesh(obj, depsgraph) as mesh:
         # The skin's rows alone: under Pelt's fur modifier the shells and fins follow them.
         return hash(bridge.read_positions(mesh)[: len(obj.data.vertices)].tobytes())
-    finally:
-        evaluated.to_mesh_clear()
 
 
-def apply(preview: pelt.Preview, asset: pelt.FurAsset, obj, depsgraph) -> np.ndarray | None:
-    """Poses ``preview`` (of ``obj``'s bake ``asset``) as ``depsgraph`` evaluates ``obj`` and
-    returns the posed positions (``None`` at the rest shape). A pose that cannot be applied
-    leaves the rest shape drawn and its reason in ``NOTES``."""
+def apply(preview: pelt.Preview, asset: pelt.FurAsset, obj, depsgraph) -> None:
+    """Poses ``preview`` (of ``obj``'s bake ``asset``) as ``depsgraph`` evaluates ``obj``. A pose
+    that cannot be applied leaves the rest shape drawn and its reason in ``NOTES``."""
     NOTES.pop(obj.session_uid, None)
     pose = None
     if moved(obj):
@@ -101,9 +104,7 @@ def apply(preview: pelt.Preview, asset: pelt.FurAsset, obj, depsgraph) -> np.nda
     if pose is not None:
         preview.deform(*pose)
         _POSED.add(id(preview))
-        return pose[0]
-    if id(preview) in _POSED:
+    elif id(preview) in _POSED:
         mesh = asset.mesh
         preview.deform(mesh.positions, mesh.normals)
         _POSED.discard(id(preview))
-    return None

@@ -18,22 +18,15 @@ pub(super) fn validate(input: &MeshInput<'_>) -> Result<(), MeshError> {
     if n > u32::MAX as usize {
         return Err(MeshError::TooManyVertices(n));
     }
-    for (array, rows) in [
-        ("normals", input.normals.map(<[_]>::len)),
-        ("color", input.color.map(<[_]>::len)),
-        ("comb", input.comb.map(<[_]>::len)),
-        ("length", input.length.map(<[_]>::len)),
-    ] {
-        if let Some(got) = rows
-            && got != n
-        {
-            return Err(MeshError::AttributeLength {
-                array,
-                expected: n,
-                got,
-            });
-        }
-    }
+    one_row_per_vertex(
+        [
+            ("normals", input.normals.map(<[_]>::len)),
+            ("color", input.color.map(<[_]>::len)),
+            ("comb", input.comb.map(<[_]>::len)),
+            ("length", input.length.map(<[_]>::len)),
+        ],
+        n,
+    )?;
     if let Some(polygons) = input.polygons
         && polygons.len() != input.triangles.len()
     {
@@ -78,22 +71,33 @@ pub(super) fn validate_pose(
     normals: Option<&[[f32; 3]]>,
     vertex_count: usize,
 ) -> Result<(), MeshError> {
-    for (array, rows) in [
-        ("positions", Some(positions.len())),
-        ("normals", normals.map(<[_]>::len)),
-    ] {
-        if let Some(got) = rows
-            && got != vertex_count
-        {
-            return Err(MeshError::AttributeLength {
-                array,
-                expected: vertex_count,
-                got,
-            });
-        }
-    }
+    one_row_per_vertex(
+        [
+            ("positions", Some(positions.len())),
+            ("normals", normals.map(<[_]>::len)),
+        ],
+        vertex_count,
+    )?;
     finite_rows("positions", positions)?;
     normals.map_or(Ok(()), usable_normals)
+}
+
+/// Fails on the first array (given ones: `Some(rows)`) whose row count is not `vertex_count`.
+fn one_row_per_vertex<const N: usize>(
+    arrays: [(&'static str, Option<usize>); N],
+    vertex_count: usize,
+) -> Result<(), MeshError> {
+    match arrays
+        .into_iter()
+        .find_map(|(array, rows)| rows.filter(|&got| got != vertex_count).map(|got| (array, got)))
+    {
+        Some((array, got)) => Err(MeshError::AttributeLength {
+            array,
+            expected: vertex_count,
+            got,
+        }),
+        None => Ok(()),
+    }
 }
 
 /// Fails on the first normal row that is not finite or is zero.
