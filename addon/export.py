@@ -3,16 +3,20 @@
 texture set (PNG, KTX2, EXR) and a ``pelt.json`` manifest beside it (File > Export > Pelt Fur).
 
 Each object's bake comes from its cached pipeline, so exporting right after a bake re-runs
-nothing; an object whose bake fails is reported and nothing is written.
+nothing; an object whose bake fails is reported and nothing is written. Objects stand where they
+stand in the scene (turned to glTF's Y-up); an object deformed by an armature is exported skinned
+(``rig.py``): the armature's bones as joints, its active action as an animation, and the fur's
+shells and fins bound with the skin they stand on. Objects sharing an armature share its nodes.
 """
 
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import bpy
 import pelt
 from bpy_extras.io_utils import ExportHelper
 
-from . import bake
+from . import bake, rig
 
 ENGINE_HELP = (
     "The base mesh with PeltUV, color, length and comb attributes, the textures and a description "
@@ -49,16 +53,76 @@ def assets_of(objects) -> list:
     return assets
 
 
-def export_objects(objects, path: Path, *, mode: str, formats: list[str], fins: bool = True) -> dict:
+@dataclass
+class Rigging:
+    """``pelt.export_gltf``'s placement and skinning arguments for a list of objects."""
+
+    transforms: list = field(default_factory=list)
+    skins: list = field(default_factory=list)
+    skeletons: list = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+
+
+def rigging(objects, scene) -> Rigging:
+    """Each object's transform and, for an armature-deformed one, its skin; one skeleton per
+    armature."""
+    out = Rigging()
+    skeleton_of: dict[str, int] = {}
+    for obj in objects:
+        found = rig.gather(obj, scene)
+        if found is None:
+            out.transforms.append(rig.object_transform(obj))
+            out.skins.append(None)
+            continue
+        out.transforms.append(found.bind)
+        index = skeleton_of.get(found.armature)
+        if index is None:
+            index = skeleton_of[found.armature] = len(out.skeletons)
+            animations = [{"name": a.name, "times": a.times, "poses": a.poses} for a in found.animations]
+            out.skeletons.append(
+                {"names": found.names, "parents": found.parents, "rest": found.rest, "animations": animations}
+            )
+        out.skins.append({"skeleton": index, "joints": found.joints, "weights": found.weights})
+        out.notes.extend(f"{obj.name}: {note}" for note in found.notes)
+    return out
+
+
+def weight_notes(objects, reports) -> list[str]:
+    """What binding each skinned object changed, in words."""
+    notes = []
+    for obj, report in zip(objects, reports, strict=True):
+        if report and report["reduced"]:
+            notes.append(
+                f"{obj.name}: {report['reduced']} of {report['vertices']} vertices had more than 4 bones; "
+                "the 4 strongest were kept"
+            )
+    return notes
+
+
+def export_objects(
+    objects, path: Path, *, mode: str, formats: list[str], fins: bool = True, scene=None
+) -> tuple[dict, list[str]]:
     """Writes ``objects`` as ``path`` (a .glb) plus their texture set in ``path``'s folder (for
-    non-empty ``formats``); returns the manifest of the texture set (or an empty dict)."""
+    non-empty ``formats``); returns the manifest of the texture set (or an empty dict) and notes
+    on what the file cannot carry as Blender shows it."""
     assets = assets_of(objects)
     names = [obj.name for obj in objects]
+    rigs = rigging(objects, scene if scene is not None else bpy.context.scene)
     path.parent.mkdir(parents=True, exist_ok=True)
-    pelt.export_gltf(assets, path, mode=mode.lower(), name=names, fins=fins)
+    reports = pelt.export_gltf(
+        assets,
+        path,
+        mode=mode.lower(),
+        name=names,
+        fins=fins,
+        transform=rigs.transforms,
+        skin=rigs.skins,
+        skeletons=rigs.skeletons,
+    )
+    notes = rigs.notes + weight_notes(objects, reports)
     if not formats:
-        return {}
-    return pelt.write_texture_set(assets, path.parent, formats=formats, name=names)
+        return {}, notes
+    return pelt.write_texture_set(assets, path.parent, formats=formats, name=names), notes
 
 
 class PELT_OT_export(bpy.types.Operator, ExportHelper):
@@ -97,13 +161,17 @@ class PELT_OT_export(bpy.types.Operator, ExportHelper):
         formats = [name for name in ("png", "ktx2", "exr") if getattr(self, name)]
         path = Path(self.filepath)
         try:
-            export_objects(objects, path, mode=self.mode, formats=formats, fins=self.fins)
+            _, notes = export_objects(
+                objects, path, mode=self.mode, formats=formats, fins=self.fins, scene=context.scene
+            )
         except pelt.PeltError as error:
             self.report({"ERROR"}, f"Pelt: export failed, nothing written: {error}")
             return {"CANCELLED"}
         except OSError as error:
             self.report({"ERROR"}, f"Pelt: {error}")
             return {"CANCELLED"}
+        for note in notes:
+            self.report({"WARNING"}, f"Pelt: {note}")
         self.report({"INFO"}, f"Pelt: exported {len(objects)} object(s) to {path}")
         return {"FINISHED"}
 

@@ -31,9 +31,11 @@ def bake_file(addon, blend: Path, out: Path, modes: list[str], formats: list[str
         try:
             for mode in modes:
                 path = folder / f"{addon.export.file_stem(obj.name)}_{mode}.glb"
-                addon.export.export_objects(
+                _, notes = addon.export.export_objects(
                     [obj], path, mode=mode, formats=formats if mode == modes[0] else []
                 )
+            for note in notes:
+                print(f"{blend.name}: {obj.name}: note: {note}", flush=True)
         except Exception as error:  # any failure of one object must not stop the others
             failures.append(f"{blend.name}: {obj.name}: {error}")
             print(f"{blend.name}: {obj.name}: FAILED: {error}", flush=True)

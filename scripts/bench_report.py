@@ -22,6 +22,8 @@ GOALS = {
     "lapped.build.100k": 1.0,
     "export.gltf.engine": 1.0,
     "export.gltf.geometry": 3.0,
+    "export.gltf.skinned.engine": 1.0,
+    "export.gltf.skinned.geometry": 3.0,
     "reference.render@512x512": 60.0,
 }
 

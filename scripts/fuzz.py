@@ -27,6 +27,7 @@ PYTHON_TARGETS = (
     "spherical_harmonics",
     "build_patches",
     "pipeline",
+    "export_skin",
     "settings",
 )
 

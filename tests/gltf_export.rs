@@ -111,6 +111,8 @@ fn input<'a>(object: &'a Object, bake: &'a Bake) -> ExportInput<'a> {
         }),
         fur_depth: FUR_DEPTH,
         shells: None,
+        transform: Default::default(),
+        skin: None,
     }
 }
 
@@ -142,9 +144,9 @@ fn suzanne_and_a_scene_export_in_both_modes_and_read_back() {
             ..GltfOptions::default()
         };
         let single = dir.join(format!("suzanne_{}.glb", mode.name()));
-        save_glb(&single, &scene[..1], &options).unwrap();
+        save_glb(&single, &scene[..1], &[], &options).unwrap();
         let multi = dir.join(format!("scene_{}.glb", mode.name()));
-        save_glb(&multi, &scene, &options).unwrap();
+        save_glb(&multi, &scene, &[], &options).unwrap();
 
         if mode == GltfMode::Engine {
             // The base meshes come back welded to the vertices they were exported from.
@@ -161,5 +163,104 @@ fn suzanne_and_a_scene_export_in_both_modes_and_read_back() {
                 assert_eq!(got, want, "{}", object.name);
             }
         }
+    }
+}
+
+/// Suzanne bound to a two-bone skeleton under a Y-up armature node, with an animation that nods
+/// the upper bone, and a torus placed beside her: the skinned file the validator checks.
+#[test]
+fn a_skinned_character_and_a_placed_prop_export_in_both_modes() {
+    use glam::{Quat, Vec3};
+    use pelt::export::{Animation, Skeleton, SkeletonNode, SkinBinding, Transform};
+
+    let monkey = suzanne();
+    let character = Object::new("Character", &monkey.positions, &monkey.triangles, |_| false);
+    let (p, t) = torus(32, 16);
+    let prop = Object::new("Prop", &p, &t, |_| false);
+    let bake = bake();
+    let at = |translation: [f32; 3], rotation: Quat| Transform {
+        translation: Vec3::from(translation),
+        rotation,
+        scale: Vec3::ONE,
+    };
+    let nodes = vec![
+        SkeletonNode {
+            name: "Armature".into(),
+            parent: None,
+            rest: at([0.0; 3], Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2)),
+        },
+        SkeletonNode {
+            name: "Neck".into(),
+            parent: Some(0),
+            rest: at([0.0, 0.0, -1.0], Quat::IDENTITY),
+        },
+        SkeletonNode {
+            name: "Head".into(),
+            parent: Some(1),
+            rest: at([0.0, 0.0, 1.0], Quat::IDENTITY),
+        },
+    ];
+    let times = vec![0.0, 0.5, 1.0];
+    let poses = times
+        .iter()
+        .flat_map(|&t: &f32| {
+            let nod = at([0.0, 0.0, 1.0], Quat::from_rotation_x(0.6 * (t * 3.0).sin()));
+            [nodes[0].rest, nodes[1].rest, nod]
+        })
+        .collect();
+    let skeleton = Skeleton {
+        nodes,
+        animations: vec![Animation {
+            name: "Nod".into(),
+            times,
+            poses,
+        }],
+    };
+    // Blend from the neck (bottom) to the head (top) over Suzanne's height, plus a third, weak
+    // influence on the armature node.
+    let mut joints = Vec::new();
+    let mut weights = Vec::new();
+    for p in character.mesh.positions() {
+        let head = ((p[2] + 1.0) / 2.0).clamp(0.0, 1.0);
+        joints.extend([1u32, 2, 0]);
+        weights.extend([1.0 - head, head, 0.05]);
+    }
+    let skinned = ExportInput {
+        transform: at(
+            [0.0, 0.0, 0.0],
+            Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2),
+        ),
+        skin: Some(SkinBinding {
+            skeleton: 0,
+            influences: 3,
+            joints: &joints,
+            weights: &weights,
+        }),
+        ..input(&character, &bake)
+    };
+    let placed = ExportInput {
+        transform: at([3.0, 0.0, 0.0], Quat::from_rotation_y(0.3)),
+        ..input(&prop, &bake)
+    };
+    let dir = out_dir();
+    for mode in [GltfMode::Geometry, GltfMode::Engine] {
+        let options = GltfOptions {
+            mode,
+            ..GltfOptions::default()
+        };
+        let path = dir.join(format!("character_{}.glb", mode.name()));
+        let reports = save_glb(
+            &path,
+            &[skinned, placed],
+            std::slice::from_ref(&skeleton),
+            &options,
+        )
+        .unwrap();
+        let report = reports[0].unwrap();
+        assert_eq!(report.vertices, character.mesh.vertex_count());
+        // Every vertex summed 1.05.
+        assert_eq!(report.renormalized, report.vertices);
+        assert_eq!(report.reduced, 0);
+        assert!(reports[1].is_none());
     }
 }

@@ -552,6 +552,40 @@ class Preview:
 # Exports of baked assets (glTF 2.0 binaries, texture sets, asset folders; schema in docs/export.md).
 
 GltfMode = Literal["engine", "geometry"]
+
+
+class SkinBinding(TypedDict):
+    """One object's binding to ``skeletons[skeleton]``: ``joints`` ``[V, K]`` node indices and
+    ``weights`` ``[V, K]`` (non-negative; zero weights are ignored; every vertex needs one)."""
+
+    skeleton: int
+    joints: npt.ArrayLike
+    weights: npt.ArrayLike
+
+class AnimationDict(TypedDict):
+    """Sampled animation: ``times`` ``[T]`` seconds (increasing), ``poses`` ``[T, N, 4, 4]``
+    every node's matrix relative to its parent, row-major."""
+
+    name: str
+    times: npt.ArrayLike
+    poses: npt.ArrayLike
+
+class SkeletonDict(TypedDict, total=False):
+    """A node hierarchy: ``names`` ``[N]``, ``parents`` ``[N]`` (-1 for a root), ``rest``
+    ``[N, 4, 4]`` matrices relative to the parent, row-major; optional ``animations``."""
+
+    names: Sequence[str]
+    parents: npt.ArrayLike
+    rest: npt.ArrayLike
+    animations: Sequence[AnimationDict]
+
+class WeightReport(TypedDict):
+    """What binding an object changed: ``vertices`` bound, ``reduced`` (more than four joints,
+    the strongest four kept), ``renormalized`` (weights that did not sum to 1)."""
+
+    vertices: int
+    reduced: int
+    renormalized: int
 TextureFormat = Literal["png", "ktx2", "exr"]
 
 class ManifestFile(TypedDict, total=False):
@@ -591,13 +625,22 @@ def export_gltf(
     name: str | Sequence[str] | None = None,
     fins: bool = True,
     shells: int | None = None,
-) -> None:
+    transform: npt.ArrayLike | Sequence[npt.ArrayLike | None] | None = None,
+    skin: SkinBinding | Sequence[SkinBinding | None] | None = None,
+    skeletons: Sequence[SkeletonDict] | None = None,
+) -> list[WeightReport | None]:
     """Write ``asset`` (one, or several as one node each, named by ``name``; default ``Object``,
     ``Object.1``, ...) as a glTF binary (GIL released). ``mode="geometry"`` bakes the shells (one
     primitive each, ``shells`` of them, default every layer above the skin) and the fins
     (``fins``) into alpha-blended meshes any viewer shows; ``"engine"`` writes the base mesh with
     ``TEXCOORD_1`` = PeltUV, ``COLOR_0``, ``_PELT_LENGTH``, ``_PELT_COMB``, ``_PELT_DPDU``,
-    ``_PELT_DPDV``, the atlases and the stack description in ``meshes[i].extras.pelt``."""
+    ``_PELT_DPDV``, the atlases and the stack description in ``meshes[i].extras.pelt``.
+
+    ``transform`` places each object (a 4×4 row-major matrix, translation in the last column, or
+    one per object). ``skeletons`` are node hierarchies with sampled animations; ``skin`` binds an
+    object to one of them (per vertex ``K`` joints and weights; the four strongest are kept and
+    normalized). A skinned object's shells and fins carry the weights of the skin vertex they
+    stand on. Returns per object what binding it changed (``None`` for an unskinned object)."""
 
 def write_texture_set(
     asset: FurAsset | Sequence[FurAsset],

@@ -51,6 +51,8 @@ impl<'a> ExportInput<'a> {
             }),
             fur_depth: asset.params.fur_depth(),
             shells: None,
+            transform: Default::default(),
+            skin: None,
         }
     }
 }
@@ -87,6 +89,7 @@ pub fn write_asset_files(
     for &mode in &options.modes {
         let glb = encode_glb(
             objects,
+            &[],
             &GltfOptions {
                 mode,
                 fins: options.fins,

@@ -14,6 +14,8 @@ use crate::volume::HairVolume;
 
 use crate::mesh::MAX_FUR_DEPTH;
 
+use super::rig::{SkinBinding, Transform};
+
 /// The packed transfer textures of one object (see [`crate::prt::pack`]).
 #[derive(Debug, Clone, Copy)]
 pub struct TransferTextures<'a> {
@@ -44,6 +46,11 @@ pub struct ExportInput<'a> {
     /// Shells baked into geometry (`geometry` mode) and recommended to engines; `None` means every
     /// layer above the skin (`layers − 1`, at least 1).
     pub shells: Option<usize>,
+    /// Where the object stands in the scene (the glTF node's transform). For a skinned object
+    /// the pose at which the skin was bound: its node stays at the origin and the joints place it.
+    pub transform: Transform,
+    /// The object's binding to one of the export's skeletons, if it is skinned.
+    pub skin: Option<SkinBinding<'a>>,
 }
 
 /// Most characters of an object name.
@@ -65,11 +72,12 @@ impl ExportInput<'_> {
     }
 
     /// Checks the name, the UVs against the mesh, the volume's arrays against its sizes, the
-    /// transfer textures against the volume, the fur depth and the shell count.
+    /// transfer textures against the volume, the fur depth, the shell count and the transform (the
+    /// skin binding is checked against the skeletons by the glTF export).
     ///
     /// # Errors
     /// [`PeltError::InvalidParameter`] naming `name`, `corner_uvs`, the `volume.*` array,
-    /// `transfer.*`, `fur_depth` or `shells`.
+    /// `transfer.*`, `fur_depth`, `shells` or `transform`.
     pub fn validate(&self) -> Result<()> {
         let chars = self.name.chars().count();
         if !(1..=MAX_NAME_CHARS).contains(&chars) || self.name.chars().any(char::is_control) {
@@ -100,7 +108,7 @@ impl ExportInput<'_> {
                 format!("must be in 1..={MAX_SHELLS}, got {shells}"),
             ));
         }
-        Ok(())
+        self.transform.validate("transform")
     }
 }
 

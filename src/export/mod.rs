@@ -31,6 +31,7 @@ pub mod ktx2;
 pub mod manifest;
 pub mod mip;
 pub mod png;
+pub mod rig;
 mod stack_png;
 pub mod staging;
 pub mod texture_set;
@@ -52,6 +53,7 @@ pub use ktx2::{Ktx2Format, Ktx2Texture, save_ktx2, write_ktx2};
 pub use manifest::{MANIFEST_NAME, Manifest, ManifestFile, ManifestObject};
 pub use mip::{MipAlpha, MipLevels, MipOptions, full_mip_count, mip_chain_rgba8, mip_chain_rgba16f};
 pub use png::{PngCompression, PngOptions, PngSample, save_png, write_png};
+pub use rig::{Animation, Skeleton, SkeletonNode, SkinBinding, Transform, WeightReport};
 pub use staging::StagedFolder;
 pub use texture_set::{TextureFormats, write_texture_set};
 

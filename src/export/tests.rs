@@ -11,6 +11,7 @@ mod image;
 mod ktx2;
 mod mip;
 mod png;
+mod rig;
 mod texture_set;
 
 use crate::error::PeltError;

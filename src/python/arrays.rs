@@ -84,7 +84,7 @@ fn dtype_name(array: &Bound<'_, PyUntypedArray>) -> String {
 /// `array` as a C-contiguous `T` array, borrowed if it already is one, else converted by numpy.
 fn contiguous<'py, T: Element>(
     array: &Bound<'py, PyUntypedArray>,
-    name: &'static str,
+    name: &str,
     numpy_dtype: &str,
 ) -> PyResult<PyReadonlyArrayDyn<'py, T>> {
     let py = array.py();
@@ -222,7 +222,7 @@ pub(super) fn narrow_indices(wide: &[[i64; 3]], vertex_count: usize) -> Result<V
 /// `pelt.InvalidParameterError` naming `name`.
 pub(super) fn float_ndarray<'py>(
     obj: &Bound<'py, PyAny>,
-    name: &'static str,
+    name: &str,
     expected: &str,
     fits: impl Fn(&[usize]) -> bool,
 ) -> PyResult<(PyReadonlyArrayDyn<'py, f32>, Vec<usize>)> {
@@ -257,4 +257,49 @@ pub(super) fn float_ndarray<'py>(
         .into());
     }
     Ok((contiguous::<f32>(&array, name, "float32")?, shape))
+}
+
+/// Reads an integer array whose shape passes `fits` (described by `expected`) as `uint32`
+/// values; any other shape or dtype, or a value outside `[0, 4294967295]`, raises
+/// `pelt.InvalidParameterError` naming `name`.
+pub(super) fn uint_ndarray(
+    obj: &Bound<'_, PyAny>,
+    name: &str,
+    expected: &str,
+    fits: impl Fn(&[usize]) -> bool,
+) -> PyResult<(Vec<u32>, Vec<usize>)> {
+    let numpy = obj.py().import("numpy")?;
+    let array = numpy
+        .call_method1("asarray", (obj,))
+        .and_then(|a| Ok(a.cast_into::<PyUntypedArray>()?))
+        .map_err(|e| PeltError::parameter(name, format!("must be an array of shape {expected} ({e})")))?;
+    let shape = array.shape().to_vec();
+    if !fits(&shape) {
+        return Err(PeltError::parameter(
+            name,
+            format!("must have shape {expected}, got {}", shape_text(&shape)),
+        )
+        .into());
+    }
+    if !matches!(array.dtype().kind(), b'i' | b'u') {
+        return Err(PeltError::parameter(
+            name,
+            format!("must hold integers, got dtype {}", dtype_name(&array)),
+        )
+        .into());
+    }
+    // Widened first, so that negative or too large values are reported, not wrapped.
+    let wide = contiguous::<i64>(&array, name, "int64")?;
+    let values = flat(&wide)?;
+    if let Some(at) = values
+        .iter()
+        .position(|&v| !(0..=i64::from(u32::MAX)).contains(&v))
+    {
+        return Err(PeltError::parameter(
+            name,
+            format!("entry {at} is {}, outside [0, 4294967295]", values[at]),
+        )
+        .into());
+    }
+    Ok((values.iter().map(|&v| v as u32).collect(), shape))
 }

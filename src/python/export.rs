@@ -15,7 +15,8 @@ use crate::error::PeltError;
 use crate::export::atlas::{AtlasLayout, pack_atlas};
 use crate::export::{
     AssetOptions, ExportInput, ExrOptions, GltfMode, GltfOptions, ImageRef, Manifest, PngCompression,
-    PngOptions, TextureFormats, save_exr, save_glb, save_png, write_asset, write_png, write_texture_set,
+    PngOptions, Skeleton, SkinBinding, TextureFormats, save_exr, save_glb, save_png, write_asset, write_png,
+    write_texture_set,
 };
 use crate::pipeline::FurAsset;
 
@@ -266,24 +267,54 @@ fn manifest_object<'py>(py: Python<'py>, manifest: &Manifest) -> PyResult<Bound<
 
 /// Writes ``asset`` (a ``FurAsset`` or a sequence of them, one glTF node each, named by ``name``)
 /// as a glTF binary: ``mode="engine"`` (base mesh, Pelt's attributes, atlases, stack description
-/// in ``extras``) or ``"geometry"`` (shells and fins as meshes). GIL released.
+/// in ``extras``) or ``"geometry"`` (shells and fins as meshes). ``transform`` places each object
+/// (4×4 row-major); ``skeletons`` (dicts of ``names``, ``parents``, ``rest``, ``animations``) and
+/// ``skin`` (per object ``None`` or ``{"skeleton", "joints", "weights"}``) make skinned,
+/// animated characters. Returns per object what the binding changed (``None`` when unskinned).
+/// GIL released.
 #[pyfunction(name = "export_gltf")]
-#[pyo3(signature = (asset, path, *, mode="engine", name=None, fins=true, shells=None))]
-pub(super) fn export_gltf_py(
-    py: Python<'_>,
-    asset: &Bound<'_, PyAny>,
+#[pyo3(signature = (asset, path, *, mode="engine", name=None, fins=true, shells=None, transform=None, skin=None, skeletons=None))]
+#[allow(clippy::too_many_arguments)]
+pub(super) fn export_gltf_py<'py>(
+    py: Python<'py>,
+    asset: &Bound<'py, PyAny>,
     path: PathBuf,
     mode: &str,
-    name: Option<&Bound<'_, PyAny>>,
+    name: Option<&Bound<'py, PyAny>>,
     fins: bool,
     shells: Option<i128>,
-) -> PyResult<()> {
+    transform: Option<&Bound<'py, PyAny>>,
+    skin: Option<&Bound<'py, PyAny>>,
+    skeletons: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyAny>> {
     let shells: Option<usize> = super::ints::unsigned_opt("shells", shells)?;
     let mode = GltfMode::parse(mode)?;
     let assets = assets_and_names(asset, name)?;
-    detached(py, || {
-        save_glb(&path, &inputs(&assets, shells), &GltfOptions { mode, fins })
-    })
+    let transforms = super::rig::object_transforms(transform, assets.len())?;
+    let skins = super::rig::object_skins(skin, assets.len())?;
+    let skeletons: Vec<Skeleton> = match skeletons.filter(|s| !s.is_none()) {
+        None => Vec::new(),
+        Some(list) => list
+            .try_iter()?
+            .enumerate()
+            .map(|(s, entry)| super::rig::skeleton(&entry?, &format!("skeletons[{s}]")))
+            .collect::<PyResult<_>>()?,
+    };
+    let mut objects = inputs(&assets, shells);
+    for ((input, transform), skin) in objects.iter_mut().zip(transforms).zip(&skins) {
+        input.transform = transform;
+        input.skin = skin.as_ref().map(|s| SkinBinding {
+            skeleton: s.skeleton,
+            influences: s.influences,
+            joints: &s.joints,
+            weights: &s.weights,
+        });
+    }
+    let reports = detached(py, || {
+        save_glb(&path, &objects, &skeletons, &GltfOptions { mode, fins })
+    })?;
+    let json = serde_json::to_string(&reports).map_err(|e| PeltError::Internal(format!("report: {e}")))?;
+    py.import("json")?.call_method1("loads", (json,))
 }
 
 /// Writes the texture set of ``asset`` (one or a sequence, named by ``name``) into ``folder`` in

@@ -17,6 +17,7 @@ mod prt;
 mod reference;
 #[cfg(feature = "render")]
 mod render;
+mod rig;
 mod volume;
 
 use std::panic::{AssertUnwindSafe, catch_unwind};

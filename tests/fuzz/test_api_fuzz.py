@@ -237,6 +237,77 @@ def test_pipeline(tile, depth, layers, resolution, order, directions, transfer, 
     check(bake)
 
 
+_ASSET = []
+
+
+def octahedron_asset():
+    """One small bake of the octahedron, made once, that the skin fuzz exports."""
+    if not _ASSET:
+        kwargs = dict(tile_size=0.8, layers=3, resolution=8, fin_size=(16, 8), transfer=False)
+        _ASSET.append(pelt.Pipeline().bake(octahedron(), hair=pelt.HairParams(density=256), **kwargs))
+    return _ASSET[0]
+
+
+def rotation_matrix(angle, shift, scale):
+    c, s = np.cos(angle) * scale, np.sin(angle) * scale
+    return [[c, -s, 0, shift], [s, c, 0, 0], [0, 0, scale, 0], [0, 0, 0, 1]]
+
+
+VALID_MATRIX = st.builds(rotation_matrix, st.floats(-3, 3), st.floats(-2, 2), st.floats(0.1, 3))
+WILD_MATRIX = st.lists(st.lists(NUMBERS, min_size=4, max_size=4), min_size=4, max_size=4)
+
+
+def matrices(count, wild):
+    """``count`` 4×4 matrices of rotations, scales and translations, or (``wild``) of anything."""
+    return st.lists(WILD_MATRIX if wild else VALID_MATRIX, min_size=count, max_size=count)
+
+
+SKIN_PARTS = ("parents", "joints", "weights", "times", "rest", "poses", "transform")
+
+
+@FUZZ
+@given(
+    nodes=st.integers(1, 4),
+    data=st.data(),
+    influences=st.integers(1, 6),
+    broken=st.sampled_from((None,) * len(SKIN_PARTS) + SKIN_PARTS),
+    mode=st.sampled_from(["engine", "geometry"]),
+)
+def test_export_skin(tmp_path_factory, nodes, data, influences, broken, mode):
+    """Half the cases are valid throughout (so the export runs); the others break one part."""
+
+    def part(name, valid, wild):
+        return data.draw(wild if broken == name else valid)
+
+    vertices, count = 6, 6 * influences
+    # A tree: each parent before its child.
+    parents = [part("parents", st.integers(-1, j - 1), INTEGERS) for j in range(nodes)]
+    joints = part("joints", st.lists(st.integers(0, nodes - 1), min_size=count, max_size=count),
+                  st.lists(INTEGERS, min_size=count, max_size=count))  # fmt: skip
+    weights = part("weights", st.lists(st.floats(0.01, 1), min_size=count, max_size=count),
+                   st.lists(NUMBERS, min_size=count, max_size=count))  # fmt: skip
+    times = part("times", st.lists(st.integers(0, 100), min_size=1, max_size=3, unique=True).map(
+        lambda t: [x / 30 for x in sorted(t)]), st.lists(NUMBERS, min_size=1, max_size=3))  # fmt: skip
+    poses = data.draw(matrices(len(times) * nodes, broken == "poses"))
+    skeleton = {
+        "names": [f"n{j}" for j in range(nodes)],
+        "parents": parents,
+        "rest": data.draw(matrices(nodes, broken == "rest")),
+        "animations": [{"name": "a", "times": times, "poses": np.reshape(poses, (len(times), nodes, 4, 4))}],
+    }
+    skin = {
+        "skeleton": 0,
+        "joints": np.reshape(np.array(joints), (vertices, influences)),
+        "weights": np.reshape(weights, (vertices, influences)),
+    }
+    transform = data.draw(matrices(1, broken == "transform"))[0]
+    path = tmp_path_factory.mktemp("skin") / "x.glb"
+    asset = octahedron_asset()
+    check(
+        lambda: pelt.export_gltf(asset, path, mode=mode, transform=transform, skin=skin, skeletons=[skeleton])
+    )
+
+
 @FUZZ
 @given(limit=st.one_of(st.none(), NUMBERS, INTEGERS), threads=INTEGERS)
 def test_settings(limit, threads):

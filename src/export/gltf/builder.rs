@@ -114,10 +114,26 @@ impl GlbBuilder {
         values: &[[f32; N]],
         bounds: bool,
     ) -> json::Index<json::Accessor> {
+        self.floats(values, bounds, Some(json::buffer::Target::ArrayBuffer))
+    }
+
+    /// Float data that is not a vertex attribute (inverse bind matrices, animation samples), `N`
+    /// in 1..=4 or 16 (a column-major 4×4 matrix).
+    pub fn data<const N: usize>(&mut self, values: &[[f32; N]], bounds: bool) -> json::Index<json::Accessor> {
+        self.floats(values, bounds, None)
+    }
+
+    fn floats<const N: usize>(
+        &mut self,
+        values: &[[f32; N]],
+        bounds: bool,
+        target: Option<json::buffer::Target>,
+    ) -> json::Index<json::Accessor> {
         let kind = match N {
             1 => json::accessor::Type::Scalar,
             2 => json::accessor::Type::Vec2,
             3 => json::accessor::Type::Vec3,
+            16 => json::accessor::Type::Mat4,
             _ => json::accessor::Type::Vec4,
         };
         let bytes: Vec<u8> = values.iter().flatten().flat_map(|v| v.to_le_bytes()).collect();
@@ -132,13 +148,26 @@ impl GlbBuilder {
             }
             (serde_json::json!(lo.to_vec()), serde_json::json!(hi.to_vec()))
         });
-        let view = self.view(&bytes, Some(json::buffer::Target::ArrayBuffer));
+        let view = self.view(&bytes, target);
         self.accessor(
             view,
             values.len(),
             json::accessor::ComponentType::F32,
             kind,
             bounds,
+        )
+    }
+
+    /// `JOINTS_0`: four unsigned-short node indices per vertex.
+    pub fn joints(&mut self, values: &[[u16; 4]]) -> json::Index<json::Accessor> {
+        let bytes: Vec<u8> = values.iter().flatten().flat_map(|v| v.to_le_bytes()).collect();
+        let view = self.view(&bytes, Some(json::buffer::Target::ArrayBuffer));
+        self.accessor(
+            view,
+            values.len(),
+            json::accessor::ComponentType::U16,
+            json::accessor::Type::Vec4,
+            None,
         )
     }
 

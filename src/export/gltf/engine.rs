@@ -16,14 +16,17 @@ use super::super::description::StackDescription;
 use super::super::input::ExportInput;
 use super::super::stack_png::{StackImage, encode_all};
 use super::builder::{GlbBuilder, SamplerKind};
+use super::rig::skin_attributes;
 use super::vertices::SplitVertices;
 use super::{EngineTextures, Primitive, material, pelt_extras};
 use crate::error::Result;
+use crate::export::rig::VertexWeights;
 
 /// Adds `input` as one mesh with the engine attributes, images and extras, and returns it.
 pub(super) fn add_object(
     builder: &mut GlbBuilder,
     input: &ExportInput<'_>,
+    weights: Option<&VertexWeights>,
 ) -> Result<json::Index<json::Mesh>> {
     let v = SplitVertices::new(input)?;
     v.check_derivatives()?;
@@ -67,7 +70,7 @@ pub(super) fn add_object(
         color: builder.attribute(&v.colors, false),
     };
     let lengths: Vec<[f32; 1]> = v.lengths.iter().map(|&l| [l]).collect();
-    let extra = [
+    let mut extra = vec![
         (Semantic::TexCoords(1), base.uv),
         (
             Semantic::Extras("PELT_LENGTH".into()),
@@ -86,6 +89,12 @@ pub(super) fn add_object(
             builder.attribute(&v.split.dpdv, false),
         ),
     ];
+    if let Some(weights) = weights {
+        let source = &v.split.source;
+        extra.extend(skin_attributes(builder, weights, source.len(), |i| {
+            source[i] as usize
+        }));
+    }
     let skin = material(
         builder,
         format!("{} skin", input.name),

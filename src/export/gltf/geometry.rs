@@ -16,9 +16,11 @@ use super::super::description::StackDescription;
 use super::super::input::ExportInput;
 use super::super::stack_png::{StackImage, encode_all};
 use super::builder::{GlbBuilder, SamplerKind};
+use super::rig::skin_attributes;
 use super::vertices::{SplitVertices, check_lifted};
 use super::{Primitive, material, pelt_extras};
 use crate::error::Result;
+use crate::export::rig::VertexWeights;
 use crate::mesh::shell_offset::{lifted, shell_layer};
 use crate::mesh::{fin_quads, quad_triangles};
 use crate::threads::pool;
@@ -28,6 +30,7 @@ pub(super) fn add_object(
     builder: &mut GlbBuilder,
     input: &ExportInput<'_>,
     fins: bool,
+    weights: Option<&VertexWeights>,
 ) -> Result<json::Index<json::Mesh>> {
     let v = SplitVertices::new(input)?;
     let volume = input.volume;
@@ -59,9 +62,14 @@ pub(super) fn add_object(
         color: builder.attribute(&v.colors, false),
     };
     let name = input.name;
+    // The shells share the skin's joints and weights: a lifted vertex moves with its root.
+    let source = &v.split.source;
+    let skinned: Vec<_> = weights
+        .map(|w| skin_attributes(builder, w, source.len(), |i| source[i] as usize).to_vec())
+        .unwrap_or_default();
     let skin_material = material(builder, format!("{name} skin"), texture_of(0), 0, false, false);
     let skin_indices = builder.indices(&v.split.indices);
-    let mut primitives = vec![shared.primitive(skin_indices, skin_material, &[])];
+    let mut primitives = vec![shared.primitive(skin_indices, skin_material, &skinned)];
 
     let furred = v.furred_indices();
     if !furred.is_empty() {
@@ -105,12 +113,12 @@ pub(super) fn add_object(
                 position: builder.attribute(positions, true),
                 ..shared
             };
-            primitives.push(shell.primitive(furred, material, &[]));
+            primitives.push(shell.primitive(furred, material, &skinned));
         }
     }
 
     if fins {
-        let fin = fin_primitive(builder, input, &v, fin_png)?;
+        let fin = fin_primitive(builder, input, &v, fin_png, weights)?;
         primitives.extend(fin);
     }
 
@@ -133,6 +141,7 @@ fn fin_primitive(
     input: &ExportInput<'_>,
     v: &SplitVertices,
     fin_png: Vec<u8>,
+    weights: Option<&VertexWeights>,
 ) -> Result<Option<json::mesh::Primitive>> {
     let mesh = input.mesh;
     let lengths = SplitVertices::mesh_lengths(input);
@@ -187,7 +196,11 @@ fn fin_primitive(
         uv: builder.attribute(&uv, false),
         color: builder.attribute(&col, false),
     };
+    // Each fin vertex moves with the edge end it stands on.
+    let skinned: Vec<_> = weights
+        .map(|w| skin_attributes(builder, w, pos.len(), |i| quads[i / 4].vertices[i % 2] as usize).to_vec())
+        .unwrap_or_default();
     let material = material(builder, format!("{} fins", input.name), texture, 0, true, true);
     let indices = builder.indices(&indices);
-    Ok(Some(fin.primitive(indices, material, &[])))
+    Ok(Some(fin.primitive(indices, material, &skinned)))
 }

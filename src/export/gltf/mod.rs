@@ -12,6 +12,7 @@
 mod builder;
 mod engine;
 mod geometry;
+mod rig;
 mod vertices;
 
 pub use builder::glb_container;
@@ -25,6 +26,7 @@ use serde::{Deserialize, Serialize};
 
 use super::description::StackDescription;
 use super::input::ExportInput;
+use super::rig::{Skeleton, VertexWeights, WeightReport, validate_skeletons};
 use super::save_to_path;
 use crate::error::{PeltError, Result};
 use builder::GlbBuilder;
@@ -84,46 +86,119 @@ impl Default for GltfOptions {
     }
 }
 
-/// The GLB of `objects` (one node and mesh each, in order).
+/// The GLB of `objects` (one node and mesh each, in order) and `skeletons` (their nodes,
+/// skins and animations) in one scene.
 ///
 /// # Errors
 /// [`PeltError::InvalidParameter`] naming `objects` when there is none or the file would exceed
-/// 4 GiB, or `objects[i].<field>` for a field [`ExportInput::validate`] rejects.
-pub fn encode_glb(objects: &[ExportInput<'_>], options: &GltfOptions) -> Result<Vec<u8>> {
+/// 4 GiB, `objects[i].<field>` for a field [`ExportInput::validate`] or
+/// [`crate::export::rig::SkinBinding::validate`] rejects, or `skeletons[s].<field>`.
+pub fn encode_glb(
+    objects: &[ExportInput<'_>],
+    skeletons: &[Skeleton],
+    options: &GltfOptions,
+) -> Result<Vec<u8>> {
+    encode(objects, skeletons, options).map(|(bytes, _)| bytes)
+}
+
+/// [`encode_glb`] into a new file at `path`; returns, per object, what binding it to its
+/// skeleton changed (`None` for an object without skin).
+///
+/// # Errors
+/// As [`encode_glb`]; I/O failures name `path`. Nothing is written when the input is invalid.
+pub fn save_glb(
+    path: impl AsRef<Path>,
+    objects: &[ExportInput<'_>],
+    skeletons: &[Skeleton],
+    options: &GltfOptions,
+) -> Result<Vec<Option<WeightReport>>> {
+    let (bytes, reports) = encode(objects, skeletons, options)?;
+    save_to_path(path.as_ref(), |out| {
+        std::io::Write::write_all(out, &bytes).map_err(super::writer_error)
+    })?;
+    Ok(reports)
+}
+
+/// The four strongest influences of every skinned object's vertices, after checking its binding.
+fn reduced_weights(
+    objects: &[ExportInput<'_>],
+    skeletons: &[Skeleton],
+) -> Result<Vec<Option<VertexWeights>>> {
+    objects
+        .iter()
+        .enumerate()
+        .map(|(i, input)| {
+            input
+                .skin
+                .map(|skin| {
+                    skin.validate(input.mesh.vertex_count(), skeletons)?;
+                    Ok(skin.reduce())
+                })
+                .transpose()
+                .map_err(|e| in_object(i, input.name, e))
+        })
+        .collect()
+}
+
+fn encode(
+    objects: &[ExportInput<'_>],
+    skeletons: &[Skeleton],
+    options: &GltfOptions,
+) -> Result<(Vec<u8>, Vec<Option<WeightReport>>)> {
     validate_objects(objects)?;
+    validate_skeletons(skeletons)?;
+    let weights = reduced_weights(objects, skeletons)?;
     let mut builder = GlbBuilder::new();
-    let mut nodes = Vec::with_capacity(objects.len());
-    for (i, input) in objects.iter().enumerate() {
+    let mut scene_nodes = Vec::with_capacity(objects.len());
+    for (i, (input, weights)) in objects.iter().zip(&weights).enumerate() {
         let mesh = match options.mode {
-            GltfMode::Geometry => geometry::add_object(&mut builder, input, options.fins),
-            GltfMode::Engine => engine::add_object(&mut builder, input),
+            GltfMode::Geometry => geometry::add_object(&mut builder, input, options.fins, weights.as_ref()),
+            GltfMode::Engine => engine::add_object(&mut builder, input, weights.as_ref()),
         }
         .map_err(|e| in_object(i, input.name, e))?;
-        nodes.push(builder.root.push(json::Node {
+        // A skinned node stays at the origin: its joints place it.
+        let transform = if input.skin.is_some() {
+            super::rig::Transform::IDENTITY
+        } else {
+            input.transform
+        };
+        scene_nodes.push(builder.root.push(json::Node {
             mesh: Some(mesh),
-            name: Some(input.name.into()),
-            ..json::Node::default()
+            ..rig::placed_node(input.name, &transform)
         }));
+    }
+    let object_nodes = scene_nodes.clone();
+    let mut skeleton_nodes = Vec::with_capacity(skeletons.len());
+    for skeleton in skeletons {
+        let (nodes, roots) = rig::add_skeleton(&mut builder, skeleton);
+        scene_nodes.extend(roots);
+        skeleton_nodes.push(nodes);
+    }
+    for (input, node) in objects.iter().zip(object_nodes) {
+        if let Some(binding) = input.skin {
+            let s = binding.skeleton;
+            let skin = rig::add_skin(
+                &mut builder,
+                input.name,
+                &skeletons[s],
+                &skeleton_nodes[s],
+                &input.transform,
+            );
+            builder.root.nodes[node.value()].skin = Some(skin);
+        }
+    }
+    for (skeleton, nodes) in skeletons.iter().zip(&skeleton_nodes) {
+        rig::add_animations(&mut builder, skeleton, nodes);
     }
     let scene = builder.root.push(json::Scene {
         extensions: None,
         extras: None,
         name: Some("Pelt".into()),
-        nodes,
+        nodes: scene_nodes,
     });
     builder.root.scene = Some(scene);
-    builder.finish()
-}
-
-/// [`encode_glb`] into a new file at `path`.
-///
-/// # Errors
-/// As [`encode_glb`]; I/O failures name `path`. Nothing is written when the input is invalid.
-pub fn save_glb(path: impl AsRef<Path>, objects: &[ExportInput<'_>], options: &GltfOptions) -> Result<()> {
-    let bytes = encode_glb(objects, options)?;
-    save_to_path(path.as_ref(), |out| {
-        std::io::Write::write_all(out, &bytes).map_err(super::writer_error)
-    })
+    let reports = weights.iter().map(|w| w.as_ref().map(|w| w.report)).collect();
+    Ok((builder.finish()?, reports))
 }
 
 /// Checks that there is at least one object and each is valid, naming the object at fault.

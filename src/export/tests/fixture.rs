@@ -99,6 +99,8 @@ impl Fixture {
             }),
             fur_depth: FUR_DEPTH,
             shells: None,
+            transform: Default::default(),
+            skin: None,
         }
     }
 }

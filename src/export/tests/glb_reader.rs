@@ -54,6 +54,7 @@ impl Glb {
             "VEC2" => 2,
             "VEC3" => 3,
             "VEC4" => 4,
+            "MAT4" => 16,
             other => panic!("type {other}"),
         };
         let count = a["count"].as_u64().unwrap() as usize;
@@ -65,6 +66,17 @@ impl Glb {
                     .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
                     .collect()
             })
+            .collect()
+    }
+
+    /// An unsigned-short VEC4 accessor's elements (`JOINTS_0`).
+    pub fn joints(&self, accessor: usize) -> Vec<[u16; 4]> {
+        let a = &self.json["accessors"][accessor];
+        assert_eq!(a["componentType"], 5123);
+        assert_eq!(a["type"], "VEC4");
+        let data = self.view(a["bufferView"].as_u64().unwrap() as usize);
+        data.chunks_exact(8)
+            .map(|e| std::array::from_fn(|k| u16::from_le_bytes([e[2 * k], e[2 * k + 1]])))
             .collect()
     }
 

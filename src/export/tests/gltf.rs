@@ -62,7 +62,7 @@ fn base_color_image(glb: &Glb, material: &Value) -> usize {
 fn geometry_mode_places_shells_and_fins_where_the_offset_formula_says() {
     let fx = Fixture::new();
     let input = fx.input("Sphere");
-    let glb = Glb::parse(&encode_glb(&[input], &options(GltfMode::Geometry)).unwrap());
+    let glb = Glb::parse(&encode_glb(&[input], &[], &options(GltfMode::Geometry)).unwrap());
     let json = &glb.json;
     let (mesh, volume) = (&fx.mesh, &fx.volume);
     let (l, r) = (volume.layers, volume.resolution);
@@ -194,7 +194,7 @@ fn geometry_mode_places_shells_and_fins_where_the_offset_formula_says() {
 #[test]
 fn engine_mode_carries_attributes_atlases_and_the_stack_description() {
     let fx = Fixture::new();
-    let glb = Glb::parse(&encode_glb(&[fx.input("Sphere")], &options(GltfMode::Engine)).unwrap());
+    let glb = Glb::parse(&encode_glb(&[fx.input("Sphere")], &[], &options(GltfMode::Engine)).unwrap());
     let json = &glb.json;
     let (mesh, volume) = (&fx.mesh, &fx.volume);
     let (l, r) = (volume.layers, volume.resolution);
@@ -282,8 +282,8 @@ fn several_objects_become_nodes_and_share_identical_images() {
     let (a, mut b) = (fx.input("Left"), fx.input("Right"));
     b.shells = Some(2);
     for mode in [GltfMode::Engine, GltfMode::Geometry] {
-        let one = Glb::parse(&encode_glb(&[a], &options(mode)).unwrap());
-        let two = Glb::parse(&encode_glb(&[a, b], &options(mode)).unwrap());
+        let one = Glb::parse(&encode_glb(&[a], &[], &options(mode)).unwrap());
+        let two = Glb::parse(&encode_glb(&[a, b], &[], &options(mode)).unwrap());
         let json = &two.json;
         assert_eq!(json["scenes"][0]["nodes"], serde_json::json!([0, 1]));
         assert_eq!(json["nodes"][0]["name"], "Left");
@@ -313,10 +313,10 @@ fn output_is_byte_identical_across_runs_and_thread_counts() {
     let fx = Fixture::new();
     let objects = [fx.input("A"), fx.input("B")];
     for mode in [GltfMode::Engine, GltfMode::Geometry] {
-        let once = encode_glb(&objects, &options(mode)).unwrap();
-        assert_eq!(once, encode_glb(&objects, &options(mode)).unwrap());
-        let one = with_threads(1, || encode_glb(&objects, &options(mode)).unwrap());
-        let two = with_threads(2, || encode_glb(&objects, &options(mode)).unwrap());
+        let once = encode_glb(&objects, &[], &options(mode)).unwrap();
+        assert_eq!(once, encode_glb(&objects, &[], &options(mode)).unwrap());
+        let one = with_threads(1, || encode_glb(&objects, &[], &options(mode)).unwrap());
+        let two = with_threads(2, || encode_glb(&objects, &[], &options(mode)).unwrap());
         assert_eq!(one, once);
         assert_eq!(two, once);
     }
@@ -327,13 +327,13 @@ fn bad_objects_are_named() {
     let fx = Fixture::new();
     let good = fx.input("Good");
     let engine = options(GltfMode::Engine);
-    assert_eq!(parameter_name(encode_glb(&[], &engine)), "objects");
+    assert_eq!(parameter_name(encode_glb(&[], &[], &engine)), "objects");
     let short = ExportInput {
         corner_uvs: &fx.uvs[1..],
         ..good
     };
     assert_eq!(
-        parameter_name(encode_glb(&[good, short], &engine)),
+        parameter_name(encode_glb(&[good, short], &[], &engine)),
         "objects[1].corner_uvs"
     );
     for (input, name) in [
@@ -353,7 +353,7 @@ fn bad_objects_are_named() {
         ),
         (ExportInput { name: "", ..good }, "objects[0].name"),
     ] {
-        assert_eq!(parameter_name(encode_glb(&[input], &engine)), name);
+        assert_eq!(parameter_name(encode_glb(&[input], &[], &engine)), name);
     }
     let mut volume = fx.volume.clone();
     volume.fin.pop();
@@ -363,7 +363,7 @@ fn bad_objects_are_named() {
         ..good
     };
     assert_eq!(
-        parameter_name(encode_glb(&[broken], &engine)),
+        parameter_name(encode_glb(&[broken], &[], &engine)),
         "objects[0].volume.fin"
     );
     let mut other = fx.u8.clone();
@@ -375,7 +375,7 @@ fn bad_objects_are_named() {
         ..good
     };
     assert_eq!(
-        parameter_name(encode_glb(&[mismatched], &engine)),
+        parameter_name(encode_glb(&[mismatched], &[], &engine)),
         "objects[0].transfer.u8"
     );
 }
@@ -396,8 +396,8 @@ fn offsets_beyond_f32_are_refused_naming_the_comb() {
         fur_depth: 1e5,
         ..fx.input("Huge")
     };
-    let name = parameter_name(encode_glb(&[input], &options(GltfMode::Geometry)));
+    let name = parameter_name(encode_glb(&[input], &[], &options(GltfMode::Geometry)));
     assert!(name.starts_with("objects[0].comb["), "{name}");
     // The engine mode writes the comb as given (finite) and lets the engine lift.
-    assert!(encode_glb(&[input], &options(GltfMode::Engine)).is_ok());
+    assert!(encode_glb(&[input], &[], &options(GltfMode::Engine)).is_ok());
 }

@@ -1,0 +1,233 @@
+//! The skinning arguments of `pelt.export_gltf` (`transform`, `skin`, `skeletons`) read from
+//! Python into [`crate::export::rig`]'s types. Matrices are 4×4 row-major (translation in the last
+//! column), as numpy shows Blender's `matrix_world`.
+
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use super::arrays::{flat, float_ndarray, uint_ndarray};
+use crate::error::PeltError;
+use crate::export::{Animation, Skeleton, SkeletonNode, Transform};
+
+/// A 4×4 row-major matrix's transform, naming `name` when it has none.
+fn transform(rows: &[f32], name: &str) -> PyResult<Transform> {
+    let mut m = [[0f32; 4]; 4];
+    for (r, row) in m.iter_mut().enumerate() {
+        row.copy_from_slice(&rows[4 * r..4 * r + 4]);
+    }
+    Transform::from_rows(m).ok_or_else(|| {
+        PeltError::parameter(
+            name,
+            format!("must be a finite, invertible affine matrix (last row 0, 0, 0, 1), got {m:?}"),
+        )
+        .into()
+    })
+}
+
+/// `count` 4×4 matrices (`[count, 4, 4]` or, with `prefix`, `[*prefix, 4, 4]`) as transforms.
+fn transforms(obj: &Bound<'_, PyAny>, name: &str, prefix: &[usize]) -> PyResult<Vec<Transform>> {
+    let expected = format!("{prefix:?} + [4, 4]");
+    let (array, _) = float_ndarray(obj, name, &expected, |shape| {
+        shape.len() == prefix.len() + 2 && shape[..prefix.len()] == *prefix && shape[prefix.len()..] == [4, 4]
+    })?;
+    flat(&array)?
+        .chunks_exact(16)
+        .enumerate()
+        .map(|(i, m)| transform(m, &format!("{name}[{i}]")))
+        .collect()
+}
+
+/// A required item of a dict argument.
+fn item<'py>(dict: &Bound<'py, PyDict>, key: &str, name: &str) -> PyResult<Bound<'py, PyAny>> {
+    dict.get_item(key)?
+        .ok_or_else(|| PeltError::parameter(name, format!("must have a {key:?} entry")).into())
+}
+
+fn as_dict<'a, 'py>(obj: &'a Bound<'py, PyAny>, name: &str) -> PyResult<&'a Bound<'py, PyDict>> {
+    obj.cast::<PyDict>()
+        .map_err(|_| PeltError::parameter(name, "must be a dict").into())
+}
+
+/// `{"names": [...], "parents": [N] ints (-1 for a root), "rest": [N, 4, 4], "animations":
+/// [{"name", "times": [T], "poses": [T, N, 4, 4]}]}`.
+pub(super) fn skeleton(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Skeleton> {
+    let dict = as_dict(obj, name)?;
+    let names: Vec<String> = item(dict, "names", name)?
+        .extract()
+        .map_err(|_| PeltError::parameter(format!("{name}.names"), "must be a sequence of strings"))?;
+    let n = names.len();
+    let parents: Vec<i128> = item(dict, "parents", name)?
+        .extract()
+        .map_err(|_| PeltError::parameter(format!("{name}.parents"), "must be a sequence of integers"))?;
+    if parents.len() != n {
+        return Err(PeltError::parameter(
+            format!("{name}.parents"),
+            format!("must hold one entry per name ({n}), got {}", parents.len()),
+        )
+        .into());
+    }
+    let rest = transforms(&item(dict, "rest", name)?, &format!("{name}.rest"), &[n])?;
+    let mut nodes = Vec::with_capacity(n);
+    for (j, ((node_name, parent), rest)) in names.into_iter().zip(parents).zip(rest).enumerate() {
+        let parent = match parent {
+            -1 => None,
+            p if (0..n as i128).contains(&p) => Some(p as usize),
+            p => {
+                return Err(PeltError::parameter(
+                    format!("{name}.parents"),
+                    format!("entry {j} is {p}; a parent is a node index below {n}, or -1 for a root"),
+                )
+                .into());
+            }
+        };
+        nodes.push(SkeletonNode {
+            name: node_name,
+            parent,
+            rest,
+        });
+    }
+    let mut animations = Vec::new();
+    if let Some(list) = dict.get_item("animations")? {
+        for (a, entry) in list.try_iter()?.enumerate() {
+            let entry = entry?;
+            let at = format!("{name}.animations[{a}]");
+            let entry = as_dict(&entry, &at)?;
+            let anim_name: String = item(entry, "name", &at)?
+                .extract()
+                .map_err(|_| PeltError::parameter(format!("{at}.name"), "must be a string"))?;
+            let times: Vec<f32> = item(entry, "times", &at)?
+                .extract()
+                .or_else(|_| item(entry, "times", &at)?.call_method0("tolist")?.extract())
+                .map_err(|_| PeltError::parameter(format!("{at}.times"), "must be a sequence of numbers"))?;
+            let poses = transforms(
+                &item(entry, "poses", &at)?,
+                &format!("{at}.poses"),
+                &[times.len(), n],
+            )?;
+            animations.push(Animation {
+                name: anim_name,
+                times,
+                poses,
+            });
+        }
+    }
+    Ok(Skeleton { nodes, animations })
+}
+
+/// One object's binding: `{"skeleton": int, "joints": [V, K] ints, "weights": [V, K]}`, as owned
+/// arrays (the export borrows them).
+pub(super) struct OwnedSkin {
+    pub skeleton: usize,
+    pub influences: usize,
+    pub joints: Vec<u32>,
+    pub weights: Vec<f32>,
+}
+
+pub(super) fn skin(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<OwnedSkin> {
+    let dict = as_dict(obj, name)?;
+    let skeleton: usize = item(dict, "skeleton", name)?
+        .extract()
+        .map_err(|_| PeltError::parameter(format!("{name}.skeleton"), "must be a non-negative integer"))?;
+    let two_d = |shape: &[usize]| shape.len() == 2 && shape[1] >= 1;
+    let (joints, shape) = uint_ndarray(
+        &item(dict, "joints", name)?,
+        &format!("{name}.joints"),
+        "[V, K]",
+        two_d,
+    )?;
+    let (weights, wshape) = float_ndarray(
+        &item(dict, "weights", name)?,
+        &format!("{name}.weights"),
+        "[V, K]",
+        two_d,
+    )?;
+    if wshape != shape {
+        return Err(PeltError::parameter(
+            format!("{name}.weights"),
+            format!("must have the joints' shape {shape:?}, got {wshape:?}"),
+        )
+        .into());
+    }
+    Ok(OwnedSkin {
+        skeleton,
+        influences: shape[1],
+        joints,
+        weights: flat(&weights)?.to_vec(),
+    })
+}
+
+/// One transform per object: `None`, a `[4, 4]` matrix for a single object, or a sequence with
+/// one matrix (or `None`) per object.
+pub(super) fn object_transforms(obj: Option<&Bound<'_, PyAny>>, objects: usize) -> PyResult<Vec<Transform>> {
+    let Some(obj) = obj.filter(|o| !o.is_none()) else {
+        return Ok(vec![Transform::IDENTITY; objects]);
+    };
+    let shape: Vec<usize> = obj
+        .py()
+        .import("numpy")?
+        .call_method1("shape", (obj,))
+        .and_then(|s| s.extract())
+        .unwrap_or_default();
+    if shape == [4, 4] && objects == 1 {
+        let single = obj.py().import("numpy")?.call_method1("expand_dims", (obj, 0))?;
+        return transforms(&single, "transform", &[1]);
+    }
+    let mut out = Vec::with_capacity(objects);
+    for (i, entry) in obj.try_iter()?.enumerate() {
+        let entry = entry?;
+        out.push(if entry.is_none() {
+            Transform::IDENTITY
+        } else {
+            let single = entry
+                .py()
+                .import("numpy")?
+                .call_method1("expand_dims", (&entry, 0))?;
+            transforms(&single, &format!("transform[{i}]"), &[1])?[0]
+        });
+    }
+    if out.len() != objects {
+        return Err(PeltError::parameter(
+            "transform",
+            format!("gives {} transforms for {objects} objects", out.len()),
+        )
+        .into());
+    }
+    Ok(out)
+}
+
+/// One binding (or `None`) per object: `None`, a dict for a single object, or a sequence.
+pub(super) fn object_skins(
+    obj: Option<&Bound<'_, PyAny>>,
+    objects: usize,
+) -> PyResult<Vec<Option<OwnedSkin>>> {
+    let Some(obj) = obj.filter(|o| !o.is_none()) else {
+        return Ok((0..objects).map(|_| None).collect());
+    };
+    if obj.cast::<PyDict>().is_ok() {
+        if objects != 1 {
+            return Err(PeltError::parameter(
+                "skin",
+                format!("must be a sequence of one binding (or None) per object for {objects} objects"),
+            )
+            .into());
+        }
+        return Ok(vec![Some(skin(obj, "skin")?)]);
+    }
+    let mut out = Vec::with_capacity(objects);
+    for (i, entry) in obj.try_iter()?.enumerate() {
+        let entry = entry?;
+        out.push(if entry.is_none() {
+            None
+        } else {
+            Some(skin(&entry, &format!("skin[{i}]"))?)
+        });
+    }
+    if out.len() != objects {
+        return Err(PeltError::parameter(
+            "skin",
+            format!("gives {} bindings for {objects} objects", out.len()),
+        )
+        .into());
+    }
+    Ok(out)
+}

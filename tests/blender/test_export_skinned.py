@@ -1,0 +1,176 @@
+"""A furred, armature-deformed character through File > Export and back through Blender's own glTF
+importer: the animation plays on the imported armature and the fur follows it, each vertex where
+Blender put the original skin in the same frame (the shells within the fur's height of it), and
+the placement of unskinned objects survives the Y-up turn. Also ``pelt.export_gltf``'s own
+checks of skinning arguments."""
+
+import math
+
+import bpy
+import numpy as np
+import pelt
+import pytest
+from conftest import small_fur
+
+RINGS, AROUND, SPACING = 21, 12, 0.1  # a tube 2 units tall
+FIRST, LAST = 1, 9
+
+
+def tube(name: str) -> bpy.types.Object:
+    angle = np.arange(AROUND) * (2 * math.pi / AROUND)
+    positions = [(0.3 * math.cos(a), 0.3 * math.sin(a), r * SPACING) for r in range(RINGS) for a in angle]
+    faces = [
+        (
+            r * AROUND + k,
+            r * AROUND + (k + 1) % AROUND,
+            (r + 1) * AROUND + (k + 1) % AROUND,
+            (r + 1) * AROUND + k,
+        )
+        for r in range(RINGS - 1)
+        for k in range(AROUND)
+    ]
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(positions, [], faces)
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def character():
+    """A tube on a two-bone armature (moved and turned in the world), the upper bone bending
+    60 degrees over frames 1 to 9; weights blend across the middle."""
+    arm_data = bpy.data.armatures.new("Rig")
+    arm = bpy.data.objects.new("Rig", arm_data)
+    bpy.context.scene.collection.objects.link(arm)
+    bpy.context.view_layer.objects.active = arm
+    bpy.ops.object.mode_set(mode="EDIT")
+    lower = arm_data.edit_bones.new("Lower")
+    lower.head, lower.tail = (0, 0, 0), (0, 0, 1)
+    upper = arm_data.edit_bones.new("Upper")
+    upper.head, upper.tail = (0, 0, 1), (0, 0, 2)
+    upper.parent, upper.use_connect = lower, True
+    bpy.ops.object.mode_set(mode="OBJECT")
+    arm.location = (1.0, 2.0, 0.5)
+    arm.rotation_euler = (0.0, 0.0, math.radians(30))
+
+    body = tube("Body")
+    body.parent = arm
+    body.modifiers.new("Armature", "ARMATURE").object = arm
+    z = np.repeat(np.arange(RINGS) * SPACING, AROUND)
+    up = np.clip((z - 0.8) / 0.4, 0.0, 1.0)
+    for name, weight in (("Lower", 1.0 - up), ("Upper", up)):
+        group = body.vertex_groups.new(name=name)
+        for value in np.unique(weight):
+            if value > 0:
+                group.add(np.flatnonzero(weight == value).tolist(), float(value), "REPLACE")
+
+    bone = arm.pose.bones["Upper"]
+    bone.rotation_mode = "QUATERNION"
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end = FIRST, LAST
+    for frame, angle in ((FIRST, 0.0), (LAST, math.radians(60))):
+        bone.rotation_quaternion = (math.cos(angle / 2), math.sin(angle / 2), 0.0, 0.0)
+        bone.keyframe_insert("rotation_quaternion", frame=frame)
+    scene.frame_set(FIRST)
+    return arm, body
+
+
+def world_vertices(obj) -> np.ndarray:
+    """``obj``'s evaluated vertices in the world, (V, 3)."""
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    evaluated = obj.evaluated_get(depsgraph)
+    mesh = evaluated.to_mesh()
+    try:
+        co = np.empty(3 * len(mesh.vertices), np.float32)
+        mesh.vertices.foreach_get("co", co)
+    finally:
+        evaluated.to_mesh_clear()
+    matrix = np.array(obj.matrix_world)
+    return co.reshape(-1, 3) @ matrix[:3, :3].T + matrix[:3, 3]
+
+
+def nearest(points: np.ndarray, targets: np.ndarray) -> np.ndarray:
+    """Distance from each point to the nearest target (brute force)."""
+    return np.sqrt(((points[:, None, :] - targets[None, :, :]) ** 2).sum(-1).min(axis=1))
+
+
+def test_skinned_fur_round_trips_through_blenders_importer(addon, tmp_path):
+    _, body = character()
+    settings = small_fur(body, tile_size=0.4, fur_depth=0.05)
+    prop = tube("Prop")
+    prop.location = (-2.0, 0.5, 1.0)
+    prop.rotation_euler = (math.radians(40), 0.0, 0.0)
+    small_fur(prop, tile_size=0.4, fur_depth=0.05)
+    scene = bpy.context.scene
+    posed = {}
+    for frame in (FIRST, LAST):
+        scene.frame_set(frame)
+        posed[frame] = world_vertices(body)
+    scene.frame_set(FIRST)
+    prop_world = world_vertices(prop)
+    reach = 1.5 * settings.fur_depth * 1.5  # length 1 along a combed normal, with margin
+
+    path = tmp_path / "character.glb"
+    bpy.ops.object.select_all(action="DESELECT")
+    body.select_set(True)
+    prop.select_set(True)
+    assert bpy.ops.pelt.export(filepath=str(path), mode="GEOMETRY", png=False, ktx2=False) == {"FINISHED"}
+    # Exporting moved nothing in the file: the frame and the pose are as they were.
+    assert scene.frame_current == FIRST
+    assert np.allclose(world_vertices(body), posed[FIRST], atol=1e-6)
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    assert bpy.ops.import_scene.gltf(filepath=str(path)) == {"FINISHED"}
+    scene = bpy.context.scene
+    imported = {o.name: o for o in bpy.data.objects}
+    body, prop = imported["Body"], imported["Prop"]
+    armatures = [o for o in bpy.data.objects if o.type == "ARMATURE"]
+    assert len(armatures) == 1
+    action = armatures[0].animation_data.action
+    first, last = (round(f) for f in action.frame_range)
+    assert last - first == LAST - FIRST
+
+    skin_count = len(posed[FIRST])  # at least: the skin primitive holds the split vertices
+    for frame, original in ((first, posed[FIRST]), (last, posed[LAST])):
+        scene.frame_set(frame)
+        got = world_vertices(body)
+        distance = nearest(got, original)
+        # The skin primitive comes first: exactly on Blender's own skinned surface.
+        assert distance[:skin_count].max() < 1e-3, (frame, distance[:skin_count].max())
+        # Shells and fins: within the fur's height of it, so they bent with it.
+        assert distance.max() < reach, (frame, distance.max())
+    # A control: the last frame is far from the first, so the checks above could fail.
+    assert nearest(got[:skin_count], posed[FIRST]).max() > 0.3
+    # The prop stands where it stood (skin vertices), turned back from Y-up by the importer.
+    assert nearest(world_vertices(prop)[: len(prop_world)], prop_world).max() < 1e-3
+
+
+def test_export_gltf_checks_its_skinning_arguments(tmp_path):
+    positions = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0.2]], np.float32)
+    triangles = np.array([[0, 1, 2], [1, 3, 2]], np.uint32)
+    asset = pelt.Pipeline().bake(
+        pelt.FurMesh(positions, triangles), tile_size=0.5, layers=3, resolution=16, fin_size=(16, 8)
+    )
+    skeleton = {"names": ["Root"], "parents": [-1], "rest": np.eye(4)[None]}
+    skin = {"skeleton": 0, "joints": np.zeros((4, 1), np.uint32), "weights": np.ones((4, 1), np.float32)}
+    path = tmp_path / "x.glb"
+    assert pelt.export_gltf(asset, path, skin=skin, skeletons=[skeleton]) == [
+        {"vertices": 4, "reduced": 0, "renormalized": 0}
+    ]
+    bad = [
+        ({"skin": {**skin, "joints": np.ones((4, 1), np.uint32)}}, "joints"),
+        ({"skin": {**skin, "weights": np.zeros((4, 1))}}, "weights"),
+        ({"skin": {**skin, "weights": np.ones((3, 1))}}, "weights"),
+        ({"skin": {**skin, "joints": -np.ones((4, 1), np.int64)}}, "joints"),
+        ({"skin": skin, "skeletons": [{**skeleton, "parents": [3]}]}, "parent"),
+        ({"skin": skin, "skeletons": [{**skeleton, "rest": np.zeros((1, 4, 4))}]}, "rest"),
+        ({"skin": skin, "skeletons": []}, "skeleton"),
+        ({"transform": np.full((4, 4), np.nan)}, "transform"),
+        ({"transform": [np.eye(4), np.eye(4)]}, "transform"),
+    ]
+    for arguments, name in bad:
+        arguments.setdefault("skeletons", [skeleton])
+        with pytest.raises(pelt.InvalidParameterError, match=name):
+            pelt.export_gltf(asset, path, **arguments)
+    # A failed export leaves the earlier file as it was.
+    assert path.read_bytes()[:4] == b"glTF"
