@@ -553,7 +553,6 @@ class Preview:
 
 GltfMode = Literal["engine", "geometry"]
 
-
 class SkinBinding(TypedDict):
     """One object's binding to ``skeletons[skeleton]``: ``joints`` ``[V, K]`` node indices and
     ``weights`` ``[V, K]`` (non-negative; zero weights are ignored; every vertex needs one)."""
@@ -586,6 +585,7 @@ class WeightReport(TypedDict):
     vertices: int
     reduced: int
     renormalized: int
+
 TextureFormat = Literal["png", "ktx2", "exr"]
 
 class ManifestFile(TypedDict, total=False):
@@ -634,7 +634,8 @@ def export_gltf(
     primitive each, ``shells`` of them, default every layer above the skin) and the fins
     (``fins``) into alpha-blended meshes any viewer shows; ``"engine"`` writes the base mesh with
     ``TEXCOORD_1`` = PeltUV, ``COLOR_0``, ``_PELT_LENGTH``, ``_PELT_COMB``, ``_PELT_DPDU``,
-    ``_PELT_DPDV``, the atlases and the stack description in ``meshes[i].extras.pelt``.
+    ``_PELT_DPDV``, the atlases and the stack description in the ``PELT_shell_fur`` extension of
+    its first primitive, and four alpha-tested fallback shells for viewers without it.
 
     ``transform`` places each object (a 4×4 row-major matrix, translation in the last column, or
     one per object). ``skeletons`` are node hierarchies with sampled animations; ``skin`` binds an

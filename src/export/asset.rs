@@ -120,8 +120,9 @@ pub fn write_asset_files(
                 GltfMode::Geometry => "every object with its shells and fins as meshes (alpha-blended \
                                        materials): shows the fur in any glTF viewer"
                     .into(),
-                GltfMode::Engine => "every object's base mesh with Pelt's attributes, atlases and the \
-                                     stack description in meshes[i].extras.pelt, for engine shaders"
+                GltfMode::Engine => "every object's base mesh with Pelt's attributes, its fur described \
+                                     by the PELT_shell_fur extension (atlases, stack) for engine \
+                                     shaders, and alpha-tested fallback shells for other viewers"
                     .into(),
             },
         });

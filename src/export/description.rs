@@ -1,5 +1,6 @@
 //! The description of a baked shell stack that engines need to draw it, shared by the glTF
-//! `extras` and the `pelt.json` manifest (schema in `docs/export.md`).
+//! `PELT_shell_fur` extension, the `geometry` mode's `extras` and the `pelt.json` manifest
+//! (schema in `docs/export.md`).
 //!
 //! It states the geometry of Lengyel et al. 2001, §2.3 (layer `i` at `i · layer_spacing` of
 //! `fur_depth · length` along the combed normal; shells pick evenly spaced layers), the atlas

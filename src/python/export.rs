@@ -267,7 +267,7 @@ fn manifest_object<'py>(py: Python<'py>, manifest: &Manifest) -> PyResult<Bound<
 
 /// Writes ``asset`` (a ``FurAsset`` or a sequence of them, one glTF node each, named by ``name``)
 /// as a glTF binary: ``mode="engine"`` (base mesh, Pelt's attributes, atlases, stack description
-/// in ``extras``) or ``"geometry"`` (shells and fins as meshes). ``transform`` places each object
+/// in the ``PELT_shell_fur`` extension, fallback shells) or ``"geometry"`` (shells and fins as meshes). ``transform`` places each object
 /// (4×4 row-major); ``skeletons`` (dicts of ``names``, ``parents``, ``rest``, ``animations``) and
 /// ``skin`` (per object ``None`` or ``{"skeleton", "joints", "weights"}``) make skinned,
 /// animated characters. Returns per object what the binding changed (``None`` when unskinned).

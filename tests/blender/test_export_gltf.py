@@ -8,10 +8,11 @@ import threading
 import time
 
 import bpy
+import jsonschema
 import numpy as np
 import pelt
 import pytest
-from conftest import add_suzanne
+from conftest import REPO, add_suzanne
 
 
 def monkey_arrays():
@@ -106,20 +107,35 @@ def test_geometry_export_reimports_in_blender_as_written(asset, tmp_path):
         assert material.use_backface_culling != written.get("doubleSided", False), material.name
 
 
-def test_engine_export_carries_attributes_and_extras(asset, tmp_path):
+def test_engine_export_carries_attributes_and_the_fur_extension(asset, tmp_path):
     # Blender 5.0's importer fails at random on several custom attributes of different widths
     # (glTF-Blender-IO issue 2658, it enumerates a set against a list), so the engine file is
     # checked from its JSON here; docs/export.md says so.
     path = tmp_path / "suzanne_engine.glb"
     pelt.export_gltf(asset, path, name="Suzanne")
     document, _ = read_glb(path)
-    stack = document["meshes"][0]["extras"]["pelt"]["stack"]
+    assert document["extensionsUsed"] == ["PELT_shell_fur"]
+    assert "extensionsRequired" not in document
+    primitives = document["meshes"][0]["primitives"]
+    fur = primitives[0]["extensions"]["PELT_shell_fur"]
+    # The extension conforms to the schema published beside the specification.
+    schema = json.loads((REPO / "docs" / "schema" / "PELT_shell_fur.schema.json").read_text())
+    jsonschema.validate(fur, schema, cls=jsonschema.Draft202012Validator)
+    stack = fur["stack"]
     assert stack["layers"] == asset.layers
     assert stack["fur_depth"] == pytest.approx(asset.fur_depth)
     assert stack["transfer"]["order"] == asset.transfer["order"]
-    attributes = document["meshes"][0]["primitives"][0]["attributes"]
+    attributes = primitives[0]["attributes"]
     for name in ("TEXCOORD_0", "TEXCOORD_1", "COLOR_0", "_PELT_LENGTH", "_PELT_COMB"):
         assert name in attributes
+    # Viewers without the extension show the fallback: alpha-tested shells, no fins.
+    assert fur["fallback"] == list(range(1, len(primitives)))
+    for index in fur["fallback"]:
+        assert document["materials"][primitives[index]["material"]]["alphaMode"] == "MASK"
+    # Every texture the extension names is an ordinary glTF texture with its image.
+    named = [fur["textures"][k] for k in ("skin", "shells_atlas", "tangents_atlas", "fin")]
+    for index in named + fur["textures"]["transfer"]:
+        assert document["images"][document["textures"][index]["source"]]["mimeType"] == "image/png"
 
 
 def test_several_objects_reimport_as_several_objects(asset, tmp_path):

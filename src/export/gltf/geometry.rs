@@ -10,7 +10,7 @@
 //! glTF equivalent, so every fin shows.
 
 use gltf_json as json;
-use rayon::prelude::*;
+use json::material::AlphaMode;
 
 use super::super::description::StackDescription;
 use super::super::input::ExportInput;
@@ -23,7 +23,6 @@ use crate::error::Result;
 use crate::export::rig::VertexWeights;
 use crate::mesh::shell_offset::{lifted, shell_layer};
 use crate::mesh::{fin_quads, quad_triangles};
-use crate::threads::pool;
 
 /// Adds `input` as one mesh (skin, shells, fins) and returns it.
 pub(super) fn add_object(
@@ -67,36 +66,21 @@ pub(super) fn add_object(
     let skinned: Vec<_> = weights
         .map(|w| skin_attributes(builder, w, source.len(), |i| source[i] as usize).to_vec())
         .unwrap_or_default();
-    let skin_material = material(builder, format!("{name} skin"), texture_of(0), 0, false, false);
+    let skin_material = material(
+        builder,
+        format!("{name} skin"),
+        texture_of(0),
+        0,
+        AlphaMode::Opaque,
+        false,
+    );
     let skin_indices = builder.indices(&v.split.indices);
     let mut primitives = vec![shared.primitive(skin_indices, skin_material, &skinned)];
 
     let furred = v.furred_indices();
     if !furred.is_empty() {
         let furred = builder.indices(&furred);
-        let lifted_layers: Vec<Vec<[f32; 3]>> = pool().install(|| {
-            layers
-                .par_iter()
-                .map(|&layer| {
-                    let height = layer as f64 * volume.layer_spacing;
-                    (0..v.positions.len())
-                        .map(|i| {
-                            lifted(
-                                v.positions[i],
-                                v.normals[i],
-                                v.comb[i],
-                                height,
-                                input.fur_depth,
-                                v.lengths[i],
-                            )
-                        })
-                        .collect()
-                })
-                .collect()
-        });
-        for positions in &lifted_layers {
-            check_lifted(positions, |i| v.split.source[i])?;
-        }
+        let lifted_layers = v.lift(input, &layers)?;
         let mut shell_material = vec![None; volume.layers];
         for (&layer, positions) in layers.iter().zip(&lifted_layers) {
             let material = *shell_material[layer].get_or_insert_with(|| {
@@ -105,7 +89,7 @@ pub(super) fn add_object(
                     format!("{name} shell {layer}"),
                     texture_of(layer),
                     0,
-                    true,
+                    AlphaMode::Blend,
                     false,
                 )
             });
@@ -125,7 +109,7 @@ pub(super) fn add_object(
     let description = StackDescription::new(input, v.split.uv_scale)?;
     Ok(builder.root.push(json::Mesh {
         extensions: None,
-        extras: pelt_extras("geometry", &description, None)?,
+        extras: pelt_extras("geometry", &description)?,
         name: Some(name.into()),
         primitives,
         weights: None,
@@ -200,7 +184,14 @@ fn fin_primitive(
     let skinned: Vec<_> = weights
         .map(|w| skin_attributes(builder, w, pos.len(), |i| quads[i / 4].vertices[i % 2] as usize).to_vec())
         .unwrap_or_default();
-    let material = material(builder, format!("{} fins", input.name), texture, 0, true, true);
+    let material = material(
+        builder,
+        format!("{} fins", input.name),
+        texture,
+        0,
+        AlphaMode::Blend,
+        true,
+    );
     let indices = builder.indices(&indices);
     Ok(Some(fin.primitive(indices, material, &skinned)))
 }

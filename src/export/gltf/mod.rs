@@ -16,6 +16,7 @@ mod rig;
 mod vertices;
 
 pub use builder::glb_container;
+pub use engine::{EXTENSION, EXTENSION_VERSION, FALLBACK_SHELLS, ShellFur};
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -266,20 +267,16 @@ impl Primitive {
 }
 
 /// A rough, non-metallic material whose base color is `texture` (read with `TEXCOORD_<tex_coord>`,
-/// multiplied by `COLOR_0`), opaque or alpha-blended, single- or double-sided.
+/// multiplied by `COLOR_0`), opaque, alpha-tested (cutoff 0.5) or alpha-blended, single- or
+/// double-sided.
 fn material(
     builder: &mut GlbBuilder,
     name: String,
     texture: json::Index<json::Texture>,
     tex_coord: u32,
-    blend: bool,
+    alpha: json::material::AlphaMode,
     double_sided: bool,
 ) -> json::Index<json::Material> {
-    let alpha = if blend {
-        json::material::AlphaMode::Blend
-    } else {
-        json::material::AlphaMode::Opaque
-    };
     builder.root.push(json::Material {
         alpha_mode: Checked::Valid(alpha),
         double_sided,
@@ -331,46 +328,41 @@ pub struct EngineAttributes {
     pub dpdv: String,
 }
 
-/// `extras.pelt` of an exported mesh.
+impl EngineAttributes {
+    /// The names the engine mode writes.
+    pub fn names() -> Self {
+        EngineAttributes {
+            uv: "TEXCOORD_1".into(),
+            color: "COLOR_0".into(),
+            length: "_PELT_LENGTH".into(),
+            comb: "_PELT_COMB".into(),
+            dpdu: "_PELT_DPDU".into(),
+            dpdv: "_PELT_DPDV".into(),
+        }
+    }
+}
+
+/// `extras.pelt` of a `geometry` mesh (the engine mode describes its fur in the
+/// [`engine::ShellFur`] extension).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GltfExtras {
     /// Always `pelt-gltf`.
     pub format: String,
     /// Schema version, 1.
     pub version: u32,
-    /// `geometry` or `engine`.
+    /// `geometry`.
     pub mode: String,
     /// The shell stack.
     pub stack: StackDescription,
-    /// `engine` mode: vertex attribute names.
-    #[serde(skip_serializing_if = "Option::is_none", default)]
-    pub attributes: Option<EngineAttributes>,
-    /// `engine` mode: texture indices.
-    #[serde(skip_serializing_if = "Option::is_none", default)]
-    pub textures: Option<EngineTextures>,
 }
 
 /// `{"pelt": GltfExtras}` as a raw JSON value.
-fn pelt_extras(
-    mode: &str,
-    stack: &StackDescription,
-    textures: Option<EngineTextures>,
-) -> Result<json::Extras> {
-    let attributes = textures.as_ref().map(|_| EngineAttributes {
-        uv: "TEXCOORD_1".into(),
-        color: "COLOR_0".into(),
-        length: "_PELT_LENGTH".into(),
-        comb: "_PELT_COMB".into(),
-        dpdu: "_PELT_DPDU".into(),
-        dpdv: "_PELT_DPDV".into(),
-    });
+fn pelt_extras(mode: &str, stack: &StackDescription) -> Result<json::Extras> {
     let extras = GltfExtras {
         format: "pelt-gltf".into(),
         version: 1,
         mode: mode.into(),
         stack: stack.clone(),
-        attributes,
-        textures,
     };
     let mut wrapper = BTreeMap::new();
     wrapper.insert("pelt", extras);

@@ -4,7 +4,10 @@
 
 use super::super::input::ExportInput;
 use crate::error::{PeltError, Result};
+use crate::mesh::shell_offset::lifted;
 use crate::mesh::{UvSplit, split_at_uv_seams};
+use crate::threads::pool;
+use rayon::prelude::*;
 
 /// Hair color where the mesh has none: white, so the texture's own color shows (as the renderer).
 const DEFAULT_COLOR: [f32; 4] = [1.0; 4];
@@ -84,6 +87,39 @@ impl SplitVertices {
             || vec![DEFAULT_LENGTH; input.mesh.vertex_count()],
             <[f32]>::to_vec,
         )
+    }
+
+    /// The vertices lifted to each of `layers` (`layer · spacing · fur_depth · length` along the
+    /// combed normal), one position list per layer, in parallel.
+    ///
+    /// # Errors
+    /// As [`check_lifted`].
+    pub fn lift(&self, input: &ExportInput<'_>, layers: &[usize]) -> Result<Vec<Vec<[f32; 3]>>> {
+        let spacing = input.volume.layer_spacing;
+        let lifted_layers: Vec<Vec<[f32; 3]>> = pool().install(|| {
+            layers
+                .par_iter()
+                .map(|&layer| {
+                    let height = layer as f64 * spacing;
+                    (0..self.positions.len())
+                        .map(|i| {
+                            lifted(
+                                self.positions[i],
+                                self.normals[i],
+                                self.comb[i],
+                                height,
+                                input.fur_depth,
+                                self.lengths[i],
+                            )
+                        })
+                        .collect()
+                })
+                .collect()
+        });
+        for positions in &lifted_layers {
+            check_lifted(positions, |i| self.split.source[i])?;
+        }
+        Ok(lifted_layers)
     }
 
     /// Indices of the triangles that grow hair: not bald at all three corners (the renderer

@@ -199,7 +199,6 @@ fn engine_mode_carries_attributes_atlases_and_the_stack_description() {
     let (mesh, volume) = (&fx.mesh, &fx.volume);
     let (l, r) = (volume.layers, volume.resolution);
     let primitives = json["meshes"][0]["primitives"].as_array().unwrap();
-    assert_eq!(primitives.len(), 1);
     let p = &primitives[0];
     let indices = glb.indices(p["indices"].as_u64().unwrap() as usize);
     let uv0 = glb.floats(Glb::attribute(p, "TEXCOORD_0"));
@@ -225,9 +224,12 @@ fn engine_mode_carries_attributes_atlases_and_the_stack_description() {
         }
     }
 
-    let pelt = &json["meshes"][0]["extras"]["pelt"];
-    assert_eq!(pelt["format"], "pelt-gltf");
-    assert_eq!(pelt["mode"], "engine");
+    // The fur is described by the extension, used but not required.
+    assert_eq!(json["extensionsUsed"], serde_json::json!(["PELT_shell_fur"]));
+    assert!(json.get("extensionsRequired").is_none());
+    assert!(json["meshes"][0].get("extras").is_none());
+    let pelt = &p["extensions"]["PELT_shell_fur"];
+    assert_eq!(pelt["version"], 1);
     let stack = &pelt["stack"];
     assert_eq!(stack["layers"], l);
     assert_eq!(stack["resolution"], r);
@@ -274,6 +276,39 @@ fn engine_mode_carries_attributes_atlases_and_the_stack_description() {
         material["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"],
         1
     );
+
+    // The fallback: four alpha-tested shells showing evenly spaced layers, each lifted by its
+    // height along the combed normal, listed by the extension.
+    let fallback: Vec<usize> = pelt["fallback"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|i| i.as_u64().unwrap() as usize)
+        .collect();
+    assert_eq!(fallback, [1, 2, 3, 4]);
+    assert_eq!(primitives.len(), 5);
+    let skin_positions = glb.floats(Glb::attribute(p, "POSITION"));
+    let normals = glb.floats(Glb::attribute(p, "NORMAL"));
+    for (s, &k) in fallback.iter().enumerate() {
+        let shell = &primitives[k];
+        let shown = layer_of(s + 1, 4, l);
+        let material = &json["materials"][shell["material"].as_u64().unwrap() as usize];
+        assert_eq!(material["alphaMode"], "MASK");
+        assert_eq!(
+            glb.image(base_color_image(&glb, material)).0,
+            layer(&volume.shells, r, shown)
+        );
+        let lifted = glb.floats(Glb::attribute(shell, "POSITION"));
+        let height = shown as f64 * volume.layer_spacing * FUR_DEPTH;
+        for (i, q) in lifted.iter().enumerate() {
+            let (pos, n, c, len) = (&skin_positions[i], &normals[i], &combs[i], lengths[i][0]);
+            let nc: f32 = (0..3).map(|j| n[j] * c[j]).sum();
+            let want: Vec<f64> = (0..3)
+                .map(|j| f64::from(pos[j]) + height * f64::from(len) * f64::from(n[j] + c[j] - n[j] * nc))
+                .collect();
+            assert!(close(q, &want, 1e-5), "shell {s} vertex {i}");
+        }
+    }
 }
 
 #[test]
@@ -396,8 +431,9 @@ fn offsets_beyond_f32_are_refused_naming_the_comb() {
         fur_depth: 1e5,
         ..fx.input("Huge")
     };
-    let name = parameter_name(encode_glb(&[input], &[], &options(GltfMode::Geometry)));
-    assert!(name.starts_with("objects[0].comb["), "{name}");
-    // The engine mode writes the comb as given (finite) and lets the engine lift.
-    assert!(encode_glb(&[input], &[], &options(GltfMode::Engine)).is_ok());
+    // Both modes lift shells (the engine mode its fallback shells).
+    for mode in [GltfMode::Geometry, GltfMode::Engine] {
+        let name = parameter_name(encode_glb(&[input], &[], &options(mode)));
+        assert!(name.starts_with("objects[0].comb["), "{name}");
+    }
 }

@@ -254,6 +254,25 @@ fn triangle_corners(mode: Mode, corners: &[u32]) -> Vec<[u32; 3]> {
     }
 }
 
+/// The primitives of `mesh` that a `PELT_shell_fur` primitive lists as its fallback: shells that
+/// stand in for the fur, not part of the surface.
+fn fur_fallbacks(mesh: &json::Mesh) -> Vec<usize> {
+    mesh.primitives
+        .iter()
+        .filter_map(|p| {
+            let fur = p
+                .extensions
+                .as_ref()?
+                .others
+                .get(crate::export::gltf::EXTENSION)?;
+            Some(fur.get("fallback")?.as_array()?.clone())
+        })
+        .flatten()
+        .filter_map(|v| v.as_u64())
+        .map(|v| v as usize)
+        .collect()
+}
+
 /// The welded triangles of mesh `mesh` under `transform`, or `None` when it has none.
 fn read_mesh(
     doc: &Document,
@@ -268,7 +287,11 @@ fn read_mesh(
     let mut positions: Vec<[f32; 3]> = Vec::new();
     let mut colors: Vec<Option<[f32; 4]>> = Vec::new();
     let mut triangles: Vec<[u32; 3]> = Vec::new();
+    let stand_ins = fur_fallbacks(gltf_mesh);
     for (p, primitive) in gltf_mesh.primitives.iter().enumerate() {
+        if stand_ins.contains(&p) {
+            continue;
+        }
         let what = |attr: &str| format!("mesh {mesh} primitive {p} {attr}");
         let Checked::Valid(mode) = primitive.mode else {
             return Err(format!("{} has an unknown mode", what("")));
