@@ -13,7 +13,7 @@ import time
 import bpy
 import pelt
 
-from . import bake_job, bridge, fur, fur_layout, preferences, writer
+from . import bake_job, bridge, fur, fur_layout, preferences, topology, writer
 
 # Stages of a bake, in order (for the progress bar).
 STAGES = ("patches", "volume", "transfer")
@@ -77,20 +77,37 @@ def memory_estimate(obj):
         return None
 
 
-def start_job(obj) -> bake_job.BakeJob:
-    """Reads ``obj`` and its settings (main thread) and returns the job, not yet started."""
-    arrays = bridge.read_object(obj)
-    options = bake_options(obj)
-    return bake_job.BakeJob(preferences.CACHE.get(obj.session_uid), arrays.fur_mesh, options)
+def start_job(obj, *, apply_topology: bool = False) -> bake_job.BakeJob:
+    """Reads ``obj`` and its settings (main thread) and returns the job, not yet started. With
+    ``apply_topology`` (Bake) the mesh read is the one with the modifiers at the top of the stack
+    applied (``topology``), which ``finish`` gives the object if the bake succeeds."""
+    applied = topology.prepare(obj) if apply_topology else None
+    try:
+        arrays = bridge.read_mesh(applied.mesh) if applied is not None else bridge.read_object(obj)
+        options = bake_options(obj)
+    except BaseException:
+        topology.revert(obj, applied)
+        raise
+    job = bake_job.BakeJob(preferences.CACHE.get(obj.session_uid), arrays.fur_mesh, options)
+    job.applied = applied
+    return job
 
 
 def finish(obj, job: bake_job.BakeJob, build_material=None) -> str:
     """Writes a finished job's asset into Blender and returns the report line; raises the
     job's error (nothing written) when it failed or was cancelled."""
+    applied = getattr(job, "applied", None)
     if job.error is not None:
+        topology.revert(obj, applied)
         raise job.error
     start = time.perf_counter()
-    written = writer.write_asset(obj, job.asset, build_material=build_material)
+    topology.swap_in(obj, applied)
+    try:
+        written = writer.write_asset(obj, job.asset, build_material=build_material)
+    except BaseException:
+        topology.revert(obj, applied)
+        raise
+    topology.commit(obj, applied)
     changes = []
     if build_material is not None:
         # After everything else succeeded: a failed bake leaves the scene as it was.
@@ -101,6 +118,8 @@ def finish(obj, job: bake_job.BakeJob, build_material=None) -> str:
         for s in job.asset.report
     )
     report = f"Pelt: baked {obj.name}: {stages}, written in {time.perf_counter() - start:.2f} s"
+    if applied is not None:
+        report += f"; applied {', '.join(applied.names)} so that the whole mesh has fur (Ctrl+Z undoes)"
     if changes:
         report += f"; so that the fur renders: {', '.join(changes)} (Ctrl+Z undoes)"
     return report
@@ -132,7 +151,7 @@ class PELT_OT_bake(bpy.types.Operator):
     def execute(self, context):
         obj = context.active_object
         try:
-            job = start_job(obj).start()
+            job = start_job(obj, apply_topology=True).start()
             job.wait()
             self.report({"INFO"}, finish(obj, job, build_material=build_material))
         except pelt.PeltError as error:
@@ -144,7 +163,7 @@ class PELT_OT_bake(bpy.types.Operator):
             return self.execute(context)
         obj = context.active_object
         try:
-            self._job = start_job(obj).start()
+            self._job = start_job(obj, apply_topology=True).start()
         except pelt.PeltError as error:
             return self._fail(obj.name, error)
         self._object_name = obj.name
@@ -170,6 +189,7 @@ class PELT_OT_bake(bpy.types.Operator):
         self._end(context)
         obj = bpy.data.objects.get(self._object_name)
         if obj is None or obj.type != "MESH":
+            topology.revert(None, job.applied)
             self.report({"ERROR"}, f"Pelt: {self._object_name} was removed during the bake, nothing written")
             return {"CANCELLED"}
         try:

@@ -2,7 +2,8 @@
 """The fur in the object's pose: Pelt bakes the mesh as edited (the rest shape, without
 modifiers), and the preview follows the evaluated mesh (an armature, shape keys, any modifier
 that keeps the vertices), re-sending only its positions and normals (``pelt.Preview.deform``, no
-bake). Where the modifiers change the topology (Mirror, Subdivision), the preview keeps the rest
+bake). Bake applies the modifiers at the top of the stack that change the topology (``topology``);
+where one was added after the bake (Mirror, Subdivision), the preview keeps the rest
 shape and the panel says why.
 
 Pelt's own Geometry Nodes fur (``geonodes.py``, added by Bake) joins the skin first, its vertices
@@ -43,7 +44,7 @@ def _under_fur_modifier(obj) -> bool:
         if modifier.show_viewport and modifier.type not in DEFORM_ONLY:
             raise pelt.InvalidMeshError(
                 f"the modifier {modifier.name!r} ({modifier.type.title()}) before Pelt's fur may change "
-                "the topology: the preview shows the mesh without it"
+                "the topology: the preview shows the mesh without it (Bake applies it)"
             )
     return True
 
@@ -73,7 +74,7 @@ def evaluated_pose(obj, depsgraph, vertex_count: int) -> tuple[np.ndarray, np.nd
         if count != vertex_count and not (under_fur and count > vertex_count):
             raise pelt.InvalidMeshError(
                 f"the modifiers change the topology ({count} vertices evaluated, {vertex_count} baked): "
-                "the preview shows the mesh without them"
+                "the preview shows the mesh without them (Bake applies those at the top of the stack)"
             )
         normals = np.empty(count * 3, np.float32)
         mesh.vertex_normals.foreach_get("vector", normals)
