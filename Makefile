@@ -9,14 +9,20 @@ VENV := .venv
 PY := $(VENV)/bin/python
 VERSION := $(shell sed -n 's/^version = "\(.*\)"/\1/p' Cargo.toml | head -n 1)
 APT_PACKAGES := g++ mesa-vulkan-drivers libvulkan1 libegl1 libegl-mesa0 libgl1-mesa-dri \
-	xvfb xauth libx11-xcb1 libxcursor1 libxi6 libxrandr2 libxkbcommon0 libxkbcommon-x11-0
-PY_REQUIREMENTS := bpy==5.0.1 pytest==9.2.0 maturin==1.16.0 ruff==0.17.6 hypothesis==6.140.0 jsonschema==4.25.1
+	xvfb xauth libx11-xcb1 libxcursor1 libxi6 libxrandr2 libxkbcommon0 libxkbcommon-x11-0 chromium
+PY_REQUIREMENTS := bpy==5.0.1 pytest==9.2.0 maturin==1.16.0 ruff==0.17.6 hypothesis==6.140.0 jsonschema==4.25.1 \
+	flip-evaluator==1.7
 PLOT_REQUIREMENTS := matplotlib==3.11.2
 # The Khronos glTF-Validator (a JavaScript library), pinned; installed into build/node.
 GLTF_VALIDATOR := gltf-validator@2.0.0-dev.3.10
 VALIDATOR_STAMP := build/node/.validator-stamp
 # Where tests/gltf_export.rs writes the files the validator checks.
 GLTF_CHECK_DIR := target/tmp/gltf-check
+# The three.js runtime of the glTF extension, its npm packages pinned by its package-lock.json.
+THREE_DIR := runtimes/three
+THREE_STAMP := $(THREE_DIR)/node_modules/.ci-stamp
+# The wgpu preview's frame the three.js runtime is compared with (runtimes/three/reference/).
+THREE_REFERENCE := target/tmp/three-reference
 
 # Everything the wheel is built from.
 RUST_SOURCES := Cargo.toml Cargo.lock pyproject.toml $(shell find src python -type f 2>/dev/null)
@@ -33,12 +39,12 @@ export XDG_RUNTIME_DIR ?= /tmp/pelt-runtime-$(shell id -u)
 # cargo test links the `python` feature's test binaries against libpython.
 export LD_LIBRARY_PATH := $(shell $(PYTHON) -c 'import sysconfig; print(sysconfig.get_config_var("LIBDIR") or "")'):$(LD_LIBRARY_PATH)
 
-.PHONY: demo test bench package setup system-deps check-rust check-gltf check-python check-fuzz fuzz clean
+.PHONY: demo test bench package setup system-deps check-rust check-gltf check-three check-python check-fuzz fuzz clean
 
 demo: setup
 	$(PY) blender_scripts/demo.py
 
-test: setup $(ZIP) check-rust check-gltf check-python check-fuzz
+test: setup $(ZIP) check-rust check-gltf check-three check-python check-fuzz
 
 setup: system-deps $(INSTALL_STAMP) $(TEMPLATES)
 	@mkdir -p -m 700 $(XDG_RUNTIME_DIR)
@@ -47,7 +53,8 @@ setup: system-deps $(INSTALL_STAMP) $(TEMPLATES)
 # Mesa's Vulkan (lavapipe)
 # and GL drivers: a real GPU device on machines without a GPU; a virtual
 # X server and the X libraries winit loads, for the `pelt view` test (tests/viewer.rs); Node.js
-# and npm for the glTF validator when no npm is on the PATH.
+# and npm for the glTF validator when no npm is on the PATH; Chromium for the three.js runtime's
+# browser test (check-three).
 system-deps:
 	@missing=$$(for p in $(APT_PACKAGES); do \
 		dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'ok installed' || echo $$p; done); \
@@ -100,9 +107,22 @@ check-gltf: $(VALIDATOR_STAMP)
 	PELT_GLTF_OUT=$(GLTF_CHECK_DIR) cargo test --all-features --quiet --test gltf_export
 	node scripts/validate_gltf.mjs $(GLTF_CHECK_DIR)/*.glb
 
+$(THREE_STAMP): $(THREE_DIR)/package-lock.json | system-deps
+	npm ci --silent --no-audit --no-fund --prefix $(THREE_DIR)
+	touch $@
+
+# The three.js runtime (runtimes/three): its unit tests, then its example in headless Chromium
+# drawing the skinned, animated character check-gltf writes, and the frame the wgpu preview drew
+# of a nodding Suzanne (mean luminance within 10 % in the browser test, then a ꟻLIP bound).
+check-three: setup check-gltf $(THREE_STAMP)
+	$(PY) $(THREE_DIR)/reference/make_reference.py $(THREE_REFERENCE)
+	PELT_GLB=$(CURDIR)/$(GLTF_CHECK_DIR)/character_engine.glb PELT_REFERENCE=$(CURDIR)/$(THREE_REFERENCE) \
+		npm test --prefix $(THREE_DIR)
+	$(PY) $(THREE_DIR)/reference/compare.py $(THREE_REFERENCE)/preview.png $(THREE_DIR)/test/out/reference_three.png
+
 check-python: setup
-	$(VENV)/bin/ruff check addon blender_scripts scripts tests/blender tests/fuzz python
-	$(VENV)/bin/ruff format --check addon blender_scripts scripts tests/blender tests/fuzz python
+	$(VENV)/bin/ruff check addon blender_scripts scripts tests/blender tests/fuzz python runtimes/three/reference
+	$(VENV)/bin/ruff format --check addon blender_scripts scripts tests/blender tests/fuzz python runtimes/three/reference
 	$(PY) -m pytest tests/blender
 
 # A short fuzz of every public entry point (Rust and Python), each target in a process with a time

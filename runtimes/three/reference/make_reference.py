@@ -1,0 +1,165 @@
+"""The wgpu preview's picture of a skinned, animated, furred character, for the three.js runtime's
+browser test to compare with.
+
+Bakes Blender's Suzanne (Pelt's Python API, Kajiya–Kay lighting), binds it to a three-node
+skeleton whose head nods, exports it in `engine` mode (the `PELT_shell_fur` extension), poses
+the preview at the test's time by linear blend skinning computed here from the same skeleton, and
+renders it with the test's camera and light. Writes, into the folder given:
+
+- `character.glb`: the export the browser loads;
+- `scene.json`: time, image size, camera (view and projection, column-major, OpenGL clip
+  space), light (the preview's Kajiya–Kay parameters, object space = world space here);
+- `preview.png`: the preview's frame (sRGB) on black.
+
+Run with the project's virtual environment: `python make_reference.py OUT_DIR`.
+"""
+
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pelt
+
+TIME = 0.5  # seconds: the nod at its deepest
+SIZE = 384
+NOD = 0.5  # radians
+
+
+def suzanne():
+    """Blender's monkey: float32 positions and uint32 loop triangles."""
+    import bpy
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    bpy.ops.mesh.primitive_monkey_add()
+    mesh = bpy.context.active_object.data
+    mesh.calc_loop_triangles()
+    positions = np.empty(3 * len(mesh.vertices), np.float32)
+    mesh.vertices.foreach_get("co", positions)
+    triangles = np.empty(3 * len(mesh.loop_triangles), np.uint32)
+    mesh.loop_triangles.foreach_get("vertices", triangles)
+    return positions.reshape(-1, 3), triangles.reshape(-1, 3)
+
+
+def translation(x, y, z):
+    m = np.eye(4)
+    m[:3, 3] = (x, y, z)
+    return m
+
+
+def rotation_x(angle):
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[1, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1.0]])
+
+
+def skeleton():
+    """Root at the origin, a neck below the head, the head above it nodding about x."""
+    names = ["Root", "Neck", "Head"]
+    parents = [-1, 0, 1]
+    rest = np.stack([np.eye(4), translation(0, 0, -0.6), translation(0, 0, 0.6)])
+    times = np.array([0.0, 0.5, 1.0], np.float32)
+    poses = np.stack([rest.copy() for _ in times])
+    for k, t in enumerate(times):
+        poses[k, 2] = rest[2] @ rotation_x(NOD * math.sin(math.pi * t))
+    return names, parents, rest, times, poses
+
+
+def world(locals_, parents):
+    out = np.empty_like(locals_)
+    for j, parent in enumerate(parents):
+        out[j] = locals_[j] if parent < 0 else out[parent] @ locals_[j]
+    return out
+
+
+def look_at(eye, target, up):
+    """The view matrix (world to view, camera looking down −z), OpenGL convention."""
+    eye, target, up = (np.asarray(v, float) for v in (eye, target, up))
+    f = target - eye
+    f /= np.linalg.norm(f)
+    s = np.cross(f, up)
+    s /= np.linalg.norm(s)
+    u = np.cross(s, f)
+    view = np.eye(4)
+    view[0, :3], view[1, :3], view[2, :3] = s, u, -f
+    view[:3, 3] = -view[:3, :3] @ eye
+    return view
+
+
+def perspective(fov_y, aspect, near, far):
+    f = 1.0 / math.tan(fov_y / 2)
+    return np.array(
+        [
+            [f / aspect, 0, 0, 0],
+            [0, f, 0, 0],
+            [0, 0, (far + near) / (near - far), 2 * far * near / (near - far)],
+            [0, 0, -1, 0],
+        ]
+    )
+
+
+def main(out: Path) -> None:
+    out.mkdir(parents=True, exist_ok=True)
+    positions, triangles = suzanne()
+    count = len(positions)
+    comb = np.tile(np.array([0.0, 0.0, -0.4], np.float32), (count, 1))
+    color = np.tile(np.array([0.85, 0.6, 0.35, 1.0], np.float32), (count, 1))
+    mesh = pelt.FurMesh(positions, triangles, comb=comb, color=color)
+    asset = pelt.Pipeline().bake(
+        mesh, tile_size=0.3, fur_depth=0.08, layers=16, resolution=64, hair=pelt.HairParams(density=2500),
+        transfer=False, seed=7,
+    )  # fmt: skip
+
+    names, parents, rest, times, poses = skeleton()
+    head = np.clip((positions[:, 2] + 0.3) / 0.6, 0.0, 1.0).astype(np.float32)
+    joints = np.tile(np.array([1, 2], np.uint32), (count, 1))
+    weights = np.stack([1.0 - head, head], axis=1).astype(np.float32)
+    pelt.export_gltf(
+        asset,
+        out / "character.glb",
+        mode="engine",
+        name="Character",
+        transform=np.eye(4),
+        skin={"skeleton": 0, "joints": joints, "weights": weights},
+        skeletons=[
+            {
+                "names": names,
+                "parents": parents,
+                "rest": rest,
+                "animations": [{"name": "Nod", "times": times, "poses": poses}],
+            }
+        ],
+    )
+
+    # The pose at TIME (a sample of the animation), by linear blend skinning of the rest mesh.
+    key = int(np.flatnonzero(np.isclose(times, TIME))[0])
+    skin = world(poses[key], parents) @ np.linalg.inv(world(rest, parents))
+    blended = weights[:, 0, None, None] * skin[1] + weights[:, 1, None, None] * skin[2]
+    homogeneous = np.concatenate([positions, np.ones((count, 1), np.float32)], axis=1)
+    posed = np.einsum("vij,vj->vi", blended, homogeneous)[:, :3].astype(np.float32)
+
+    view = look_at((0.0, -4.2, 0.6), (0.0, 0.0, 0.1), (0.0, 0.0, 1.0))
+    projection = perspective(math.radians(38.0), 1.0, 0.1, 100.0)
+    lighting = {"model": "kajiya-kay", "direction": (0.4, -0.5, 0.75), "color": (math.pi,) * 3}
+    preview = pelt.Preview(asset, adapter="cpu")
+    preview.deform(posed)
+    black = (0.0, 0.0, 0.0, 1.0)
+    frame = preview.render(view, projection, SIZE, SIZE, lighting=lighting, fins=True, background=black)
+    pelt.save_png(out / "preview.png", frame)
+    scene = {
+        "model": "character.glb",
+        "time": TIME,
+        "width": SIZE,
+        "height": SIZE,
+        "view": view.T.reshape(-1).tolist(),
+        "projection": projection.T.reshape(-1).tolist(),
+        "lighting": {"direction": lighting["direction"], "color": lighting["color"]},
+        "shells": int(asset.layers - 1),
+    }
+    (out / "scene.json").write_text(json.dumps(scene, indent=1))
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        raise SystemExit("usage: make_reference.py OUT_DIR")
+    main(Path(sys.argv[1]))

@@ -1,0 +1,155 @@
+// The fur of one skin primitive's three.js mesh (docs/export.md, "Drawing"): the shells in one
+// instanced draw and the fins in one draw, both skinned like the skin when it is a SkinnedMesh,
+// alpha-blended after the opaque pass. The fins are created first: three.js draws transparent
+// objects at the same depth in creation order, and the renderer draws the fins (pass b) before
+// the shells (pass c).
+
+import { Mesh, SkinnedMesh, Sphere, Vector2 } from 'three';
+
+import { aliasFurAttributes, finGeometry, furAttributes, shellGeometry } from './geometry.js';
+import { finMaterial, surfaceMaterial } from './materials.js';
+import { lodShells, pixelsPerUnit } from './stack.js';
+
+const _size = new Vector2();
+const _sphere = new Sphere();
+
+export class PeltFur {
+
+	/**
+	 * `skin`: the skin primitive's Mesh or SkinnedMesh; `ext`: its extension object; `textures`:
+	 * loadFurTextures' result; `light`: lightingValues' result; `prt`: whether PRT lights it;
+	 * `layerMeans`: the fins' mean transfer texture under PRT; `options`: the plugin's.
+	 */
+	constructor( { skin, ext, textures, light, prt, layerMeans = null, options = {} } ) {
+
+		const stack = ext.stack;
+		this.skin = skin;
+		this.stack = stack;
+		this.prt = prt;
+		this.lod = options.lod === false ? null : { ...options.lod };
+		const attributes = furAttributes( skin.geometry, ext );
+		const lengths = attributes.length;
+		this.maxLength = 0;
+		for ( let i = 0; i < lengths.count; i ++ ) this.maxLength = Math.max( this.maxLength, lengths.getX( i ) );
+		if ( ! skin.geometry.boundingSphere ) skin.geometry.computeBoundingSphere();
+		this.restSphere = skin.geometry.boundingSphere.clone();
+
+		const common = { stack, textures, light, prt };
+		const make = ( geometry, material, name ) => {
+
+			const mesh = skin.isSkinnedMesh ? new SkinnedMesh( geometry, material ) : new Mesh( geometry, material );
+			mesh.name = `${skin.name} ${name}`;
+			// The fur reaches past the skin's bounds and a skinned mesh moves them.
+			mesh.frustumCulled = false;
+			mesh.castShadow = false;
+			mesh.receiveShadow = false;
+			// Picking finds the skin itself.
+			mesh.raycast = () => {};
+			// A child at the skin's own place: it follows the skin's node, and a SkinnedMesh child
+			// has the skin's world matrix, so the same bind matrices.
+			skin.add( mesh );
+			if ( skin.isSkinnedMesh ) mesh.bind( skin.skeleton, skin.bindMatrix );
+			return mesh;
+
+		};
+
+		this.fins = null;
+		const finsGeometry = options.fins === false ? null : finGeometry( skin.geometry, attributes, stack );
+		if ( finsGeometry ) {
+
+			const material = finMaterial( { ...common, finOpacity: options.finOpacity ?? 1, layerMeans } );
+			this.fins = make( finsGeometry, material, 'fins' );
+
+		}
+
+		const shellMaterial = surfaceMaterial( { ...common, alphaTest: options.alphaTest ?? 1 / 255 } );
+		this.shells = make( shellGeometry( skin.geometry, attributes, stack.shells ), shellMaterial, 'shells' );
+		this.shells.onBeforeRender = ( renderer, scene, camera ) => this.updateLod( renderer, camera );
+		this.drawnShells = stack.shells;
+
+		this.originalSkinMaterial = skin.material;
+		if ( options.shadeSkin ) {
+
+			aliasFurAttributes( skin.geometry, attributes );
+			skin.material = surfaceMaterial( { ...common, skin: true } );
+
+		}
+
+	}
+
+	/** Draw calls the fur adds to the skin's: one for the shells, one for the fins. */
+	get drawCalls() {
+
+		return this.visible ? 1 + ( this.fins ? 1 : 0 ) : 0;
+
+	}
+
+	get visible() {
+
+		return this.shells.visible;
+
+	}
+
+	set visible( value ) {
+
+		this.shells.visible = value;
+		if ( this.fins ) this.fins.visible = value;
+
+	}
+
+	/** The three.js objects the fur added. */
+	get meshes() {
+
+		return this.fins ? [ this.fins, this.shells ] : [ this.shells ];
+
+	}
+
+	/**
+	 * Distance LOD (src/render/lod.rs): the fur's depth in pixels at the bounding sphere's centre
+	 * picks the shells drawn, at least a quarter of them; fewer shells keep the full depth.
+	 */
+	updateLod( renderer, camera ) {
+
+		let drawn = this.stack.shells;
+		if ( this.lod ) {
+
+			const target = renderer.getRenderTarget();
+			if ( target ) _size.set( target.width, target.height );
+			else renderer.getDrawingBufferSize( _size );
+			_sphere.copy( this.restSphere ).applyMatrix4( this.shells.matrixWorld );
+			const scale = this.shells.matrixWorld.getMaxScaleOnAxis();
+			const ppu = pixelsPerUnit( _sphere.center.toArray(), camera.matrixWorldInverse, camera.projectionMatrix, _size.x, _size.y );
+			const furPixels = ppu * scale * this.stack.fur_depth * this.maxLength;
+			drawn = lodShells( furPixels, this.stack.shells, this.lod );
+
+		}
+
+		this.drawnShells = drawn;
+		this.shells.geometry.instanceCount = drawn;
+		this.shells.material.uniforms.peltDrawn.value = drawn;
+
+	}
+
+	/** Removes the fur and gives the skin its own material back. */
+	dispose() {
+
+		for ( const mesh of this.meshes ) {
+
+			mesh.removeFromParent();
+			mesh.material.dispose();
+
+		}
+
+		// The shells' geometry owns no buffers (disposing it would free the skin's).
+		if ( this.fins ) this.fins.geometry.dispose();
+
+		if ( this.skin.material !== this.originalSkinMaterial ) {
+
+			this.skin.material.dispose();
+			this.skin.material = this.originalSkinMaterial;
+
+		}
+
+	}
+
+}

@@ -1,0 +1,80 @@
+// GLSL port of src/render/lighting.wgsl: the modified Banks / Kajiya–Kay hair model of Lengyel
+// et al. 2001, §2.4, evaluated per fragment, with Banks-style darkening toward the skin and the
+// wrapped terminator. Colors are linear; `peltLightColor` is the light's color over π, as the
+// WGSL's frame.light_color.
+
+export const lighting = /* glsl */`
+uniform vec3 peltLightDirection;
+uniform vec3 peltLightColor;
+uniform vec3 peltAmbient;
+// Kd, Ks, Pd, Ps.
+uniform vec4 peltKajiyaKay;
+// Banks self-shadow strength b.
+uniform float peltSelfShadow;
+
+// lighting.wgsl TERMINATOR_WRAP, MIN_SLANT_COS, HOT_SPOT_WIDTH.
+const float PELT_TERMINATOR_WRAP = 0.3;
+const float PELT_MIN_SLANT_COS = 0.1;
+const float PELT_HOT_SPOT_WIDTH = 0.35;
+
+// lighting.wgsl banks_strengths(): x for the ambient light, y for the light seen from view.
+vec2 peltBanksStrengths( vec3 normal, vec3 light, vec3 view ) {
+	float b = clamp( peltSelfShadow, 0.0, 1.0 );
+	float slant = 1.0 / max( dot( normal, light ), PELT_MIN_SLANT_COS );
+	float apart = acos( clamp( dot( light, view ), -1.0, 1.0 ) );
+	float sharedPath = exp( -apart / PELT_HOT_SPOT_WIDTH );
+	float direct = 1.0 - pow( max( 1.0 - b, 1e-8 ), slant * ( 1.0 - sharedPath ) );
+	return vec2( b, direct );
+}
+
+// lighting.wgsl banks_at(): darkening of strength b at height (share of the fur depth).
+float peltBanksAt( float b, float height ) {
+	return 1.0 - b * ( 1.0 - clamp( height, 0.0, 1.0 ) );
+}
+
+// lighting.wgsl hair_parts(), as its HairParts: ambient, direct (rgb) and the highlight's
+// multiple of the light color (shine).
+void peltHairParts( vec3 tangent, vec3 normal, vec3 view, out vec3 ambient, out vec3 direct, out float shine ) {
+	vec3 l = peltLightDirection;
+	vec3 h = peltUnitOr( l + view, normal );
+	float u = dot( tangent, l );
+	float v = dot( tangent, h );
+	// The floor keeps pow's base positive.
+	float diffuse = pow( max( 1.0 - u * u, 1e-8 ), 0.5 * peltKajiyaKay.z );
+	float specular = pow( max( 1.0 - v * v, 1e-8 ), 0.5 * peltKajiyaKay.w );
+	float lit = clamp( ( dot( normal, l ) + PELT_TERMINATOR_WRAP ) / ( 1.0 + PELT_TERMINATOR_WRAP ), 0.0, 1.0 );
+	ambient = peltAmbient;
+	direct = peltLightColor * lit * ( peltKajiyaKay.x * diffuse );
+	shine = lit * ( peltKajiyaKay.y * specular );
+}
+
+// lighting.wgsl hair_terms(): the lighting's scale (rgb, multiplies the albedo) and shine (w,
+// times the light color) at height (share of the fur depth).
+vec4 peltHairTerms( vec3 tangent, vec3 normal, vec3 view, float height ) {
+	vec3 ambient;
+	vec3 direct;
+	float shine;
+	peltHairParts( tangent, normal, view, ambient, direct, shine );
+	vec2 b = peltBanksStrengths( normal, peltLightDirection, view );
+	float darkened = peltBanksAt( b.y, height );
+	return vec4( ambient * peltBanksAt( b.x, height ) + direct * darkened, shine * darkened );
+}
+
+// lighting.wgsl shade() in straight alpha: the lit color of hair of straight albedo (the texel's
+// rgb × vertex color), albedo × scale + light color × shine. Premultiplying by the fragment's
+// alpha gives the WGSL's albedo × scale + alpha × add.
+vec3 peltShade( vec3 albedo, vec3 tangent, vec3 normal, vec3 view, float height ) {
+	vec4 k = peltHairTerms( tangent, normal, view, height );
+	return albedo * k.rgb + peltLightColor * k.w;
+}
+
+// lighting.wgsl shade_skin(): the skin under the roots, wrapped N·L instead of the hair terms,
+// Banks-darkened like the roots above it.
+vec3 peltShadeSkin( vec3 albedo, vec3 normal, vec3 view ) {
+	vec3 l = peltLightDirection;
+	float lit = clamp( ( dot( normal, l ) + PELT_TERMINATOR_WRAP ) / ( 1.0 + PELT_TERMINATOR_WRAP ), 0.0, 1.0 );
+	vec3 light = peltLightColor * ( lit * peltKajiyaKay.x );
+	vec2 b = peltBanksStrengths( normal, l, view );
+	return albedo * ( peltAmbient * ( 1.0 - b.x ) + light * ( 1.0 - b.y ) );
+}
+`;

@@ -1,0 +1,311 @@
+// The example in headless Chromium (WebGL 2 through SwiftShader): the plugin finds the
+// extension, hides the fallback, draws the fur in two draw calls per object, the fur adds
+// coverage around the silhouette, the animation moves it and the distance LOD thins it; and the
+// frame the wgpu preview drew of a nodding Suzanne (reference/make_reference.py) comes out with
+// the same mean luminance within 10 % (make check-three then bounds their ꟻLIP difference with
+// reference/compare.py). Screenshots go to test/out/. The browser is the system's
+// (PELT_CHROMIUM, default /usr/bin/chromium); nothing is downloaded. A missing model, reference
+// or browser fails the tests.
+
+import assert from 'node:assert/strict';
+import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { after, before, test } from 'node:test';
+
+import puppeteer from 'puppeteer-core';
+
+import { GLB, OUT_DIR, PACKAGE_DIR, REFERENCE } from './support/paths.mjs';
+import { serve } from './support/server.mjs';
+
+const CHROMIUM = process.env.PELT_CHROMIUM || '/usr/bin/chromium';
+// Pixels the fur must add outside the bare silhouette, and the nod must change.
+const MIN_FUR_PIXELS = 500;
+const MIN_MOVED_PIXELS = 500;
+// A channel step that counts as a change between two frames (8-bit).
+const CHANGED = 8;
+
+// Mean luminance over the preview's object may differ by this share.
+const LUMINANCE_TOLERANCE = 0.10;
+const missing = ! existsSync( GLB ) ? `no ${GLB} (make check-gltf writes it)`
+	: ! existsSync( CHROMIUM ) ? `no ${CHROMIUM} (make system-deps installs Debian's chromium)`
+		: ! existsSync( join( REFERENCE, 'scene.json' ) ) ? `no reference scene in ${REFERENCE} (make check-three writes it)` : null;
+
+let server;
+let browser;
+let profile;
+
+before( async () => {
+
+	assert.equal( missing, null, missing );
+	server = await serve( PACKAGE_DIR, GLB, REFERENCE );
+	profile = mkdtempSync( join( tmpdir(), 'pelt-three-' ) );
+	browser = await puppeteer.launch( {
+		executablePath: CHROMIUM,
+		headless: true,
+		args: [
+			'--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+			'--disable-background-networking', '--disable-component-update', '--disable-sync',
+			'--no-first-run', '--disable-quic', '--disable-extensions', `--user-data-dir=${profile}`,
+		],
+	} );
+
+} );
+
+after( async () => {
+
+	await browser?.close();
+	await server?.close();
+	if ( profile ) rmSync( profile, { recursive: true, force: true } );
+
+} );
+
+/** Opens the example with `query` on the test's model; the page, its problems and pelt.ready's summary. */
+async function openExample( query ) {
+
+	const page = await browser.newPage();
+	const problems = [];
+	page.on( 'pageerror', ( error ) => problems.push( `page error: ${error.message}` ) );
+	page.on( 'console', ( message ) => {
+
+		if ( message.type() === 'error' ) problems.push( `console error: ${message.text()}` );
+
+	} );
+	page.on( 'requestfailed', ( request ) => {
+
+		// Chromium at times reports a fetch whose body streams into the page as aborted though all
+		// of it arrived; a load that really fails rejects pelt.ready.
+		const reason = request.failure()?.errorText;
+		if ( reason !== 'net::ERR_ABORTED' ) problems.push( `request failed: ${request.url()} (${reason})` );
+
+	} );
+	page.on( 'response', ( response ) => {
+
+		if ( response.status() >= 400 ) problems.push( `HTTP ${response.status()}: ${response.url()}` );
+
+	} );
+	await page.setViewport( { width: 512, height: 512 } );
+	await page.goto( `${server.url}/example/index.html?model=/model.glb&paused&${query}`, { waitUntil: 'load' } );
+	const summary = await page.evaluate( () => window.pelt.ready );
+	return { page, problems, summary };
+
+}
+
+/** Renders the frame at `time` with the fur on or off; its RGBA bytes and a PNG data URL. */
+async function frame( page, time, fur ) {
+
+	const { rgba, png } = await page.evaluate( ( time, fur ) => {
+
+		window.pelt.toggleFur( fur );
+		window.pelt.setTime( time );
+		const canvas = document.getElementById( 'view' );
+		const copy = new OffscreenCanvas( canvas.width, canvas.height ).getContext( '2d' );
+		copy.drawImage( canvas, 0, 0 );
+		const bytes = copy.getImageData( 0, 0, canvas.width, canvas.height ).data;
+		let binary = '';
+		for ( let i = 0; i < bytes.length; i += 0x8000 ) binary += String.fromCharCode( ...bytes.subarray( i, i + 0x8000 ) );
+		return { rgba: btoa( binary ), png: canvas.toDataURL( 'image/png' ) };
+
+	}, time, fur );
+	return { rgba: Buffer.from( rgba, 'base64' ), png };
+
+}
+
+function save( name, image ) {
+
+	mkdirSync( OUT_DIR, { recursive: true } );
+	writeFileSync( join( OUT_DIR, name ), Buffer.from( image.png.split( ',' )[ 1 ], 'base64' ) );
+
+}
+
+const isBackground = ( rgba, i, background ) =>
+	Math.abs( rgba[ i ] - background[ 0 ] ) <= 2 && Math.abs( rgba[ i + 1 ] - background[ 1 ] ) <= 2 && Math.abs( rgba[ i + 2 ] - background[ 2 ] ) <= 2;
+
+/**
+ * Pixels of the object in `bare`, pixels that are background in `bare` and not in `furred`
+ * (the fur's coverage past the silhouette), and the reverse. The background is the corner pixel.
+ */
+function coverage( bare, furred ) {
+
+	const background = bare.rgba.subarray( 0, 3 );
+	let added = 0;
+	let lost = 0;
+	let object = 0;
+	for ( let i = 0; i < bare.rgba.length; i += 4 ) {
+
+		const was = isBackground( bare.rgba, i, background );
+		const is = isBackground( furred.rgba, i, background );
+		if ( ! was ) object ++;
+		if ( was && ! is ) added ++;
+		if ( ! was && is ) lost ++;
+
+	}
+
+	return { added, lost, object };
+
+}
+
+function changedPixels( a, b ) {
+
+	let changed = 0;
+	for ( let i = 0; i < a.rgba.length; i += 4 ) {
+
+		if ( Math.max( Math.abs( a.rgba[ i ] - b.rgba[ i ] ), Math.abs( a.rgba[ i + 1 ] - b.rgba[ i + 1 ] ), Math.abs( a.rgba[ i + 2 ] - b.rgba[ i + 2 ] ) ) > CHANGED ) changed ++;
+
+	}
+
+	return changed;
+
+}
+
+function assertFurCovers( t, label, bare, furred ) {
+
+	const c = coverage( bare, furred );
+	t.diagnostic( `${label}: bare object ${c.object} px, fur adds ${c.added} px outside it (needs > ${MIN_FUR_PIXELS}), uncovers ${c.lost}` );
+	assert.ok( c.object > 10_000, `the bare object shows (${c.object} px)` );
+	assert.ok( c.added > MIN_FUR_PIXELS, `fur adds ${c.added} px around the silhouette` );
+	assert.equal( c.lost, 0, 'the fur hides nothing of the object' );
+
+}
+
+test( 'the example draws the fur of the exported character (PRT)', { timeout: 90_000 }, async ( t ) => {
+
+	const { page, problems, summary } = await openExample( '' );
+	const webgl = await page.evaluate( () => {
+
+		const gl = document.createElement( 'canvas' ).getContext( 'webgl2' );
+		const info = gl?.getExtension( 'WEBGL_debug_renderer_info' );
+		return gl ? gl.getParameter( info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER ) : null;
+
+	} );
+	assert.ok( webgl, 'WebGL 2 is available' );
+	t.diagnostic( `WebGL 2: ${webgl}` );
+	assert.deepEqual( problems, [] );
+	assert.equal( summary.extension, true );
+	assert.equal( summary.animation, 'Nod' );
+	const character = summary.furs.find( ( f ) => f.skinned );
+	assert.ok( character, 'a skinned fur' );
+	assert.equal( character.hiddenFallback, 4, 'the four fallback shells are hidden' );
+	assert.equal( summary.hidden.length, 4 * summary.furs.length );
+	assert.ok( character.fins > 100, `fins: ${character.fins}` );
+	assert.ok( summary.furs.every( ( f ) => f.prt ), 'the file\'s transfer lights the fur' );
+
+	// Two draw calls per fur (shells, fins): with its skin at most three.
+	const { total, fur, perFur } = summary.drawCalls;
+	assert.equal( fur, perFur.reduce( ( a, b ) => a + b, 0 ), 'the measured difference is the furs\' draws' );
+	for ( const calls of perFur ) assert.ok( calls + 1 <= 3, `${calls} fur draw calls + the skin` );
+	t.diagnostic( `draw calls: ${total} in all, ${fur} for ${summary.furs.length} furs (${perFur.join( ', ' )})` );
+	t.diagnostic( `frame time: ${summary.frameTimeMs.toFixed( 2 )} ms (mean of 20 frames, 512 × 512)` );
+
+	const bare0 = await frame( page, 0, false );
+	const fur0 = await frame( page, 0, true );
+	const bareHalf = await frame( page, 0.5, false );
+	const furHalf = await frame( page, 0.5, true );
+	save( 'bare_t0.png', bare0 );
+	save( 'fur_t0.png', fur0 );
+	save( 'bare_t0.5.png', bareHalf );
+	save( 'fur_t0.5.png', furHalf );
+	assertFurCovers( t, 't = 0', bare0, fur0 );
+	assertFurCovers( t, 't = 0.5 s', bareHalf, furHalf );
+
+	const moved = changedPixels( fur0, furHalf );
+	const movedBare = changedPixels( bare0, bareHalf );
+	t.diagnostic( `the nod changes ${moved} px with fur, ${movedBare} px bare (needs > ${MIN_MOVED_PIXELS})` );
+	assert.ok( moved > MIN_MOVED_PIXELS );
+	assert.ok( movedBare > MIN_MOVED_PIXELS );
+
+	// setTime is deterministic: the same time renders the same frame.
+	const again = await frame( page, 0.5, true );
+	assert.equal( changedPixels( furHalf, again ), 0 );
+
+	// Distance LOD: far away fewer shells, at least a quarter of them.
+	const lod = await page.evaluate( () => {
+
+		window.pelt.setZoom( 0.1 );
+		window.pelt.setTime( 0 );
+		const far = window.pelt.drawnShells();
+		window.pelt.setZoom( 1 );
+		window.pelt.setTime( 0 );
+		return { far, near: window.pelt.drawnShells() };
+
+	} );
+	t.diagnostic( `shells drawn close up ${lod.near}, far away ${lod.far} (of ${summary.furs.map( ( f ) => f.shells )})` );
+	summary.furs.forEach( ( f, i ) => {
+
+		assert.equal( lod.near[ i ], f.shells );
+		assert.ok( lod.far[ i ] < f.shells && lod.far[ i ] >= Math.ceil( f.shells / 4 ), `${lod.far[ i ]} shells far away` );
+
+	} );
+	assert.deepEqual( problems, [] );
+	await page.close();
+
+} );
+
+test( 'Kajiya-Kay lighting and the skin\'s own glTF material', { timeout: 90_000 }, async ( t ) => {
+
+	const { page, problems, summary } = await openExample( 'lighting=kajiya-kay&skin=gltf' );
+	assert.deepEqual( problems, [] );
+	assert.ok( summary.furs.every( ( f ) => ! f.prt ) );
+	t.diagnostic( `Kajiya-Kay frame time: ${summary.frameTimeMs.toFixed( 2 )} ms, fur draw calls ${summary.drawCalls.fur}` );
+	const bare = await frame( page, 0, false );
+	const furred = await frame( page, 0, true );
+	save( 'kajiya_kay_t0.png', furred );
+	assertFurCovers( t, 'Kajiya-Kay, t = 0', bare, furred );
+	assert.deepEqual( problems, [] );
+	await page.close();
+
+} );
+
+/** Relative luminance of an 8-bit sRGB pixel, linear. */
+function luminance( rgba, i ) {
+
+	const linear = ( c ) => ( c <= 10.31475 ? c / 3294.6 : ( ( c / 255 + 0.055 ) / 1.055 ) ** 2.4 );
+	return 0.2126 * linear( rgba[ i ] ) + 0.7152 * linear( rgba[ i + 1 ] ) + 0.0722 * linear( rgba[ i + 2 ] );
+
+}
+
+test( 'the example draws the frame the wgpu preview draws', { timeout: 120_000 }, async ( t ) => {
+
+	const description = JSON.parse( readFileSync( join( REFERENCE, 'scene.json' ), 'utf8' ) );
+	const { page, problems, summary } = await openExample( 'scene=/reference/scene.json' );
+	assert.deepEqual( problems, [] );
+	assert.equal( summary.furs.length, 1 );
+	assert.equal( summary.furs[ 0 ].drawnShells, description.shells, 'every shell, as the preview' );
+	const three = await frame( page, description.time, true );
+	save( 'reference_three.png', three );
+	const preview = Buffer.from( await page.evaluate( async () => {
+
+		const blob = await ( await fetch( '/reference/preview.png' ) ).blob();
+		const bitmap = await createImageBitmap( blob, { premultiplyAlpha: 'none', colorSpaceConversion: 'none' } );
+		const copy = new OffscreenCanvas( bitmap.width, bitmap.height ).getContext( '2d' );
+		copy.drawImage( bitmap, 0, 0 );
+		const bytes = copy.getImageData( 0, 0, bitmap.width, bitmap.height ).data;
+		let binary = '';
+		for ( let i = 0; i < bytes.length; i += 0x8000 ) binary += String.fromCharCode( ...bytes.subarray( i, i + 0x8000 ) );
+		return btoa( binary );
+
+	} ), 'base64' );
+	assert.equal( preview.length, three.rgba.length, 'the same image size' );
+	// Over the pixels the preview draws (the object and its fur, on black).
+	let covered = 0;
+	let previewSum = 0;
+	let threeSum = 0;
+	for ( let i = 0; i < preview.length; i += 4 ) {
+
+		if ( Math.max( preview[ i ], preview[ i + 1 ], preview[ i + 2 ] ) <= 2 ) continue;
+		covered ++;
+		previewSum += luminance( preview, i );
+		threeSum += luminance( three.rgba, i );
+
+	}
+
+	assert.ok( covered > 20_000, `the preview covers ${covered} px` );
+	const ratio = threeSum / previewSum;
+	t.diagnostic( `mean luminance over ${covered} px: preview ${( previewSum / covered ).toFixed( 4 )}, three.js ${( threeSum / covered ).toFixed( 4 )} (ratio ${ratio.toFixed( 3 )}, must be within ${LUMINANCE_TOLERANCE})` );
+	const time = await page.evaluate( () => window.pelt.frameTimeMs );
+	t.diagnostic( `frame time ${time.toFixed( 1 )} ms at ${description.width} × ${description.height}` );
+	assert.ok( Math.abs( ratio - 1 ) <= LUMINANCE_TOLERANCE, `luminance ratio ${ratio.toFixed( 3 )}` );
+	assert.deepEqual( problems, [] );
+	await page.close();
+
+} );
