@@ -23,8 +23,11 @@ use crate::volume::{VolumeParams, bake_volume};
 /// Shells above the skin.
 const SHELLS: usize = 32;
 
-pub(super) fn export_gltf(options: &BenchOptions) -> Result<Vec<CaseResult>> {
-    let (positions, triangles) = shapes::bumpy_torus(224, 224);
+/// A bumpy torus of `side × side` quads with lapped patches: its positions, triangles, mesh and
+/// patches.
+#[allow(clippy::type_complexity)]
+fn patched_torus(side: usize) -> Result<(Vec<[f32; 3]>, Vec<[u32; 3]>, FurMesh, crate::lapped::Patches)> {
+    let (positions, triangles) = shapes::bumpy_torus(side, side);
     let mesh = FurMesh::new(MeshInput::new(&positions, &triangles))?;
     let patches = build_patches(
         &mesh,
@@ -33,6 +36,11 @@ pub(super) fn export_gltf(options: &BenchOptions) -> Result<Vec<CaseResult>> {
             ..PatchParams::default()
         },
     )?;
+    Ok((positions, triangles, mesh, patches))
+}
+
+pub(super) fn export_gltf(options: &BenchOptions) -> Result<Vec<CaseResult>> {
+    let (_, triangles, mesh, patches) = patched_torus(224)?;
     let volume = bake_volume(
         &HairParams::default(),
         &VolumeParams {
@@ -164,15 +172,7 @@ fn skinned(
     transfer: Option<TransferTextures<'_>>,
     reps: usize,
 ) -> Result<Vec<CaseResult>> {
-    let (positions, triangles) = shapes::bumpy_torus(122, 122);
-    let mesh = FurMesh::new(MeshInput::new(&positions, &triangles))?;
-    let patches = build_patches(
-        &mesh,
-        &PatchParams {
-            tile_size: 0.05,
-            ..PatchParams::default()
-        },
-    )?;
+    let (positions, triangles, mesh, patches) = patched_torus(122)?;
     let skeleton = ring_skeleton();
     let mut joints = Vec::with_capacity(positions.len() * INFLUENCES);
     let mut weights = Vec::with_capacity(positions.len() * INFLUENCES);

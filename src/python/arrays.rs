@@ -174,18 +174,23 @@ pub(super) fn uint_array<'py>(
     }
     // Widen first so that negative or too large values are reported, not wrapped.
     let wide = contiguous::<i64>(&array, name, "int64")?;
-    let values = flat(&wide)?;
-    if let Some(row) = values
+    check_u32_range(flat(&wide)?, name, "row")?;
+    contiguous::<u32>(&array, name, "uint32")
+}
+
+/// Refuses the first value outside `[0, u32::MAX]`, naming `name` and the `what` it is.
+fn check_u32_range(values: &[i64], name: &str, what: &str) -> PyResult<()> {
+    match values
         .iter()
         .position(|&v| !(0..=i64::from(u32::MAX)).contains(&v))
     {
-        return Err(PeltError::parameter(
+        None => Ok(()),
+        Some(at) => Err(PeltError::parameter(
             name,
-            format!("row {row} is {}, outside [0, 4294967295]", values[row]),
+            format!("{what} {at} is {}, outside [0, 4294967295]", values[at]),
         )
-        .into());
+        .into()),
     }
-    contiguous::<u32>(&array, name, "uint32")
 }
 
 /// The values of an array this module made contiguous (a failure here is a bug in Pelt).
@@ -291,15 +296,6 @@ pub(super) fn uint_ndarray(
     // Widened first, so that negative or too large values are reported, not wrapped.
     let wide = contiguous::<i64>(&array, name, "int64")?;
     let values = flat(&wide)?;
-    if let Some(at) = values
-        .iter()
-        .position(|&v| !(0..=i64::from(u32::MAX)).contains(&v))
-    {
-        return Err(PeltError::parameter(
-            name,
-            format!("entry {at} is {}, outside [0, 4294967295]", values[at]),
-        )
-        .into());
-    }
+    check_u32_range(values, name, "entry")?;
     Ok((values.iter().map(|&v| v as u32).collect(), shape))
 }

@@ -4,7 +4,9 @@ Blender put the original skin in the same frame (the shells within the fur's hei
 the placement of unskinned objects survives the Y-up turn. Also ``pelt.export_gltf``'s own
 checks of skinning arguments."""
 
+import json
 import math
+import struct
 
 import bpy
 import numpy as np
@@ -174,3 +176,82 @@ def test_export_gltf_checks_its_skinning_arguments(tmp_path):
             pelt.export_gltf(asset, path, **arguments)
     # A failed export leaves the earlier file as it was.
     assert path.read_bytes()[:4] == b"glTF"
+
+
+def test_user_flow_mirrored_armature_character_baked_posed_exported_and_reimported(addon, tmp_path):
+    """Half a character with a Mirror at the top of its stack, an armature after it and a second
+    material: Bake applies the Mirror, Render Preview draws the pose, the export carries the
+    skeleton and the action, and Blender's importer plays it back with the fur on both halves."""
+    import bmesh
+
+    _, body = character()
+    bm = bmesh.new()
+    bm.from_mesh(body.data)
+    bmesh.ops.delete(bm, geom=[v for v in bm.verts if v.co.x < -1e-4], context="VERTS")
+    bm.to_mesh(body.data)
+    bm.free()
+    mirror = body.modifiers.new("Mirror", "MIRROR")
+    bpy.context.view_layer.objects.active = body
+    bpy.ops.object.modifier_move_to_index(modifier=mirror.name, index=0)
+    body.data.materials.append(bpy.data.materials.new("Skin"))
+    body.data.materials.append(bpy.data.materials.new("Eyes"))
+    top = np.array([p.center.z > 1.8 for p in body.data.polygons], np.int32)
+    body.data.polygons.foreach_set("material_index", top)
+    small_fur(body, tile_size=0.4, fur_depth=0.05)
+    half = len(body.data.vertices)
+
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    assert body.modifiers[0].type == "ARMATURE"
+    assert len(body.data.vertices) > 1.6 * half  # the seam's vertices merge
+    assert [m.name for m in body.data.materials] == ["Skin", "Eyes"]
+
+    camera_data = bpy.data.cameras.new("Camera")
+    camera = bpy.data.objects.new("Camera", camera_data)
+    bpy.context.scene.collection.objects.link(camera)
+    camera.location = (1.0, -4.0, 1.5)
+    camera.rotation_euler = (math.radians(85), 0.0, 0.0)
+    scene = bpy.context.scene
+    scene.camera = camera
+    scene.render.resolution_x = scene.render.resolution_y = 96
+    frames = {}
+    for frame in (FIRST, LAST):
+        scene.frame_set(frame)
+        assert bpy.ops.pelt.render_preview() == {"FINISHED"}
+        image = bpy.data.images["Pelt Preview"]
+        pixels = np.empty(4 * image.size[0] * image.size[1], np.float32)
+        image.pixels.foreach_get(pixels)
+        frames[frame] = pixels.reshape(image.size[1], image.size[0], 4)
+    from addon import pose
+
+    assert body.session_uid not in pose.NOTES
+    covered = [f[..., 3] > 0.5 for f in frames.values()]
+    # The pose moved the fur in the preview.
+    assert (covered[0] != covered[1]).sum() > 50
+
+    # Pelt's fur modifier joins the skin first: its rows are the mesh's.
+    posed = {}
+    for frame in (FIRST, LAST):
+        scene.frame_set(frame)
+        posed[frame] = world_vertices(body)[: len(body.data.vertices)]
+    scene.frame_set(FIRST)
+    path = tmp_path / "character.glb"
+    bpy.ops.object.select_all(action="DESELECT")
+    body.select_set(True)
+    assert bpy.ops.pelt.export(filepath=str(path), mode="GEOMETRY", png=False, ktx2=False) == {"FINISHED"}
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    assert bpy.ops.import_scene.gltf(filepath=str(path)) == {"FINISHED"}
+    imported = bpy.data.objects["Body"]
+    action = next(o for o in bpy.data.objects if o.type == "ARMATURE").animation_data.action
+    first, last = (round(f) for f in action.frame_range)
+    # The skin primitive's vertices (the mesh split at patch seams) come first.
+    data = path.read_bytes()
+    document = json.loads(data[20 : 20 + struct.unpack_from("<I", data, 12)[0]])
+    position = document["meshes"][0]["primitives"][0]["attributes"]["POSITION"]
+    skin_count = document["accessors"][position]["count"]
+    for frame, original in ((first, posed[FIRST]), (last, posed[LAST])):
+        bpy.context.scene.frame_set(frame)
+        got = world_vertices(imported)[:skin_count]
+        assert nearest(got, original).max() < 1e-3, frame
+        # Every vertex of both halves came back.
+        assert nearest(original, got).max() < 1e-3, frame

@@ -8,6 +8,21 @@ import { common } from './common.js';
 import { lighting } from './lighting.js';
 import { prtCommon, prtFragment, prtVertex } from './prt.js';
 
+// surface_kk.wgsl SurfaceVarying, in world space: position and painted length, normal and
+// uv.x, dP/du and uv.y, dP/dv, the tile's up axis, color, layer. PRT needs no frame in the
+// fragment (surface_prt.wgsl), but the lighting (vPeltLight).
+const varyings = /* glsl */`
+varying vec4 vPositionLength;
+varying vec4 vNormalU;
+varying vec4 vDpduV;
+#ifndef PELT_PRT
+varying vec3 vDpdv;
+varying vec3 vUp;
+#endif
+varying vec4 vColor;
+flat varying int vLayer;
+`;
+
 /** The vertex shader; `order` > 0 for PRT with `textures` transfer textures. */
 export function surfaceVertex( order, textures ) {
 
@@ -32,18 +47,7 @@ uniform int peltDrawn;
 uniform int peltShellLayers[ PELT_SHELLS ];
 #endif
 
-// surface_kk.wgsl SurfaceVarying, in world space: position and painted length, normal and
-// uv.x, dP/du and uv.y, dP/dv, the tile's up axis, color, layer. PRT needs no frame in the
-// fragment (surface_prt.wgsl), but the lighting (vPeltLight).
-varying vec4 vPositionLength;
-varying vec4 vNormalU;
-varying vec4 vDpduV;
-#ifndef PELT_PRT
-varying vec3 vDpdv;
-varying vec3 vUp;
-#endif
-varying vec4 vColor;
-flat varying int vLayer;
+${varyings}
 
 #ifndef PELT_SKIN
 // common.wgsl shell_layers(): shell instance + 1 shows the stack's own layer when every shell
@@ -122,15 +126,7 @@ uniform sampler2D peltTangentAtlas;
 // Shell fragments below this opacity are dropped (settings.rs alpha_test).
 uniform float peltAlphaTest;
 
-varying vec4 vPositionLength;
-varying vec4 vNormalU;
-varying vec4 vDpduV;
-#ifndef PELT_PRT
-varying vec3 vDpdv;
-varying vec3 vUp;
-#endif
-varying vec4 vColor;
-flat varying int vLayer;
+${varyings}
 
 #ifndef PELT_PRT
 // surface_kk.wgsl hair_tangent(): the tangent map's direction d (rgb = 0.5 d + 0.5, tile frame)
