@@ -96,7 +96,7 @@ def start_job(obj, *, apply_topology: bool = False) -> bake_job.BakeJob:
 def finish(obj, job: bake_job.BakeJob, build_material=None) -> str:
     """Writes a finished job's asset into Blender and returns the report line; raises the
     job's error (nothing written) when it failed or was cancelled."""
-    applied = getattr(job, "applied", None)
+    applied = job.applied
     if job.error is not None:
         topology.revert(obj, applied)
         raise job.error

@@ -38,6 +38,9 @@ class BakeJob:
         self.seconds = 0.0
         # After the run: how many bakes of the pipeline, this one included, ran a stage.
         self.bakes_that_ran = 0
+        # The mesh with its topology modifiers applied that the bake read (``topology.Applied``),
+        # which ``bake.finish`` gives the object or discards; None when it read the object's.
+        self.applied = None
 
     def start(self) -> "BakeJob":
         self._thread.start()

@@ -222,26 +222,23 @@ pub(super) fn narrow_indices(wide: &[[i64; 3]], vertex_count: usize) -> Result<V
     Ok(wide.par_iter().map(|t| t.map(|i| i as u32)).collect())
 }
 
-/// Reads a real-valued array whose shape passes `fits` (described by `expected`, e.g.
-/// `[L, R, R]`) as C-contiguous `float32`; any other shape or dtype raises
-/// `pelt.InvalidParameterError` naming `name`.
-pub(super) fn float_ndarray<'py>(
+/// `obj` as a numpy array (sequences go through `numpy.asarray`) whose shape passes `fits`
+/// (described by `expected`), with that shape; otherwise `pelt.InvalidParameterError` naming
+/// `name`.
+fn shaped_array<'py>(
     obj: &Bound<'py, PyAny>,
     name: &str,
     expected: &str,
     fits: impl Fn(&[usize]) -> bool,
-) -> PyResult<(PyReadonlyArrayDyn<'py, f32>, Vec<usize>)> {
+) -> PyResult<(Bound<'py, PyUntypedArray>, Vec<usize>)> {
     let array = match obj.cast::<PyUntypedArray>() {
         Ok(array) => array.clone(),
-        Err(_) => {
-            let numpy = obj.py().import("numpy")?;
-            numpy
-                .call_method1("asarray", (obj,))
-                .and_then(|a| Ok(a.cast_into::<PyUntypedArray>()?))
-                .map_err(|e| {
-                    PeltError::parameter(name, format!("must be an array of shape {expected} ({e})"))
-                })?
-        }
+        Err(_) => obj
+            .py()
+            .import("numpy")?
+            .call_method1("asarray", (obj,))
+            .and_then(|a| Ok(a.cast_into::<PyUntypedArray>()?))
+            .map_err(|e| PeltError::parameter(name, format!("must be an array of shape {expected} ({e})")))?,
     };
     let shape = array.shape().to_vec();
     if !fits(&shape) {
@@ -251,6 +248,19 @@ pub(super) fn float_ndarray<'py>(
         )
         .into());
     }
+    Ok((array, shape))
+}
+
+/// Reads a real-valued array whose shape passes `fits` (described by `expected`, e.g.
+/// `[L, R, R]`) as C-contiguous `float32`; any other shape or dtype raises
+/// `pelt.InvalidParameterError` naming `name`.
+pub(super) fn float_ndarray<'py>(
+    obj: &Bound<'py, PyAny>,
+    name: &str,
+    expected: &str,
+    fits: impl Fn(&[usize]) -> bool,
+) -> PyResult<(PyReadonlyArrayDyn<'py, f32>, Vec<usize>)> {
+    let (array, shape) = shaped_array(obj, name, expected, fits)?;
     if !matches!(array.dtype().kind(), b'f' | b'i' | b'u') {
         return Err(PeltError::parameter(
             name,
@@ -273,19 +283,7 @@ pub(super) fn uint_ndarray(
     expected: &str,
     fits: impl Fn(&[usize]) -> bool,
 ) -> PyResult<(Vec<u32>, Vec<usize>)> {
-    let numpy = obj.py().import("numpy")?;
-    let array = numpy
-        .call_method1("asarray", (obj,))
-        .and_then(|a| Ok(a.cast_into::<PyUntypedArray>()?))
-        .map_err(|e| PeltError::parameter(name, format!("must be an array of shape {expected} ({e})")))?;
-    let shape = array.shape().to_vec();
-    if !fits(&shape) {
-        return Err(PeltError::parameter(
-            name,
-            format!("must have shape {expected}, got {}", shape_text(&shape)),
-        )
-        .into());
-    }
+    let (array, shape) = shaped_array(obj, name, expected, fits)?;
     if !matches!(array.dtype().kind(), b'i' | b'u') {
         return Err(PeltError::parameter(
             name,

@@ -156,43 +156,73 @@ pub(super) fn skin(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<OwnedSkin> {
     })
 }
 
-/// One transform per object: `None`, a `[4, 4]` matrix for a single object, or a sequence with
-/// one matrix (or `None`) per object.
-pub(super) fn object_transforms(obj: Option<&Bound<'_, PyAny>>, objects: usize) -> PyResult<Vec<Transform>> {
+/// One value per object from `obj`, the argument `name` (`what` in messages): `None` gives
+/// `default()` for each; a single value (`is_single`) serves a single object; otherwise a sequence
+/// with one entry (or `None`) per object. `parse(entry, name)` reads one entry.
+fn per_object<T>(
+    obj: Option<&Bound<'_, PyAny>>,
+    objects: usize,
+    name: &str,
+    what: &str,
+    is_single: impl Fn(&Bound<'_, PyAny>) -> bool,
+    default: impl Fn() -> T,
+    parse: impl Fn(&Bound<'_, PyAny>, &str) -> PyResult<T>,
+) -> PyResult<Vec<T>> {
     let Some(obj) = obj.filter(|o| !o.is_none()) else {
-        return Ok(vec![Transform::IDENTITY; objects]);
+        return Ok((0..objects).map(|_| default()).collect());
     };
-    let shape: Vec<usize> = obj
-        .py()
-        .import("numpy")?
-        .call_method1("shape", (obj,))
-        .and_then(|s| s.extract())
-        .unwrap_or_default();
-    if shape == [4, 4] && objects == 1 {
-        let single = obj.py().import("numpy")?.call_method1("expand_dims", (obj, 0))?;
-        return transforms(&single, "transform", &[1]);
+    if is_single(obj) {
+        if objects != 1 {
+            return Err(PeltError::parameter(
+                name,
+                format!("must be a sequence of one entry (or None) per object for {objects} objects"),
+            )
+            .into());
+        }
+        return Ok(vec![parse(obj, name)?]);
     }
     let mut out = Vec::with_capacity(objects);
     for (i, entry) in obj.try_iter()?.enumerate() {
         let entry = entry?;
         out.push(if entry.is_none() {
-            Transform::IDENTITY
+            default()
         } else {
-            let single = entry
-                .py()
-                .import("numpy")?
-                .call_method1("expand_dims", (&entry, 0))?;
-            transforms(&single, &format!("transform[{i}]"), &[1])?[0]
+            parse(&entry, &format!("{name}[{i}]"))?
         });
     }
     if out.len() != objects {
-        return Err(PeltError::parameter(
-            "transform",
-            format!("gives {} transforms for {objects} objects", out.len()),
-        )
-        .into());
+        return Err(
+            PeltError::parameter(name, format!("gives {} {what} for {objects} objects", out.len())).into(),
+        );
     }
     Ok(out)
+}
+
+/// One transform per object: `None`, a `[4, 4]` matrix for a single object, or a sequence with
+/// one matrix (or `None`) per object.
+pub(super) fn object_transforms(obj: Option<&Bound<'_, PyAny>>, objects: usize) -> PyResult<Vec<Transform>> {
+    let is_matrix = |o: &Bound<'_, PyAny>| {
+        o.py()
+            .import("numpy")
+            .and_then(|numpy| numpy.call_method1("shape", (o,)))
+            .and_then(|s| s.extract::<Vec<usize>>())
+            .is_ok_and(|shape| shape == [4, 4])
+    };
+    per_object(
+        obj,
+        objects,
+        "transform",
+        "transforms",
+        is_matrix,
+        || Transform::IDENTITY,
+        |entry, name| {
+            let single = entry
+                .py()
+                .import("numpy")?
+                .call_method1("expand_dims", (entry, 0))?;
+            Ok(transforms(&single, name, &[1])?[0])
+        },
+    )
 }
 
 /// One binding (or `None`) per object: `None`, a dict for a single object, or a sequence.
@@ -200,34 +230,14 @@ pub(super) fn object_skins(
     obj: Option<&Bound<'_, PyAny>>,
     objects: usize,
 ) -> PyResult<Vec<Option<OwnedSkin>>> {
-    let Some(obj) = obj.filter(|o| !o.is_none()) else {
-        return Ok((0..objects).map(|_| None).collect());
-    };
-    if obj.cast::<PyDict>().is_ok() {
-        if objects != 1 {
-            return Err(PeltError::parameter(
-                "skin",
-                format!("must be a sequence of one binding (or None) per object for {objects} objects"),
-            )
-            .into());
-        }
-        return Ok(vec![Some(skin(obj, "skin")?)]);
-    }
-    let mut out = Vec::with_capacity(objects);
-    for (i, entry) in obj.try_iter()?.enumerate() {
-        let entry = entry?;
-        out.push(if entry.is_none() {
-            None
-        } else {
-            Some(skin(&entry, &format!("skin[{i}]"))?)
-        });
-    }
-    if out.len() != objects {
-        return Err(PeltError::parameter(
-            "skin",
-            format!("gives {} bindings for {objects} objects", out.len()),
-        )
-        .into());
-    }
-    Ok(out)
+    let is_dict = |o: &Bound<'_, PyAny>| o.cast::<PyDict>().is_ok();
+    per_object(
+        obj,
+        objects,
+        "skin",
+        "bindings",
+        is_dict,
+        || None,
+        |entry, name| Ok(Some(skin(entry, name)?)),
+    )
 }
