@@ -164,17 +164,29 @@ impl Skeleton {
             }
             node.rest.validate(&format!("nodes[{j}].rest"))?;
         }
+        // Each node's chain up to a root, walked once: a node found to reach a root is marked, so
+        // a long chain costs its length, not its length squared.
+        let mut rooted = vec![false; n];
+        let mut path = Vec::new();
         for j in 0..n {
-            // A chain longer than the node count has gone round a cycle.
-            let (mut at, mut steps) = (j, 0);
-            while let Some(p) = self.nodes[at].parent {
-                (at, steps) = (p, steps + 1);
-                if steps > n {
-                    return Err(PeltError::parameter(
-                        format!("nodes[{j}].parent"),
-                        "leads round a cycle: a node cannot be its own ancestor",
-                    ));
+            path.clear();
+            let mut at = j;
+            while !rooted[at] {
+                path.push(at);
+                // A chain longer than the node count has gone round a cycle.
+                match self.nodes[at].parent {
+                    Some(_) if path.len() > n => {
+                        return Err(PeltError::parameter(
+                            format!("nodes[{j}].parent"),
+                            "leads round a cycle: a node cannot be its own ancestor",
+                        ));
+                    }
+                    Some(p) => at = p,
+                    None => break,
                 }
+            }
+            for &k in &path {
+                rooted[k] = true;
             }
         }
         for (a, animation) in self.animations.iter().enumerate() {

@@ -419,3 +419,24 @@ fn bad_skins_and_skeletons_name_the_field() {
     let back = Transform::from_rows(rows).unwrap();
     assert!(back.matrix().abs_diff_eq(bind().matrix(), 1e-5));
 }
+
+#[test]
+fn a_long_chain_of_nodes_is_checked_and_placed() {
+    // 65535 nodes, each the child of the next: a walk from every node to the root would take
+    // 2·10⁹ steps (minutes here); each chain is walked once.
+    let n = crate::export::rig::MAX_NODES;
+    let node = |j: usize| SkeletonNode {
+        name: format!("n{j}"),
+        parent: (j + 1 < n).then_some(j + 1),
+        rest: Transform::IDENTITY,
+    };
+    let mut chain = Skeleton {
+        nodes: (0..n).map(node).collect(),
+        animations: Vec::new(),
+    };
+    chain.validate().unwrap();
+    assert_eq!(chain.world_rest().len(), n);
+    // Closed into a ring, the lowest node is named.
+    chain.nodes[n - 1].parent = Some(0);
+    assert_eq!(parameter_name(chain.validate()), "nodes[0].parent");
+}
