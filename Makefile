@@ -23,6 +23,8 @@ THREE_DIR := runtimes/three
 THREE_STAMP := $(THREE_DIR)/node_modules/.ci-stamp
 # The wgpu preview's frame the three.js runtime is compared with (runtimes/three/reference/).
 THREE_REFERENCE := target/tmp/three-reference
+# The character the add-on exports in the user-flow test, which the runtime draws too.
+THREE_BLENDER_DIR := target/tmp/three-blender
 
 # Everything the wheel is built from.
 RUST_SOURCES := Cargo.toml Cargo.lock pyproject.toml $(shell find src python -type f 2>/dev/null)
@@ -36,6 +38,10 @@ TEMPLATE_SOURCES := $(addprefix addon/,node_graph.py materials.py geonodes.py te
 
 # Mesa prints a warning without a runtime folder; the tests and the renderer do not need a real one.
 export XDG_RUNTIME_DIR ?= /tmp/pelt-runtime-$(shell id -u)
+# A build from scratch gains nothing from incremental caches, which double the disk it takes.
+ifdef CI
+export CARGO_INCREMENTAL ?= 0
+endif
 # cargo test links the `python` feature's test binaries against libpython.
 export LD_LIBRARY_PATH := $(shell $(PYTHON) -c 'import sysconfig; print(sysconfig.get_config_var("LIBDIR") or "")'):$(LD_LIBRARY_PATH)
 
@@ -112,12 +118,14 @@ $(THREE_STAMP): $(THREE_DIR)/package-lock.json | system-deps
 	touch $@
 
 # The three.js runtime (runtimes/three): its unit tests, then its example in headless Chromium
-# drawing the skinned, animated character check-gltf writes, and the frame the wgpu preview drew
-# of a nodding Suzanne (mean luminance within 10 % in the browser test, then a ꟻLIP bound).
+# drawing the skinned, animated character check-gltf writes, the one the add-on exports in the
+# user-flow test (run here to write it), and the frame the wgpu preview drew of a nodding Suzanne (mean luminance within 10 % in the browser test, then a ꟻLIP bound).
 check-three: setup check-gltf $(THREE_STAMP)
 	$(PY) $(THREE_DIR)/reference/make_reference.py $(THREE_REFERENCE)
+	rm -rf $(THREE_BLENDER_DIR) && mkdir -p $(THREE_BLENDER_DIR)
+	PELT_THREE_OUT=$(CURDIR)/$(THREE_BLENDER_DIR) $(PY) -m pytest -q tests/blender/test_export_skinned.py -k user_flow
 	PELT_GLB=$(CURDIR)/$(GLTF_CHECK_DIR)/character_engine.glb PELT_REFERENCE=$(CURDIR)/$(THREE_REFERENCE) \
-		npm test --prefix $(THREE_DIR)
+		PELT_BLENDER_GLB=$(CURDIR)/$(THREE_BLENDER_DIR)/blender_character.glb npm test --prefix $(THREE_DIR)
 	$(PY) $(THREE_DIR)/reference/compare.py $(THREE_REFERENCE)/preview.png $(THREE_DIR)/test/out/reference_three.png
 
 check-python: setup

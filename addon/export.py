@@ -7,6 +7,7 @@ nothing; an object whose bake fails is reported and nothing is written. Objects 
 stand in the scene (turned to glTF's Y-up); an object deformed by an armature is exported skinned
 (``rig.py``): the armature's bones as joints, its active action as an animation, and the fur's
 shells and fins bound with the skin they stand on. Objects sharing an armature share its nodes.
+Faces the fur leaves bald keep the object's own materials (``material_slots.py``).
 """
 
 from dataclasses import dataclass, field
@@ -16,7 +17,7 @@ import bpy
 import pelt
 from bpy_extras.io_utils import ExportHelper
 
-from . import bake, rig
+from . import bake, material_slots, rig
 
 ENGINE_HELP = (
     "The base mesh with PeltUV, color, length and comb attributes, the textures and a description "
@@ -108,6 +109,10 @@ def export_objects(
     assets = assets_of(objects)
     names = [obj.name for obj in objects]
     rigs = rigging(objects, scene if scene is not None else bpy.context.scene)
+    slots = [
+        material_slots.material_slots(obj, asset.mesh.face_count)
+        for obj, asset in zip(objects, assets, strict=True)
+    ]
     path.parent.mkdir(parents=True, exist_ok=True)
     reports = pelt.export_gltf(
         assets,
@@ -118,6 +123,7 @@ def export_objects(
         transform=rigs.transforms,
         skin=rigs.skins,
         skeletons=rigs.skeletons,
+        materials=slots,
     )
     notes = rigs.notes + weight_notes(objects, reports)
     if not formats:

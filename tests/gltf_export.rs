@@ -113,7 +113,15 @@ fn input<'a>(object: &'a Object, bake: &'a Bake) -> ExportInput<'a> {
         shells: None,
         transform: Default::default(),
         skin: None,
+        materials: None,
     }
+}
+
+/// The JSON chunk of a GLB file.
+fn glb_json(path: &std::path::Path) -> serde_json::Value {
+    let bytes = std::fs::read(path).unwrap();
+    let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    serde_json::from_slice(&bytes[20..20 + length]).unwrap()
 }
 
 fn out_dir() -> PathBuf {
@@ -167,14 +175,39 @@ fn suzanne_and_a_scene_export_in_both_modes_and_read_back() {
 }
 
 /// Suzanne bound to a two-bone skeleton under a Y-up armature node, with an animation that nods
-/// the upper bone, and a torus placed beside her: the skinned file the validator checks.
+/// the upper bone, her eyes bald in a material of their own, and a torus placed beside her: the
+/// skinned file the validator checks and the three.js runtime draws.
 #[test]
 fn a_skinned_character_and_a_placed_prop_export_in_both_modes() {
     use glam::{Quat, Vec3};
     use pelt::export::{Animation, Skeleton, SkeletonNode, SkinBinding, Transform};
 
+    use pelt::export::{MaterialSlots, OwnMaterial};
+
     let monkey = suzanne();
-    let character = Object::new("Character", &monkey.positions, &monkey.triangles, |_| false);
+    // Suzanne's eyes are her first 66 vertices (two pieces of their own).
+    let eye_vertex = |v: u32| v < 66;
+    let eyes: Vec<[f32; 3]> = monkey.positions[..66].to_vec();
+    let character = Object::new("Character", &monkey.positions, &monkey.triangles, |p| {
+        eyes.contains(&p)
+    });
+    let triangle_slot: Vec<u32> = character
+        .mesh
+        .triangles()
+        .iter()
+        .map(|t| u32::from(t.iter().all(|&v| eye_vertex(v))))
+        .collect();
+    let eye_triangles = triangle_slot.iter().filter(|&&s| s == 1).count();
+    assert!(eye_triangles > 100);
+    let slots = [
+        None,
+        Some(OwnMaterial {
+            name: "Eyes".into(),
+            base_color: [0.02, 0.02, 0.025, 1.0],
+            metallic: 0.0,
+            roughness: 0.2,
+        }),
+    ];
     let (p, t) = torus(32, 16);
     let prop = Object::new("Prop", &p, &t, |_| false);
     let bake = bake();
@@ -236,6 +269,10 @@ fn a_skinned_character_and_a_placed_prop_export_in_both_modes() {
             joints: &joints,
             weights: &weights,
         }),
+        materials: Some(MaterialSlots {
+            slots: &slots,
+            triangle_slot: &triangle_slot,
+        }),
         ..input(&character, &bake)
     };
     let placed = ExportInput {
@@ -262,5 +299,43 @@ fn a_skinned_character_and_a_placed_prop_export_in_both_modes() {
         assert_eq!(report.renormalized, report.vertices);
         assert_eq!(report.reduced, 0);
         assert!(reports[1].is_none());
+
+        // The eyes: one plain primitive of their own (no hair color, no fur), outside the fur
+        // extension's fallback list; Pelt's skin keeps every other triangle.
+        let document = glb_json(&path);
+        let primitives = document["meshes"][0]["primitives"].as_array().unwrap();
+        let count = |p: &serde_json::Value| {
+            document["accessors"][p["indices"].as_u64().unwrap() as usize]["count"]
+                .as_u64()
+                .unwrap() as usize
+        };
+        let material =
+            |p: &serde_json::Value| &document["materials"][p["material"].as_u64().unwrap() as usize];
+        let eyes: Vec<_> = primitives
+            .iter()
+            .filter(|p| material(p)["name"] == "Eyes")
+            .collect();
+        assert_eq!(eyes.len(), 1, "{mode:?}");
+        assert_eq!(count(eyes[0]), 3 * eye_triangles);
+        assert!(eyes[0]["attributes"].get("COLOR_0").is_none());
+        assert!(eyes[0]["attributes"].get("JOINTS_0").is_some());
+        assert!(eyes[0].get("extensions").is_none());
+        let pbr = &material(eyes[0])["pbrMetallicRoughness"];
+        assert_eq!(pbr["roughnessFactor"].as_f64().unwrap() as f32, 0.2);
+        assert_eq!(pbr["baseColorFactor"][0].as_f64().unwrap() as f32, 0.02);
+        assert_eq!(
+            count(&primitives[0]),
+            3 * (character.mesh.face_count() - eye_triangles)
+        );
+        if mode == GltfMode::Engine {
+            let fur = &primitives[0]["extensions"]["PELT_shell_fur"];
+            let eyes_index = primitives
+                .iter()
+                .position(|p| material(p)["name"] == "Eyes")
+                .unwrap();
+            let fallback: Vec<usize> = serde_json::from_value(fur["fallback"].clone()).unwrap();
+            assert_eq!(fallback.len(), 4);
+            assert!(!fallback.contains(&eyes_index));
+        }
     }
 }

@@ -561,6 +561,23 @@ class SkinBinding(TypedDict):
     joints: npt.ArrayLike
     weights: npt.ArrayLike
 
+class OwnMaterialDict(TypedDict, total=False):
+    """One of the object's own materials: ``name`` (required, 1 to 64 characters), ``base_color``
+    linear RGBA in ``[0, 1]`` (default 0.8 grey, opaque), ``metallic`` (0) and ``roughness`` (0.5)."""
+
+    name: str
+    base_color: Sequence[float]
+    metallic: float
+    roughness: float
+
+class MaterialSlotsDict(TypedDict):
+    """An object's material slots (``None`` for an empty one) and the slot of each triangle
+    ``[T]``: a triangle bald at its three corners keeps its slot's material, as Pelt's Blender fur
+    does."""
+
+    slots: Sequence[OwnMaterialDict | None]
+    triangle_slot: npt.ArrayLike
+
 class AnimationDict(TypedDict):
     """Sampled animation: ``times`` ``[T]`` seconds (increasing), ``poses`` ``[T, N, 4, 4]``
     every node's matrix relative to its parent, row-major."""
@@ -628,6 +645,7 @@ def export_gltf(
     transform: npt.ArrayLike | Sequence[npt.ArrayLike | None] | None = None,
     skin: SkinBinding | Sequence[SkinBinding | None] | None = None,
     skeletons: Sequence[SkeletonDict] | None = None,
+    materials: MaterialSlotsDict | Sequence[MaterialSlotsDict | None] | None = None,
 ) -> list[WeightReport | None]:
     """Write ``asset`` (one, or several as one node each, named by ``name``; default ``Object``,
     ``Object.1``, ...) as a glTF binary (GIL released). ``mode="geometry"`` bakes the shells (one
@@ -641,7 +659,9 @@ def export_gltf(
     one per object). ``skeletons`` are node hierarchies with sampled animations; ``skin`` binds an
     object to one of them (per vertex ``K`` joints and weights; the four strongest are kept and
     normalized). A skinned object's shells and fins carry the weights of the skin vertex they
-    stand on. Returns per object what binding it changed (``None`` for an unskinned object)."""
+    stand on. ``materials`` keeps an object's own materials on its bald faces, as plain
+    primitives without fur. Returns per object what binding it changed (``None`` for an unskinned
+    object)."""
 
 def write_texture_set(
     asset: FurAsset | Sequence[FurAsset],

@@ -74,6 +74,7 @@ pub(super) fn export_gltf(options: &BenchOptions) -> Result<Vec<CaseResult>> {
         shells: Some(SHELLS),
         transform: Default::default(),
         skin: None,
+        materials: None,
     };
     let reps = if options.quick { 3 } else { 7 };
     let mut results = Vec::new();
@@ -201,6 +202,7 @@ fn skinned(
             joints: &joints,
             weights: &weights,
         }),
+        materials: None,
     };
     let skeletons = std::slice::from_ref(&skeleton);
     let mut results = Vec::new();

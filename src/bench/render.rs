@@ -381,7 +381,7 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
 /// fins and vertex hosts, buffers and textures sent); `render.scene.update`: one
 /// [`FurScene::update_attributes`] of new colors, with the check of which levels still hold them;
 /// `render.scene.deform`: one [`FurScene::deform`] (the skin's posed vertices rebuilt and sent,
-/// normals from the posed triangles; `.normals` with the normals given, as the add-on passes
+/// normals from the posed triangles; the fins' planes wait for a frame that draws them; `.normals` with the normals given, as the add-on passes
 /// Blender's), two twists in turn.
 fn scene_upload(
     renderer: &Renderer,
@@ -438,7 +438,7 @@ fn scene_upload(
             .unwrap_or_default()
     });
     let posed = format!(
-        "{} vertices posed ({} GPU vertices, {} fin quads)",
+        "{} vertices posed ({} GPU vertices; the planes of {} fin quads left to the frame)",
         mesh.vertex_count(),
         scene.surface_vertex_count(),
         scene.uploaded_fin_count()

@@ -53,6 +53,7 @@ impl<'a> ExportInput<'a> {
             shells: None,
             transform: Default::default(),
             skin: None,
+            materials: None,
         }
     }
 }

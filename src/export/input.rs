@@ -14,6 +14,7 @@ use crate::volume::HairVolume;
 
 use crate::mesh::MAX_FUR_DEPTH;
 
+use super::materials::MaterialSlots;
 use super::rig::{SkinBinding, Transform};
 
 /// The packed transfer textures of one object (see [`crate::prt::pack`]).
@@ -51,6 +52,9 @@ pub struct ExportInput<'a> {
     pub transform: Transform,
     /// The object's binding to one of the export's skeletons, if it is skinned.
     pub skin: Option<SkinBinding<'a>>,
+    /// The object's own materials, kept on its bald faces ([`super::materials`]); `None`: every
+    /// face is Pelt's skin.
+    pub materials: Option<MaterialSlots<'a>>,
 }
 
 /// Most characters of an object name.
@@ -72,12 +76,12 @@ impl ExportInput<'_> {
     }
 
     /// Checks the name, the UVs against the mesh, the volume's arrays against its sizes, the
-    /// transfer textures against the volume, the fur depth, the shell count and the transform (the
-    /// skin binding is checked against the skeletons by the glTF export).
+    /// transfer textures against the volume, the fur depth, the shell count, the materials and the
+    /// transform (the skin binding is checked against the skeletons by the glTF export).
     ///
     /// # Errors
     /// [`PeltError::InvalidParameter`] naming `name`, `corner_uvs`, the `volume.*` array,
-    /// `transfer.*`, `fur_depth`, `shells` or `transform`.
+    /// `transfer.*`, `fur_depth`, `shells`, `materials.*` or `transform`.
     pub fn validate(&self) -> Result<()> {
         let chars = self.name.chars().count();
         if !(1..=MAX_NAME_CHARS).contains(&chars) || self.name.chars().any(char::is_control) {
@@ -107,6 +111,9 @@ impl ExportInput<'_> {
                 "shells",
                 format!("must be in 1..={MAX_SHELLS}, got {shells}"),
             ));
+        }
+        if let Some(materials) = &self.materials {
+            materials.validate(self.mesh.face_count())?;
         }
         self.transform.validate("transform")
     }

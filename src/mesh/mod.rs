@@ -26,7 +26,7 @@ pub use fins::{FinQuad, fin_plane, fin_quads, fin_quads_of_edges, midpoint, quad
 pub use frames::orthonormal_basis;
 pub use stats::MeshStats;
 pub use topology::{Edge, NO_COMPONENT, NO_EDGE, Topology, edge_key};
-pub use uv_split::{SplitLayout, UvSplit, split_at_uv_seams};
+pub use uv_split::{FaceDerivatives, SplitLayout, UvSplit, split_at_uv_seams};
 
 use crate::error::Result;
 use crate::threads::pool;

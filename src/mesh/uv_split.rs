@@ -166,8 +166,18 @@ pub fn split_at_uv_seams(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result
 /// Area-weighted `∂P/∂u`, `∂P/∂v` and the area they weigh, of a face or summed over a vertex's.
 type WeightedDerivatives = ([f64; 3], [f64; 3], f64);
 
+/// A triangle's UV layout inverted, fixed for every pose: `∂P/∂u = a·e₁ + b·e₂` and
+/// `∂P/∂v = c·e₁ + d·e₂` for its edges `e₁`, `e₂` from corner 0 (`[a, b, c, d]`); `None` where
+/// its UVs collapse, so it has no parameterization to contribute.
+type UvInverse = Option<[f64; 4]>;
+
+/// Memory for each triangle's derivatives, kept between poses by
+/// [`SplitLayout::derivatives_into`]'s caller so that posing allocates nothing.
+#[derive(Debug, Clone, Default)]
+pub struct FaceDerivatives(Vec<Option<WeightedDerivatives>>);
+
 /// Where a split's vertices come from, without their derivatives: what
-/// [`SplitLayout::derivatives`] needs to compute those at any pose of the mesh (the renderer
+/// [`SplitLayout::derivatives_into`] needs to compute those at any pose of the mesh (the renderer
 /// recomputes them for a deformed mesh: the UVs stay, so the patches ride on the skin).
 #[derive(Debug, Clone)]
 pub struct SplitLayout {
@@ -182,6 +192,8 @@ pub struct SplitLayout {
     /// triangle order, in parallel, with the same bits as a serial pass over the triangles.
     corner_offsets: Vec<u32>,
     corners: Vec<u32>,
+    /// Per triangle, its UV layout inverted once here rather than at every pose.
+    uv_inverse: Vec<UvInverse>,
 }
 
 impl SplitLayout {
@@ -200,80 +212,114 @@ impl SplitLayout {
             corners[next[i as usize] as usize] = corner as u32;
             next[i as usize] += 1;
         }
+        let uv_inverse = indices
+            .par_chunks_exact(3)
+            .map(|corners| invert_uv_layout(corners.iter().map(|&i| uvs[i as usize])))
+            .collect();
         SplitLayout {
             source,
             uvs,
             indices,
             corner_offsets,
             corners,
+            uv_inverse,
         }
     }
 
-    /// `∂P/∂u`, `∂P/∂v` of each split vertex over the mesh's `triangles` at `positions` with
-    /// unit vertex `normals`: the area-weighted mean of its triangles' derivatives, projected
+    /// `∂P/∂u`, `∂P/∂v` of each split vertex over the mesh's `triangles` at (`positions`, unit
+    /// vertex `normals`) (the area-weighted mean of its triangles' derivatives, projected
     /// into the tangent plane; a vertex with none takes the mesh frame of its normal at
-    /// `uv_scale` (tile units per object unit).
-    pub fn derivatives(
+    /// `uv_scale`, tile units per object unit), handed to `vertex` with the vertex's index as
+    /// they are found; what it returns goes to `out[i]` of (`scratch`, `out`), one entry per
+    /// split vertex. One pass over the vertices into memory the caller keeps, as a pose needs
+    /// every frame.
+    pub fn derivatives_into<T: Send>(
         &self,
-        positions: &[[f32; 3]],
-        normals: &[[f32; 3]],
+        (positions, normals): (&[[f32; 3]], &[[f32; 3]]),
         triangles: &[[u32; 3]],
         uv_scale: f64,
-    ) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
-        frames_from_sums(
-            &self.derivative_sums(positions, triangles),
-            normals,
-            &self.source,
-            uv_scale,
-        )
+        (scratch, out): (&mut FaceDerivatives, &mut [T]),
+        vertex: impl Fn(usize, [f32; 3], [f32; 3]) -> T + Sync,
+    ) {
+        debug_assert_eq!(out.len(), self.source.len());
+        self.face_derivatives(positions, triangles, &mut scratch.0);
+        let faces = &scratch.0;
+        out.par_iter_mut().enumerate().for_each(|(i, slot)| {
+            let normal = normals[self.source[i] as usize];
+            let (dpdu, dpdv) = frame_from_sum(self.vertex_sum(faces, i), normal, uv_scale);
+            *slot = vertex(i, dpdu, dpdv);
+        });
     }
 
     /// Per split vertex: area-weighted sums of its triangles' `∂P/∂u`, `∂P/∂v`, and the area,
     /// each summed in triangle order (the same bits on every run and thread count).
     fn derivative_sums(&self, positions: &[[f32; 3]], triangles: &[[u32; 3]]) -> Vec<WeightedDerivatives> {
-        let faces: Vec<Option<WeightedDerivatives>> = triangles
-            .par_iter()
-            .enumerate()
-            .map(|(f, tri)| {
-                let uv = [0, 1, 2].map(|k| self.uvs[self.indices[3 * f + k] as usize].map(f64::from));
-                let e1 = sub(positions[tri[1] as usize], positions[tri[0] as usize]);
-                let e2 = sub(positions[tri[2] as usize], positions[tri[0] as usize]);
-                let (du1, dv1) = (uv[1][0] - uv[0][0], uv[1][1] - uv[0][1]);
-                let (du2, dv2) = (uv[2][0] - uv[0][0], uv[2][1] - uv[0][1]);
-                let det = du1 * dv2 - du2 * dv1;
-                let n = cross(e1, e2);
-                let area = dot(n, n).sqrt();
-                // A face whose UVs collapse has no parameterization to contribute.
-                if det.abs() <= 1e-12 * (du1.abs() + du2.abs() + dv1.abs() + dv2.abs()).powi(2) || area == 0.0
-                {
-                    return None;
-                }
-                // Area-weighted: large faces define the local scale more reliably than slivers.
-                let dpdu: [f64; 3] = std::array::from_fn(|i| area * ((e1[i] * dv2 - e2[i] * dv1) / det));
-                let dpdv: [f64; 3] = std::array::from_fn(|i| area * ((e2[i] * du1 - e1[i] * du2) / det));
-                Some((dpdu, dpdv, area))
-            })
-            .collect();
+        let mut faces = Vec::new();
+        self.face_derivatives(positions, triangles, &mut faces);
         (0..self.source.len())
             .into_par_iter()
-            .map(|i| {
-                let range = self.corner_offsets[i] as usize..self.corner_offsets[i + 1] as usize;
-                self.corners[range]
-                    .iter()
-                    .filter_map(|&c| faces[c as usize / 3])
-                    .fold(([0.0; 3], [0.0; 3], 0.0), |(su, sv, w), (u, v, a)| {
-                        (
-                            std::array::from_fn(|k| su[k] + u[k]),
-                            std::array::from_fn(|k| sv[k] + v[k]),
-                            w + a,
-                        )
-                    })
-            })
+            .map(|i| self.vertex_sum(&faces, i))
             .collect()
+    }
+
+    /// Each triangle's area-weighted derivatives into `faces` (large faces define the local
+    /// scale more reliably than slivers); `None` for one without a UV layout or an area.
+    fn face_derivatives(
+        &self,
+        positions: &[[f32; 3]],
+        triangles: &[[u32; 3]],
+        faces: &mut Vec<Option<WeightedDerivatives>>,
+    ) {
+        faces.resize(triangles.len(), None);
+        faces
+            .par_iter_mut()
+            .zip(triangles.par_iter().zip(self.uv_inverse.par_iter()))
+            .for_each(|(face, (tri, inverse))| {
+                *face = inverse.and_then(|[a, b, c, d]| {
+                    let e1 = sub(positions[tri[1] as usize], positions[tri[0] as usize]);
+                    let e2 = sub(positions[tri[2] as usize], positions[tri[0] as usize]);
+                    let n = cross(e1, e2);
+                    let area = dot(n, n).sqrt();
+                    if area == 0.0 {
+                        return None;
+                    }
+                    let dpdu: [f64; 3] = std::array::from_fn(|i| area * (a * e1[i] + b * e2[i]));
+                    let dpdv: [f64; 3] = std::array::from_fn(|i| area * (c * e1[i] + d * e2[i]));
+                    Some((dpdu, dpdv, area))
+                });
+            });
+    }
+
+    /// Split vertex `i`'s sum of its triangles' `faces`, in triangle order.
+    fn vertex_sum(&self, faces: &[Option<WeightedDerivatives>], i: usize) -> WeightedDerivatives {
+        let range = self.corner_offsets[i] as usize..self.corner_offsets[i + 1] as usize;
+        self.corners[range]
+            .iter()
+            .filter_map(|&c| faces[c as usize / 3])
+            .fold(([0.0; 3], [0.0; 3], 0.0), |(su, sv, w), (u, v, a)| {
+                (
+                    std::array::from_fn(|k| su[k] + u[k]),
+                    std::array::from_fn(|k| sv[k] + v[k]),
+                    w + a,
+                )
+            })
     }
 }
 
-/// The derivatives of [`derivative_sums`], with the mesh frame where a vertex has none.
+/// The inverse of a triangle's UV edge matrix from its corners' `uvs` ([`UvInverse`]).
+fn invert_uv_layout(mut uvs: impl Iterator<Item = [f32; 2]>) -> UvInverse {
+    let mut next = || uvs.next().map(|uv| uv.map(f64::from));
+    let (uv0, uv1, uv2) = (next()?, next()?, next()?);
+    let (du1, dv1) = (uv1[0] - uv0[0], uv1[1] - uv0[1]);
+    let (du2, dv2) = (uv2[0] - uv0[0], uv2[1] - uv0[1]);
+    let det = du1 * dv2 - du2 * dv1;
+    if det.abs() <= 1e-12 * (du1.abs() + du2.abs() + dv1.abs() + dv2.abs()).powi(2) {
+        return None;
+    }
+    Some([dv2 / det, -dv1 / det, -du2 / det, du1 / det])
+}
+
+/// The derivatives of [`SplitLayout::derivative_sums`], with the mesh frame where a vertex has none.
 fn frames_from_sums(
     sums: &[WeightedDerivatives],
     normals: &[[f32; 3]],
@@ -283,24 +329,26 @@ fn frames_from_sums(
     source
         .par_iter()
         .zip(sums)
-        .map(|(&v, &(su, sv, w))| {
-            let normal = normals[v as usize];
-            let n = normal.map(f64::from);
-            let (mut dpdu, mut dpdv) = if w > 0.0 {
-                (tangential(su.map(|c| c / w), n), tangential(sv.map(|c| c / w), n))
-            } else {
-                ([0.0; 3], [0.0; 3])
-            };
-            // A vertex only on collapsed faces (or whose derivatives are normal to the surface)
-            // falls back to the mesh's own frame at the mean scale.
-            if dot(dpdu, dpdu) == 0.0 || dot(dpdv, dpdv) == 0.0 {
-                let [t, b] = orthonormal_basis(normal);
-                dpdu = t.map(|c| f64::from(c) / uv_scale);
-                dpdv = b.map(|c| f64::from(c) / uv_scale);
-            }
-            (dpdu.map(|c| c as f32), dpdv.map(|c| c as f32))
-        })
+        .map(|(&v, &sum)| frame_from_sum(sum, normals[v as usize], uv_scale))
         .unzip()
+}
+
+/// A vertex's `∂P/∂u`, `∂P/∂v` from its triangles' `sum` and its unit `normal`: their mean
+/// projected into the tangent plane, or the mesh's own frame at the mean scale `uv_scale` for a
+/// vertex only on collapsed faces (or whose derivatives are normal to the surface).
+fn frame_from_sum((su, sv, w): WeightedDerivatives, normal: [f32; 3], uv_scale: f64) -> ([f32; 3], [f32; 3]) {
+    let n = normal.map(f64::from);
+    let (mut dpdu, mut dpdv) = if w > 0.0 {
+        (tangential(su.map(|c| c / w), n), tangential(sv.map(|c| c / w), n))
+    } else {
+        ([0.0; 3], [0.0; 3])
+    };
+    if dot(dpdu, dpdu) == 0.0 || dot(dpdv, dpdv) == 0.0 {
+        let [t, b] = orthonormal_basis(normal);
+        dpdu = t.map(|c| f64::from(c) / uv_scale);
+        dpdv = b.map(|c| f64::from(c) / uv_scale);
+    }
+    (dpdu.map(|c| c as f32), dpdv.map(|c| c as f32))
 }
 
 /// Whether every vertex has hair length 0.

@@ -14,9 +14,9 @@ use super::pipeline::PyFurAsset;
 use crate::error::PeltError;
 use crate::export::atlas::{AtlasLayout, pack_atlas};
 use crate::export::{
-    AssetOptions, ExportInput, ExrOptions, GltfMode, GltfOptions, ImageRef, Manifest, PngCompression,
-    PngOptions, Skeleton, SkinBinding, TextureFormats, save_exr, save_glb, save_png, write_asset, write_png,
-    write_texture_set,
+    AssetOptions, ExportInput, ExrOptions, GltfMode, GltfOptions, ImageRef, Manifest, MaterialSlots,
+    PngCompression, PngOptions, Skeleton, SkinBinding, TextureFormats, save_exr, save_glb, save_png,
+    write_asset, write_png, write_texture_set,
 };
 use crate::pipeline::FurAsset;
 
@@ -270,10 +270,13 @@ fn manifest_object<'py>(py: Python<'py>, manifest: &Manifest) -> PyResult<Bound<
 /// in the ``PELT_shell_fur`` extension, fallback shells) or ``"geometry"`` (shells and fins as meshes). ``transform`` places each object
 /// (4×4 row-major); ``skeletons`` (dicts of ``names``, ``parents``, ``rest``, ``animations``) and
 /// ``skin`` (per object ``None`` or ``{"skeleton", "joints", "weights"}``) make skinned,
-/// animated characters. Returns per object what the binding changed (``None`` when unskinned).
+/// animated characters; ``materials`` (per object ``None`` or ``{"slots": [None | {"name",
+/// "base_color", "metallic", "roughness"}], "triangle_slot": [T]}``) keeps the object's own
+/// materials on its bald faces. Returns per object what the binding changed (``None`` when
+/// unskinned).
 /// GIL released.
 #[pyfunction(name = "export_gltf")]
-#[pyo3(signature = (asset, path, *, mode="engine", name=None, fins=true, shells=None, transform=None, skin=None, skeletons=None))]
+#[pyo3(signature = (asset, path, *, mode="engine", name=None, fins=true, shells=None, transform=None, skin=None, skeletons=None, materials=None))]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn export_gltf_py<'py>(
     py: Python<'py>,
@@ -286,12 +289,14 @@ pub(super) fn export_gltf_py<'py>(
     transform: Option<&Bound<'py, PyAny>>,
     skin: Option<&Bound<'py, PyAny>>,
     skeletons: Option<&Bound<'py, PyAny>>,
+    materials: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let shells: Option<usize> = super::ints::unsigned_opt("shells", shells)?;
     let mode = GltfMode::parse(mode)?;
     let assets = assets_and_names(asset, name)?;
     let transforms = super::rig::object_transforms(transform, assets.len())?;
     let skins = super::rig::object_skins(skin, assets.len())?;
+    let materials = super::materials::object_materials(materials, assets.len())?;
     let skeletons: Vec<Skeleton> = match skeletons.filter(|s| !s.is_none()) {
         None => Vec::new(),
         Some(list) => list
@@ -301,13 +306,18 @@ pub(super) fn export_gltf_py<'py>(
             .collect::<PyResult<_>>()?,
     };
     let mut objects = inputs(&assets, shells);
-    for ((input, transform), skin) in objects.iter_mut().zip(transforms).zip(&skins) {
+    for (((input, transform), skin), slots) in objects.iter_mut().zip(transforms).zip(&skins).zip(&materials)
+    {
         input.transform = transform;
         input.skin = skin.as_ref().map(|s| SkinBinding {
             skeleton: s.skeleton,
             influences: s.influences,
             joints: &s.joints,
             weights: &s.weights,
+        });
+        input.materials = slots.as_ref().map(|m| MaterialSlots {
+            slots: &m.slots,
+            triangle_slot: &m.triangle_slot,
         });
     }
     let reports = detached(py, || {

@@ -9,6 +9,7 @@ mod errors;
 mod export;
 mod ints;
 mod lapped;
+mod materials;
 mod mesh;
 mod pipeline;
 mod progress;

@@ -38,12 +38,12 @@ fn transforms(obj: &Bound<'_, PyAny>, name: &str, prefix: &[usize]) -> PyResult<
 }
 
 /// A required item of a dict argument.
-fn item<'py>(dict: &Bound<'py, PyDict>, key: &str, name: &str) -> PyResult<Bound<'py, PyAny>> {
+pub(super) fn item<'py>(dict: &Bound<'py, PyDict>, key: &str, name: &str) -> PyResult<Bound<'py, PyAny>> {
     dict.get_item(key)?
         .ok_or_else(|| PeltError::parameter(name, format!("must have a {key:?} entry")).into())
 }
 
-fn as_dict<'a, 'py>(obj: &'a Bound<'py, PyAny>, name: &str) -> PyResult<&'a Bound<'py, PyDict>> {
+pub(super) fn as_dict<'a, 'py>(obj: &'a Bound<'py, PyAny>, name: &str) -> PyResult<&'a Bound<'py, PyDict>> {
     obj.cast::<PyDict>()
         .map_err(|_| PeltError::parameter(name, "must be a dict").into())
 }
@@ -159,7 +159,7 @@ pub(super) fn skin(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<OwnedSkin> {
 /// One value per object from `obj`, the argument `name` (`what` in messages): `None` gives
 /// `default()` for each; a single value (`is_single`) serves a single object; otherwise a sequence
 /// with one entry (or `None`) per object. `parse(entry, name)` reads one entry.
-fn per_object<T>(
+pub(super) fn per_object<T>(
     obj: Option<&Bound<'_, PyAny>>,
     objects: usize,
     name: &str,

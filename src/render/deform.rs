@@ -11,11 +11,10 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::fin_cull::FinPlanes;
 use super::surface_mesh::{SurfaceMesh, SurfaceVertex};
 use crate::FurMesh;
 use crate::error::Result;
-use crate::mesh::{SplitLayout, fin_plane, midpoint};
+use crate::mesh::{FaceDerivatives, SplitLayout};
 
 /// What a scene keeps of its rest shape to pose it.
 pub(super) struct Deformer {
@@ -27,14 +26,10 @@ pub(super) struct Deformer {
     uv_scale: f64,
     /// Each surface vertex's comb vector in its rest frame `(t, b, n)`, `t` along `∂P/∂u`.
     comb_in_frame: Vec<[f32; 3]>,
-    /// Each fin's ends (mesh vertices), for the planes the CPU collects fins by.
-    fin_ends: Vec<[u32; 2]>,
-}
-
-/// What a pose sends and keeps.
-pub(super) struct Pose {
-    pub surface: Vec<SurfaceVertex>,
-    pub fin_planes: FinPlanes,
+    /// The last pose's skin vertices and its triangles' derivatives: kept, so that a pose
+    /// allocates nothing (fresh pages cost as much as the arithmetic here).
+    surface: Vec<SurfaceVertex>,
+    faces: FaceDerivatives,
 }
 
 /// The orthonormal frame `(t, b, n)` of a surface vertex: `t` along `∂P/∂u` (tangential), `b`
@@ -46,9 +41,8 @@ fn frame(normal: [f32; 3], dpdu: [f32; 3]) -> [Vec3; 3] {
 }
 
 impl Deformer {
-    /// Keeps what posing needs of `mesh` as `surface` split it, with the fins standing on the
-    /// mesh vertices `fin_source` (four corners per fin, the edge's ends first).
-    pub fn new(mesh: &FurMesh, surface: &SurfaceMesh, fin_source: &[u32]) -> Self {
+    /// Keeps what posing needs of `mesh` as `surface` split it.
+    pub fn new(mesh: &FurMesh, surface: &SurfaceMesh) -> Self {
         let comb_in_frame = surface
             .vertices
             .par_iter()
@@ -66,52 +60,51 @@ impl Deformer {
             ),
             uv_scale: surface.uv_scale,
             comb_in_frame,
-            fin_ends: fin_source.chunks_exact(4).map(|c| [c[0], c[1]]).collect(),
+            surface: surface.vertices.clone(),
+            faces: FaceDerivatives::default(),
         }
     }
 
     /// The skin's GPU vertices at `positions` (one row per mesh vertex) with unit `normals`
-    /// given or computed from the posed triangles, and the fins' planes there.
+    /// given or computed from the posed triangles, and those normals (for the fins' planes,
+    /// `fin_pose.rs`).
     ///
     /// # Errors
-    /// As [`FurMesh::pose_normals`]: the first bad row of `positions` or `normals`.
-    pub fn pose(&self, positions: &[[f32; 3]], normals: Option<&[[f32; 3]]>) -> Result<Pose> {
-        let normals = self.rest.pose_normals(positions, normals)?;
-        let layout = &self.layout;
-        let (dpdu, dpdv) = layout.derivatives(positions, &normals, self.rest.triangles(), self.uv_scale);
-        let surface = (0..layout.source.len())
-            .into_par_iter()
-            .map(|i| {
+    /// As [`FurMesh::pose_normals`]: the first bad row of `positions` or `normals`; nothing
+    /// changes then.
+    pub fn pose(
+        &mut self,
+        positions: &[[f32; 3]],
+        normals: Option<&[[f32; 3]]>,
+    ) -> Result<(&[SurfaceVertex], Vec<[f32; 3]>)> {
+        let Deformer {
+            rest,
+            layout,
+            uv_scale,
+            comb_in_frame,
+            surface,
+            faces,
+        } = self;
+        let normals = rest.pose_normals(positions, normals)?;
+        layout.derivatives_into(
+            (positions, &normals),
+            rest.triangles(),
+            *uv_scale,
+            (faces, surface),
+            |i, dpdu, dpdv| {
                 let v = layout.source[i] as usize;
-                let [t, b, n] = frame(normals[v], dpdu[i]);
-                let [ct, cb, cn] = self.comb_in_frame[i];
+                let [t, b, n] = frame(normals[v], dpdu);
+                let [ct, cb, cn] = comb_in_frame[i];
                 SurfaceVertex {
                     position: positions[v],
                     normal: normals[v],
-                    dpdu: dpdu[i],
-                    dpdv: dpdv[i],
+                    dpdu,
+                    dpdv,
                     uv: layout.uvs[i],
                     comb: (ct * t + cb * b + cn * n).into(),
                 }
-            })
-            .collect();
-        // A fin whose posed edge has no plane gets none: `fins.wgsl` drops it, and so does the
-        // CPU's list.
-        let (centers, planes) = self
-            .fin_ends
-            .par_iter()
-            .map(|&[a, b]| {
-                let (a, b) = (a as usize, b as usize);
-                let plane = fin_plane([positions[a], positions[b]], [normals[a], normals[b]]);
-                (
-                    midpoint(positions[a], positions[b]),
-                    plane.map_or([0.0; 3], |(n, _)| n),
-                )
-            })
-            .unzip();
-        Ok(Pose {
-            surface,
-            fin_planes: FinPlanes::new(centers, planes),
-        })
+            },
+        );
+        Ok((surface, normals))
     }
 }

@@ -33,6 +33,22 @@ impl FinPlanes {
         FinPlanes { centers, normals }
     }
 
+    /// Moves the planes of the fins in `range` to `plane(ends[fin])` (center, unit normal), in
+    /// place.
+    pub fn update(
+        &mut self,
+        range: Range<u32>,
+        ends: &[[u32; 2]],
+        plane: impl Fn([u32; 2]) -> ([f32; 3], [f32; 3]) + Sync,
+    ) {
+        let range = range.start as usize..range.end as usize;
+        self.centers[range.clone()]
+            .par_iter_mut()
+            .zip(self.normals[range.clone()].par_iter_mut())
+            .zip(ends[range].par_iter())
+            .for_each(|((center, normal), &ends)| (*center, *normal) = plane(ends));
+    }
+
     /// The index list (two triangles per fin) of the fins among `fins` (one geometric level's)
     /// visible from `eye` (object space, homogeneous: `w = 1` a position, `w = 0` a direction
     /// toward the viewer), farthest first: fins are blended "over" without writing depth, so

@@ -297,6 +297,8 @@ impl Renderer {
         let fin_indices = if settings.fins && settings.fin_opacity > 0.0 {
             scene
                 .fin_planes
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
                 .visible_indices(checked.camera.eye, level.fins.clone())
         } else {
             Vec::new()

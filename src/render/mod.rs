@@ -28,6 +28,7 @@ mod camera;
 mod deform;
 mod fin_cull;
 mod fin_mesh;
+mod fin_pose;
 mod fins;
 mod frame;
 mod frame_uniforms;

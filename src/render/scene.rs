@@ -8,6 +8,7 @@ use std::ops::Range;
 
 use super::deform::Deformer;
 use super::fin_cull::FinPlanes;
+use super::fin_pose::PosedFinPlanes;
 use super::frame_uniforms::FrameUniforms;
 use super::level_hosts::LevelHosts;
 use super::lod::{Extent, Levels};
@@ -119,7 +120,7 @@ pub struct FurScene {
     pub(super) surface: GpuMesh,
     pub(super) fins: GpuMesh,
     /// The fins' planes, from which each frame collects the fins it draws.
-    pub(super) fin_planes: FinPlanes,
+    pub(super) fin_planes: std::sync::Mutex<PosedFinPlanes>,
     /// The full mesh and its simplified versions, finest first.
     pub(super) mesh_levels: Vec<MeshLevel>,
     /// Where each coarser level stands: after a repaint, those that would smear it are not
@@ -343,14 +344,18 @@ impl FurScene {
             transfer_bytes: 0,
             pose_bytes: 0,
         };
-        let deformer = Deformer::new(mesh, &surface, &fins.source);
+        let deformer = Deformer::new(mesh, &surface);
+        let fin_ends = fins.source.chunks_exact(4).map(|c| [c[0], c[1]]).collect();
         let extent = extent(mesh.positions(), &lengths);
         Ok(FurScene {
             renderer_id: renderer.id,
             queue: renderer.queue.clone(),
             surface: surface_gpu,
             fins: fins_gpu,
-            fin_planes: FinPlanes::new(fins.centers, fins.normals),
+            fin_planes: std::sync::Mutex::new(PosedFinPlanes::new(
+                FinPlanes::new(fins.centers, fins.normals),
+                fin_ends,
+            )),
             drawable: mesh_levels.len(),
             mesh_levels,
             level_hosts,
@@ -552,7 +557,8 @@ impl FurScene {
     /// space, the triangles of the bake) with `normals` (scaled to unit length), or normals
     /// computed from the posed triangles when `None`. Only the skin's vertex buffer is
     /// rewritten (the shells are drawn from it, the fins read their ends from it; see
-    /// `deform.rs`); the textures, the transfer and the painted attributes stay, so a skinned
+    /// `deform.rs`), and the planes the CPU sorts the fins by follow at the next frame that
+    /// draws them (`fin_pose.rs`); the textures, the transfer and the painted attributes stay, so a skinned
     /// character follows its armature every frame without a bake. Poses do not accumulate:
     /// each is taken from the rest shape.
     ///
@@ -560,14 +566,19 @@ impl FurScene {
     /// [`PeltError::InvalidMesh`] naming `positions` or `normals` (a row count other than the
     /// mesh's, a NaN or infinity, a zero normal); the scene is unchanged then.
     pub fn deform(&mut self, positions: &[[f32; 3]], normals: Option<&[[f32; 3]]>) -> Result<()> {
-        let pose = pool().install(|| self.deformer.pose(positions, normals))?;
-        let vertices = bytemuck::cast_slice::<_, u8>(&pose.surface);
+        let deformer = &mut self.deformer;
+        let (surface, normals) = pool().install(|| deformer.pose(positions, normals))?;
+        let vertices = bytemuck::cast_slice::<_, u8>(surface);
         self.queue.write_buffer(&self.surface.geometry, 0, vertices);
         // Sent now: poses without a frame between them would otherwise pile up their staging
         // copies until the next frame's submit.
         self.queue.submit(std::iter::empty());
         self.uploads.pose_bytes += vertices.len() as u64;
-        self.fin_planes = pose.fin_planes;
+        let levels = self.mesh_levels.iter().map(|l| l.fins.clone());
+        self.fin_planes
+            .get_mut()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .pose(positions, normals, levels);
         self.extent = extent(positions, &self.attributes.1);
         Ok(())
     }

@@ -6,7 +6,9 @@ checks of skinning arguments."""
 
 import json
 import math
+import os
 import struct
+from pathlib import Path
 
 import bpy
 import numpy as np
@@ -147,7 +149,7 @@ def test_skinned_fur_round_trips_through_blenders_importer(addon, tmp_path):
     assert nearest(world_vertices(prop)[: len(prop_world)], prop_world).max() < 1e-3
 
 
-def test_export_gltf_checks_its_skinning_arguments(tmp_path):
+def test_export_gltf_checks_its_skinning_and_material_arguments(tmp_path):
     positions = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0.2]], np.float32)
     triangles = np.array([[0, 1, 2], [1, 3, 2]], np.uint32)
     asset = pelt.Pipeline().bake(
@@ -156,6 +158,7 @@ def test_export_gltf_checks_its_skinning_arguments(tmp_path):
     skeleton = {"names": ["Root"], "parents": [-1], "rest": np.eye(4)[None]}
     skin = {"skeleton": 0, "joints": np.zeros((4, 1), np.uint32), "weights": np.ones((4, 1), np.float32)}
     path = tmp_path / "x.glb"
+    eyes, both = {"name": "Eyes", "base_color": [0.1, 0.1, 0.1, 1.0]}, [0, 0]
     assert pelt.export_gltf(asset, path, skin=skin, skeletons=[skeleton]) == [
         {"vertices": 4, "reduced": 0, "renormalized": 0}
     ]
@@ -169,6 +172,13 @@ def test_export_gltf_checks_its_skinning_arguments(tmp_path):
         ({"skin": skin, "skeletons": []}, "skeleton"),
         ({"transform": np.full((4, 4), np.nan)}, "transform"),
         ({"transform": [np.eye(4), np.eye(4)]}, "transform"),
+        ({"materials": {"slots": [eyes], "triangle_slot": [0]}}, r"materials\.triangle_slot"),
+        ({"materials": {"slots": [eyes], "triangle_slot": [0, 1]}}, r"materials\.triangle_slot\[1\]"),
+        ({"materials": {"slots": [{**eyes, "base_color": [2, 0, 0]}], "triangle_slot": both}}, "base_color"),
+        ({"materials": {"slots": [{**eyes, "base_color": [2, 0, 0, 1]}], "triangle_slot": both}}, "base"),
+        ({"materials": {"slots": [{**eyes, "roughness": -1}], "triangle_slot": both}}, "roughness"),
+        ({"materials": {"slots": [{"name": ""}], "triangle_slot": both}}, r"slots\[0\]\.name"),
+        ({"materials": {"slots": [eyes]}}, "triangle_slot"),
     ]
     for arguments, name in bad:
         arguments.setdefault("skeletons", [skeleton])
@@ -194,9 +204,20 @@ def test_user_flow_mirrored_armature_character_baked_posed_exported_and_reimport
     bpy.context.view_layer.objects.active = body
     bpy.ops.object.modifier_move_to_index(modifier=mirror.name, index=0)
     body.data.materials.append(bpy.data.materials.new("Skin"))
-    body.data.materials.append(bpy.data.materials.new("Eyes"))
+    eyes = bpy.data.materials.new("Eyes")
+    eye_color = (0.02, 0.03, 0.2, 1.0)
+    eyes.diffuse_color = eye_color
+    nodes = eyes.node_tree.nodes if eyes.node_tree else []
+    principled = next((n for n in nodes if n.type == "BSDF_PRINCIPLED"), None)
+    if principled is not None:
+        principled.inputs["Base Color"].default_value = eye_color
+    body.data.materials.append(eyes)
+    # The top two rows are the "eyes": their own material, painted bald, so they keep it.
     top = np.array([p.center.z > 1.8 for p in body.data.polygons], np.int32)
     body.data.polygons.foreach_set("material_index", top)
+    z = np.array([v.co.z for v in body.data.vertices])
+    length = body.data.attributes.new("pelt_length", "FLOAT", "POINT")
+    length.data.foreach_set("value", np.where(z > 1.75, 0.0, 1.0).astype(np.float32))
     small_fur(body, tile_size=0.4, fur_depth=0.05)
     half = len(body.data.vertices)
 
@@ -204,6 +225,8 @@ def test_user_flow_mirrored_armature_character_baked_posed_exported_and_reimport
     assert body.modifiers[0].type == "ARMATURE"
     assert len(body.data.vertices) > 1.6 * half  # the seam's vertices merge
     assert [m.name for m in body.data.materials] == ["Skin", "Eyes"]
+    eye_triangles = sum(len(p.vertices) - 2 for p in body.data.polygons if p.material_index == 1)
+    assert eye_triangles == 2 * 2 * AROUND  # both rows, both halves, two triangles a quad
 
     camera_data = bpy.data.cameras.new("Camera")
     camera = bpy.data.objects.new("Camera", camera_data)
@@ -238,10 +261,24 @@ def test_user_flow_mirrored_armature_character_baked_posed_exported_and_reimport
     bpy.ops.object.select_all(action="DESELECT")
     body.select_set(True)
     assert bpy.ops.pelt.export(filepath=str(path), mode="GEOMETRY", png=False, ktx2=False) == {"FINISHED"}
+    # The engine file the three.js runtime's browser test draws (make check-three).
+    engine = Path(os.environ.get("PELT_THREE_OUT") or tmp_path) / "blender_character.glb"
+    assert bpy.ops.pelt.export(filepath=str(engine), mode="ENGINE", png=False, ktx2=False) == {"FINISHED"}
+    data = engine.read_bytes()
+    document = json.loads(data[20 : 20 + struct.unpack_from("<I", data, 12)[0]])
+    assert "PELT_shell_fur" in document["extensionsUsed"]
+    assert "Eyes" in [m["name"] for m in document["materials"]]
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
     assert bpy.ops.import_scene.gltf(filepath=str(path)) == {"FINISHED"}
     imported = bpy.data.objects["Body"]
+    # The eyes came back as eyes: their own material on their triangles, with its color.
+    slots = [m.name for m in imported.data.materials]
+    assert "Eyes" in slots, slots
+    eye_slot = slots.index("Eyes")
+    assert sum(1 for p in imported.data.polygons if p.material_index == eye_slot) == eye_triangles
+    node = next(n for n in imported.data.materials[eye_slot].node_tree.nodes if n.type == "BSDF_PRINCIPLED")
+    np.testing.assert_allclose(node.inputs["Base Color"].default_value[:], eye_color, atol=1e-3)
     action = next(o for o in bpy.data.objects if o.type == "ARMATURE").animation_data.action
     first, last = (round(f) for f in action.frame_range)
     # The skin primitive's vertices (the mesh split at patch seams) come first.

@@ -94,6 +94,19 @@ function measureFrameTime() {
 
 }
 
+// The names of the materials of the meshes shown (the fur's own excepted), each once.
+function visibleMaterials( root ) {
+
+	const names = new Set();
+	root.traverseVisible( ( object ) => {
+
+		if ( object.isMesh && ! plugin.furs.some( ( f ) => f.shells === object || f.fins === object ) ) names.add( object.material.name );
+
+	} );
+	return [ ...names ].sort();
+
+}
+
 // The camera looks at the first furred object from the front, a little above and aside.
 function frame( object ) {
 
@@ -152,6 +165,7 @@ async function load() {
 		animation: gltf.animations[ 0 ]?.name ?? null,
 		duration: gltf.animations[ 0 ]?.duration ?? 0,
 		hidden: plugin.hidden.map( ( m ) => m.name ),
+		materials: visibleMaterials( gltf.scene ),
 		furs: plugin.furs.map( ( f ) => ( {
 			name: f.skin.name,
 			skinned: f.skin.isSkinnedMesh === true,

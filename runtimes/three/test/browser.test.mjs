@@ -3,7 +3,8 @@
 // coverage around the silhouette, the animation moves it and the distance LOD thins it; and the
 // frame the wgpu preview drew of a nodding Suzanne (reference/make_reference.py) comes out with
 // the same mean luminance within 10 % (make check-three then bounds their ꟻLIP difference with
-// reference/compare.py). Screenshots go to test/out/. The browser is the system's
+// reference/compare.py); and the character Blender's add-on exported (eyes and all) draws and
+// bends. Screenshots go to test/out/. The browser is the system's
 // (PELT_CHROMIUM, default /usr/bin/chromium); nothing is downloaded. A missing model, reference
 // or browser fails the tests.
 
@@ -15,7 +16,7 @@ import { after, before, test } from 'node:test';
 
 import puppeteer from 'puppeteer-core';
 
-import { GLB, OUT_DIR, PACKAGE_DIR, REFERENCE } from './support/paths.mjs';
+import { BLENDER_GLB, GLB, OUT_DIR, PACKAGE_DIR, REFERENCE } from './support/paths.mjs';
 import { serve } from './support/server.mjs';
 
 const CHROMIUM = process.env.PELT_CHROMIUM || '/usr/bin/chromium';
@@ -28,6 +29,7 @@ const CHANGED = 8;
 // Mean luminance over the preview's object may differ by this share.
 const LUMINANCE_TOLERANCE = 0.10;
 const missing = ! existsSync( GLB ) ? `no ${GLB} (make check-gltf writes it)`
+	: ! existsSync( BLENDER_GLB ) ? `no ${BLENDER_GLB} (make check-three has the add-on export it)`
 	: ! existsSync( CHROMIUM ) ? `no ${CHROMIUM} (make system-deps installs Debian's chromium)`
 		: ! existsSync( join( REFERENCE, 'scene.json' ) ) ? `no reference scene in ${REFERENCE} (make check-three writes it)` : null;
 
@@ -38,7 +40,7 @@ let profile;
 before( async () => {
 
 	assert.equal( missing, null, missing );
-	server = await serve( PACKAGE_DIR, GLB, REFERENCE );
+	server = await serve( PACKAGE_DIR, { '/model.glb': GLB, '/blender.glb': BLENDER_GLB }, REFERENCE );
 	profile = mkdtempSync( join( tmpdir(), 'pelt-three-' ) );
 	browser = await puppeteer.launch( {
 		executablePath: CHROMIUM,
@@ -60,8 +62,8 @@ after( async () => {
 
 } );
 
-/** Opens the example with `query` on the test's model; the page, its problems and pelt.ready's summary. */
-async function openExample( query ) {
+/** Opens the example with `query` on `model` (a served path); the page, its problems and pelt.ready's summary. */
+async function openExample( query, model = '/model.glb' ) {
 
 	const page = await browser.newPage();
 	const problems = [];
@@ -85,7 +87,7 @@ async function openExample( query ) {
 
 	} );
 	await page.setViewport( { width: 512, height: 512 } );
-	await page.goto( `${server.url}/example/index.html?model=/model.glb&paused&${query}`, { waitUntil: 'load' } );
+	await page.goto( `${server.url}/example/index.html?model=${model}&paused&${query}`, { waitUntil: 'load' } );
 	const summary = await page.evaluate( () => window.pelt.ready );
 	return { page, problems, summary };
 
@@ -236,6 +238,39 @@ test( 'the example draws the fur of the exported character (PRT)', { timeout: 90
 		assert.ok( lod.far[ i ] < f.shells && lod.far[ i ] >= Math.ceil( f.shells / 4 ), `${lod.far[ i ]} shells far away` );
 
 	} );
+	assert.deepEqual( problems, [] );
+	await page.close();
+
+} );
+
+test( 'the example draws the character Blender\'s add-on exported', { timeout: 90_000 }, async ( t ) => {
+
+	// tests/blender/test_export_skinned.py's user flow: half a tube mirrored, on a two-bone
+	// armature whose action bends it, its top rows "eyes" in a material of their own, bald.
+	const { page, problems, summary } = await openExample( '', '/blender.glb' );
+	assert.deepEqual( problems, [] );
+	assert.equal( summary.extension, true );
+	assert.ok( summary.animation, 'the armature\'s action came along' );
+	assert.ok( summary.duration > 0.2, `animation of ${summary.duration} s` );
+	const body = summary.furs.find( ( f ) => f.name.startsWith( 'Body' ) );
+	assert.ok( body?.skinned, `a skinned fur on the body (${summary.furs.map( ( f ) => f.name )})` );
+	assert.equal( body.hiddenFallback, 4 );
+	assert.ok( summary.materials.includes( 'Eyes' ), `the eyes' own material shows: ${summary.materials}` );
+	t.diagnostic( `fur ${body.name}: ${body.shells} shells, ${body.fins} fins; materials shown: ${summary.materials.join( ', ' )}` );
+
+	const bare = await frame( page, 0, false );
+	const furred = await frame( page, 0, true );
+	// Just before the end: the looping clip wraps to its start at the end itself.
+	const end = 0.99 * summary.duration;
+	const bentBare = await frame( page, end, false );
+	const bent = await frame( page, end, true );
+	save( 'blender_t0.png', furred );
+	save( 'blender_bent.png', bent );
+	assertFurCovers( t, 'Blender export, rest', bare, furred );
+	assertFurCovers( t, 'Blender export, bent', bentBare, bent );
+	const moved = changedPixels( furred, bent );
+	t.diagnostic( `the bend changes ${moved} px` );
+	assert.ok( moved > MIN_MOVED_PIXELS );
 	assert.deepEqual( problems, [] );
 	await page.close();
 

@@ -23,7 +23,7 @@ use super::super::stack_png::{StackImage, encode_all};
 use super::builder::{GlbBuilder, SamplerKind};
 use super::rig::skin_attributes;
 use super::vertices::SplitVertices;
-use super::{EngineAttributes, EngineTextures, Primitive, material};
+use super::{EngineAttributes, EngineTextures, Primitive, material, skin_primitives};
 use crate::error::{PeltError, Result};
 use crate::export::rig::VertexWeights;
 use crate::mesh::shell_offset::shell_layer;
@@ -124,7 +124,7 @@ pub(super) fn add_object(
         .map(|w| skin_attributes(builder, w, source.len(), |i| source[i] as usize).to_vec())
         .unwrap_or_default();
     let lengths: Vec<[f32; 1]> = v.lengths.iter().map(|&l| [l]).collect();
-    let mut extra = vec![
+    let extra = vec![
         (Semantic::TexCoords(1), base.uv),
         (
             Semantic::Extras("PELT_LENGTH".into()),
@@ -143,7 +143,6 @@ pub(super) fn add_object(
             builder.attribute(&v.split.dpdv, false),
         ),
     ];
-    extra.extend(skinned.iter().cloned());
     let name = input.name;
     let skin = material(
         builder,
@@ -153,10 +152,11 @@ pub(super) fn add_object(
         AlphaMode::Opaque,
         false,
     );
-    let indices = builder.indices(&v.split.indices);
-    let mut primitives = vec![base.primitive(indices, skin, &extra)];
+    let (skin, own) = skin_primitives(builder, input, &v, &base, skin, &extra, &skinned);
+    let mut primitives = vec![skin];
 
     // Fallback shells, alpha-tested (no sorting needed), sharing the skin's other attributes.
+    // The object's own materials come after them, outside the fallback list.
     let furred = v.furred_indices();
     if !furred.is_empty() {
         let furred = builder.indices(&furred);
@@ -188,6 +188,7 @@ pub(super) fn add_object(
         textures: engine,
         fallback: (1..primitives.len() as u32).collect(),
     };
+    primitives.extend(own);
     let value = serde_json::to_value(&fur).map_err(|e| PeltError::Internal(format!("{EXTENSION}: {e}")))?;
     let mut others = serde_json::Map::new();
     others.insert(EXTENSION.into(), value);

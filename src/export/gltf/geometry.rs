@@ -1,7 +1,8 @@
 //! `geometry` mode: the shells and fins baked into real meshes, so any glTF viewer shows the fur
 //! without custom shaders (Lengyel et al. 2001, §2.3, with the offsets of §3 applied on the CPU).
 //!
-//! One glTF mesh per object with these primitives: the skin (layer 0, opaque), one primitive per
+//! One glTF mesh per object with these primitives: the skin (layer 0, opaque), the object's own
+//! materials on its bald faces (plain, one primitive each), one primitive per
 //! shell (the layer it shows as an alpha-blended base color texture, vertices lifted by
 //! `layer · spacing · fur_depth · length` along the combed normal), and the fins (one quad per
 //! edge, double-sided, alpha-blended). The shells share the skin's normals, UVs and colors and
@@ -18,7 +19,7 @@ use super::super::stack_png::{StackImage, encode_all};
 use super::builder::{GlbBuilder, SamplerKind};
 use super::rig::skin_attributes;
 use super::vertices::{SplitVertices, check_lifted};
-use super::{Primitive, material, pelt_extras};
+use super::{Primitive, material, pelt_extras, skin_primitives};
 use crate::error::Result;
 use crate::export::rig::VertexWeights;
 use crate::mesh::shell_offset::{lifted, shell_layer};
@@ -74,8 +75,9 @@ pub(super) fn add_object(
         AlphaMode::Opaque,
         false,
     );
-    let skin_indices = builder.indices(&v.split.indices);
-    let mut primitives = vec![shared.primitive(skin_indices, skin_material, &skinned)];
+    let (skin, own) = skin_primitives(builder, input, &v, &shared, skin_material, &[], &skinned);
+    let mut primitives = vec![skin];
+    primitives.extend(own);
 
     let furred = v.furred_indices();
     if !furred.is_empty() {

@@ -3,7 +3,8 @@
 //! and shell-stack description an engine-side shader needs (Lengyel et al. 2001, §2.3–§2.4).
 //!
 //! Several objects go into one file as one node and one mesh each, in the order given, all in one
-//! scene. The file depends only on the inputs: no timestamps, objects and primitives in a fixed
+//! scene. An object's own materials stay on its bald faces as primitives of their own
+//! ([`super::materials`]). The file depends only on the inputs: no timestamps, objects and primitives in a fixed
 //! order, images stored once per distinct content, parallel work collected in order.
 //!
 //! Files: `builder.rs` (buffer views, accessors, images, samplers, the GLB container),
@@ -27,6 +28,7 @@ use serde::{Deserialize, Serialize};
 
 use super::description::StackDescription;
 use super::input::ExportInput;
+use super::materials::{OwnMaterial, skin_groups};
 use super::rig::{Skeleton, VertexWeights, WeightReport, validate_skeletons};
 use super::save_to_path;
 use crate::error::{PeltError, Result};
@@ -233,13 +235,28 @@ struct Primitive {
     color: json::Index<json::Accessor>,
 }
 
+/// A vertex attribute of a primitive and its accessor.
+type Attribute = (json::mesh::Semantic, json::Index<json::Accessor>);
+
 impl Primitive {
     /// A triangle-list primitive of these attributes plus `extra` ones.
     fn primitive(
         &self,
         indices: json::Index<json::Accessor>,
         material: json::Index<json::Material>,
-        extra: &[(json::mesh::Semantic, json::Index<json::Accessor>)],
+        extra: &[Attribute],
+    ) -> json::mesh::Primitive {
+        let color = (json::mesh::Semantic::Colors(0), self.color);
+        self.without_color(indices, material, &[&[color], extra].concat())
+    }
+
+    /// [`Primitive::primitive`] without `COLOR_0`, which would tint a plain material's base
+    /// color with the hair color.
+    fn without_color(
+        &self,
+        indices: json::Index<json::Accessor>,
+        material: json::Index<json::Material>,
+        extra: &[Attribute],
     ) -> json::mesh::Primitive {
         use json::mesh::Semantic;
         let mut attributes = BTreeMap::new();
@@ -247,7 +264,6 @@ impl Primitive {
             (Semantic::Positions, self.position),
             (Semantic::Normals, self.normal),
             (Semantic::TexCoords(0), self.uv),
-            (Semantic::Colors(0), self.color),
         ]
         .into_iter()
         .chain(extra.iter().cloned())
@@ -290,6 +306,55 @@ fn material(
             }),
             metallic_factor: json::material::StrengthFactor(0.0),
             roughness_factor: json::material::StrengthFactor(1.0),
+            ..json::material::PbrMetallicRoughness::default()
+        },
+        ..json::Material::default()
+    })
+}
+
+/// The skin split by material ([`crate::export::materials::skin_groups`]): Pelt's skin over the
+/// furred faces (and the bald ones without a material of their own) with `skin_material` and
+/// `fur` attributes, then one plain primitive per own material over its bald faces; all share
+/// `base`'s vertices and the `skinned` joints and weights.
+fn skin_primitives(
+    builder: &mut GlbBuilder,
+    input: &ExportInput<'_>,
+    v: &vertices::SplitVertices,
+    base: &Primitive,
+    skin_material: json::Index<json::Material>,
+    fur: &[Attribute],
+    skinned: &[Attribute],
+) -> (json::mesh::Primitive, Vec<json::mesh::Primitive>) {
+    let (pelt, own) = skin_groups(&v.split.indices, &v.lengths, input.materials.as_ref());
+    let indices = builder.indices(&pelt);
+    let skin = base.primitive(indices, skin_material, &[fur, skinned].concat());
+    let own = own
+        .into_iter()
+        .filter_map(|(slot, triangles)| {
+            let material = input.materials.as_ref()?.slots[slot].as_ref()?;
+            let material = plain_material(builder, material);
+            let indices = builder.indices(&triangles);
+            Some(base.without_color(indices, material, skinned))
+        })
+        .collect();
+    (skin, own)
+}
+
+/// An object's own material as glTF's: its base color factor, metallic and roughness, opaque
+/// or (alpha below 1) alpha-blended.
+fn plain_material(builder: &mut GlbBuilder, material: &OwnMaterial) -> json::Index<json::Material> {
+    let alpha = if material.base_color[3] < 1.0 {
+        json::material::AlphaMode::Blend
+    } else {
+        json::material::AlphaMode::Opaque
+    };
+    builder.root.push(json::Material {
+        alpha_mode: Checked::Valid(alpha),
+        name: Some(material.name.clone()),
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_factor: json::material::PbrBaseColorFactor(material.base_color),
+            metallic_factor: json::material::StrengthFactor(material.metallic),
+            roughness_factor: json::material::StrengthFactor(material.roughness),
             ..json::material::PbrMetallicRoughness::default()
         },
         ..json::Material::default()

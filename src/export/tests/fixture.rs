@@ -101,6 +101,7 @@ impl Fixture {
             shells: None,
             transform: Default::default(),
             skin: None,
+            materials: None,
         }
     }
 }

@@ -1,5 +1,6 @@
-// Where the tests find things: the package, the repository, and the GLB `make check-gltf` writes
-// (env PELT_GLB overrides it; a relative path counts from where npm was started).
+// Where the tests find things: the package, the repository, the GLB `make check-gltf` writes
+// (env PELT_GLB overrides it; a relative path counts from where npm was started) and the one
+// Blender's add-on exports in the user-flow test (env PELT_BLENDER_GLB).
 
 import { dirname, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -9,6 +10,7 @@ export const REPO_DIR = resolve( PACKAGE_DIR, '..', '..' );
 export const GLB = process.env.PELT_GLB
 	? resolve( process.env.INIT_CWD || process.cwd(), process.env.PELT_GLB )
 	: resolve( REPO_DIR, 'target/tmp/gltf-check/character_engine.glb' );
+export const BLENDER_GLB = resolve( process.env.INIT_CWD || process.cwd(), process.env.PELT_BLENDER_GLB || resolve( REPO_DIR, 'target/tmp/three-blender/blender_character.glb' ) );
 export const OUT_DIR = resolve( PACKAGE_DIR, 'test', 'out' );
 // The wgpu preview's reference scene (reference/make_reference.py's folder; env PELT_REFERENCE).
 export const REFERENCE = resolve( process.env.INIT_CWD || process.cwd(), process.env.PELT_REFERENCE || resolve( REPO_DIR, 'target/tmp/three-reference' ) );

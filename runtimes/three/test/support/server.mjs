@@ -1,6 +1,6 @@
 // A static HTTP server for the browser test: the package directory at `/` (the example, src/ and
-// node_modules/ for the import map), one model file at `/model.glb` and a folder at
-// `/reference/` (the wgpu preview's reference scene), when given.
+// node_modules/ for the import map), model files at the paths `models` names (`/model.glb`,
+// ...) and a folder at `/reference/` (the wgpu preview's reference scene), when given.
 
 import { createReadStream } from 'node:fs';
 import { stat } from 'node:fs/promises';
@@ -16,16 +16,17 @@ const TYPES = {
 	'.png': 'image/png',
 };
 
-/** Serves `root`, `model` and `reference` on 127.0.0.1 at a free port; resolves to {url, close()}. */
-export function serve( root, model, reference = null ) {
+/** Serves `root`, `models` ({url path: file}) and `reference` on 127.0.0.1 at a free port; resolves to {url, close()}. */
+export function serve( root, models, reference = null ) {
 
 	const server = createServer( async ( request, response ) => {
 
 		const path = decodeURIComponent( new URL( request.url, 'http://localhost' ).pathname );
 		const referenced = reference && path.startsWith( '/reference/' );
 		const base = referenced ? reference : root;
-		const file = path === '/model.glb' ? model : normalize( join( base, referenced ? path.slice( 10 ) : path ) );
-		const inside = file === model || file.startsWith( base + sep );
+		const model = Object.hasOwn( models, path ) ? models[ path ] : null;
+		const file = model ?? normalize( join( base, referenced ? path.slice( 10 ) : path ) );
+		const inside = model !== null || file.startsWith( base + sep );
 		const info = inside ? await stat( file ).catch( () => null ) : null;
 		if ( ! info?.isFile() ) {
 
