@@ -7,10 +7,11 @@ nothing; an object whose bake fails is reported and nothing is written. Objects 
 stand in the scene (turned to glTF's Y-up); an object deformed by an armature is exported skinned
 (``rig.py``): the armature's bones as joints, its active action as an animation, and the fur's
 shells and fins bound with the skin they stand on. Objects sharing an armature share its nodes.
+An object without an armature takes its own active action, its node moving as the object does.
 Faces the fur leaves bald keep the object's own materials (``material_slots.py``).
 """
 
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import bpy
@@ -61,12 +62,13 @@ class Rigging:
     transforms: list = field(default_factory=list)
     skins: list = field(default_factory=list)
     skeletons: list = field(default_factory=list)
+    animations: list = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
 
 
 def rigging(objects, scene) -> Rigging:
-    """Each object's transform and, for an armature-deformed one, its skin; one skeleton per
-    armature."""
+    """Each object's transform and, for an armature-deformed one, its skin (one skeleton per
+    armature), else its own action."""
     out = Rigging()
     skeleton_of: dict[str, int] = {}
     for obj in objects:
@@ -74,12 +76,14 @@ def rigging(objects, scene) -> Rigging:
         if found is None:
             out.transforms.append(rig.object_transform(obj))
             out.skins.append(None)
+            out.animations.append([asdict(a) for a in rig.object_animations(obj, scene)])
             continue
+        out.animations.append([])
         out.transforms.append(found.bind)
         index = skeleton_of.get(found.armature)
         if index is None:
             index = skeleton_of[found.armature] = len(out.skeletons)
-            animations = [{"name": a.name, "times": a.times, "poses": a.poses} for a in found.animations]
+            animations = [asdict(a) for a in found.animations]
             out.skeletons.append(
                 {"names": found.names, "parents": found.parents, "rest": found.rest, "animations": animations}
             )
@@ -124,6 +128,7 @@ def export_objects(
         skin=rigs.skins,
         skeletons=rigs.skeletons,
         materials=slots,
+        animations=rigs.animations,
     )
     notes = rigs.notes + weight_notes(objects, reports)
     if not formats:

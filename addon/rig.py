@@ -265,9 +265,37 @@ def _animation(obj, arm, scene, bone_parents, bone_order, notes, at_rest) -> lis
             f"{obj.name!r} does not follow {arm.name!r} as it moves in {action.name!r} (not its "
             "child?): in the file the mesh moves with the armature"
         )
+    return [Animation(action.name, _times(len(frames), scene), poses.astype(np.float32))]
+
+
+def _times(count: int, scene) -> np.ndarray:
+    """Seconds of ``count`` frames from the first, at the scene's frame rate."""
     fps = scene.render.fps / scene.render.fps_base
-    times = (np.arange(len(frames), dtype=np.float64) / fps).astype(np.float32)
-    return [Animation(action.name, times, poses.astype(np.float32))]
+    return (np.arange(count, dtype=np.float64) / fps).astype(np.float32)
+
+
+def object_animations(obj, scene) -> list[Animation]:
+    """The active action of an unskinned ``obj`` sampled at every frame of its range: its world
+    matrix (Y-up) at each time, poses (T, 4, 4); none without an action. What its parents do
+    while it plays is in the samples. Leaves the frame and the object's transforms as they were."""
+    data = obj.animation_data
+    action = data.action if data is not None else None
+    if action is None:
+        return []
+    first, last = (round(f) for f in action.frame_range)
+    frames = range(first, last + 1)
+    poses = np.empty((len(frames), 4, 4))
+    frame, subframe = scene.frame_current, scene.frame_subframe
+    saved = [tuple(getattr(obj, prop)) for prop in _OBJECT_TRANSFORMS]
+    try:
+        for t, f in enumerate(frames):
+            scene.frame_set(f)
+            poses[t] = Y_UP @ np.array(obj.matrix_world)
+    finally:
+        scene.frame_set(frame, subframe=subframe)
+        for prop, value in zip(_OBJECT_TRANSFORMS, saved, strict=True):
+            setattr(obj, prop, value)
+    return [Animation(action.name, _times(len(frames), scene), poses.astype(np.float32))]
 
 
 def _modifier_notes(obj, modifier, notes: list[str]) -> None:

@@ -114,6 +114,7 @@ fn input<'a>(object: &'a Object, bake: &'a Bake) -> ExportInput<'a> {
         transform: Default::default(),
         skin: None,
         materials: None,
+        animations: &[],
     }
 }
 
@@ -176,7 +177,7 @@ fn suzanne_and_a_scene_export_in_both_modes_and_read_back() {
 
 /// Suzanne bound to a two-bone skeleton under a Y-up armature node, with an animation that nods
 /// the upper bone, her eyes bald in a material of their own, and a torus placed beside her: the
-/// skinned file the validator checks and the three.js runtime draws.
+/// skinned file the validator checks and the three.js runtime draws. The prop spins.
 #[test]
 fn a_skinned_character_and_a_placed_prop_export_in_both_modes() {
     use glam::{Quat, Vec3};
@@ -275,8 +276,17 @@ fn a_skinned_character_and_a_placed_prop_export_in_both_modes() {
         }),
         ..input(&character, &bake)
     };
+    // The prop spins about its own axis: an animation of its node.
+    let spin = [Animation {
+        name: "Spin".into(),
+        times: vec![0.0, 0.5, 1.0],
+        poses: [0.0f32, 1.5, 3.0]
+            .map(|a| at([3.0, 0.0, 0.0], Quat::from_rotation_y(0.3 + a)))
+            .to_vec(),
+    }];
     let placed = ExportInput {
         transform: at([3.0, 0.0, 0.0], Quat::from_rotation_y(0.3)),
+        animations: &spin,
         ..input(&prop, &bake)
     };
     let dir = out_dir();
@@ -299,6 +309,13 @@ fn a_skinned_character_and_a_placed_prop_export_in_both_modes() {
         assert_eq!(report.renormalized, report.vertices);
         assert_eq!(report.reduced, 0);
         assert!(reports[1].is_none());
+        let names: Vec<String> = glb_json(&path)["animations"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|a| a["name"].as_str().unwrap().to_owned())
+            .collect();
+        assert_eq!(names, ["Nod", "Spin"]);
 
         // The eyes: one plain primitive of their own (no hair color, no fur), outside the fur
         // extension's fallback list; Pelt's skin keeps every other triangle.
@@ -338,4 +355,107 @@ fn a_skinned_character_and_a_placed_prop_export_in_both_modes() {
             assert!(!fallback.contains(&eyes_index));
         }
     }
+}
+
+/// A 30k-triangle torus skinned to two bones, one of which swings it, with 32 shells + fins
+/// (Kajiya–Kay, no transfer): the size the three.js runtime must draw in two fur calls.
+#[test]
+fn a_30k_triangle_skinned_character_with_32_shells_exports() {
+    use glam::{Quat, Vec3};
+    use pelt::export::{Animation, Skeleton, SkeletonNode, SkinBinding, Transform};
+    use pelt::mesh::shapes::torus_uvs;
+
+    let (around, across) = (128, 120);
+    let (positions, triangles) = torus(around, across);
+    assert_eq!(triangles.len(), 30_720);
+    let comb: Vec<[f32; 3]> = positions.iter().map(|_| [0.0, 0.0, -0.5]).collect();
+    let mesh = FurMesh::new(MeshInput::new(&positions, &triangles).with_comb(&comb)).unwrap();
+    let uvs = torus_uvs(around, across, [24.0, 4.0]);
+    let params = VolumeParams {
+        resolution: 32,
+        layers: 33,
+        fin_size: [64, 16],
+        ..VolumeParams::default()
+    };
+    let hair = HairParams {
+        density: 800,
+        ..HairParams::default()
+    };
+    let volume = bake_volume(&hair, &params, None).unwrap();
+    let still = |rotation: Quat| Transform {
+        translation: Vec3::ZERO,
+        rotation,
+        scale: Vec3::ONE,
+    };
+    let nodes = vec![
+        SkeletonNode {
+            name: "Rig".into(),
+            parent: None,
+            rest: still(Quat::IDENTITY),
+        },
+        SkeletonNode {
+            name: "Left".into(),
+            parent: Some(0),
+            rest: still(Quat::IDENTITY),
+        },
+        SkeletonNode {
+            name: "Right".into(),
+            parent: Some(0),
+            rest: still(Quat::IDENTITY),
+        },
+    ];
+    let times = vec![0.0, 0.5, 1.0];
+    let poses = times
+        .iter()
+        .flat_map(|&t: &f32| {
+            [
+                nodes[0].rest,
+                nodes[1].rest,
+                still(Quat::from_rotation_y(0.8 * t)),
+            ]
+        })
+        .collect();
+    let skeleton = Skeleton {
+        nodes,
+        animations: vec![Animation {
+            name: "Swing".into(),
+            times,
+            poses,
+        }],
+    };
+    // The right half (x > 0) on the swinging bone, blended over the middle.
+    let mut joints = Vec::new();
+    let mut weights = Vec::new();
+    for p in mesh.positions() {
+        let right = (0.5 + p[0] / 0.6).clamp(0.0, 1.0);
+        joints.extend([1u32, 2]);
+        weights.extend([1.0 - right, right]);
+    }
+    let input = ExportInput {
+        name: "Big",
+        mesh: &mesh,
+        corner_uvs: &uvs,
+        volume: &volume,
+        transfer: None,
+        fur_depth: 0.06,
+        shells: None,
+        transform: Transform::IDENTITY,
+        skin: Some(SkinBinding {
+            skeleton: 0,
+            influences: 2,
+            joints: &joints,
+            weights: &weights,
+        }),
+        materials: None,
+        animations: &[],
+    };
+    let path = out_dir().join("big_character_engine.glb");
+    let options = GltfOptions {
+        mode: GltfMode::Engine,
+        ..GltfOptions::default()
+    };
+    save_glb(&path, &[input], std::slice::from_ref(&skeleton), &options).unwrap();
+    let document = glb_json(&path);
+    let fur = &document["meshes"][0]["primitives"][0]["extensions"]["PELT_shell_fur"];
+    assert_eq!(fur["stack"]["shells"], 32);
 }

@@ -646,6 +646,7 @@ def export_gltf(
     skin: SkinBinding | Sequence[SkinBinding | None] | None = None,
     skeletons: Sequence[SkeletonDict] | None = None,
     materials: MaterialSlotsDict | Sequence[MaterialSlotsDict | None] | None = None,
+    animations: AnimationDict | Sequence[AnimationDict | Sequence[AnimationDict] | None] | None = None,
 ) -> list[WeightReport | None]:
     """Write ``asset`` (one, or several as one node each, named by ``name``; default ``Object``,
     ``Object.1``, ...) as a glTF binary (GIL released). ``mode="geometry"`` bakes the shells (one
@@ -660,8 +661,9 @@ def export_gltf(
     object to one of them (per vertex ``K`` joints and weights; the four strongest are kept and
     normalized). A skinned object's shells and fins carry the weights of the skin vertex they
     stand on. ``materials`` keeps an object's own materials on its bald faces, as plain
-    primitives without fur. Returns per object what binding it changed (``None`` for an unskinned
-    object)."""
+    primitives without fur. ``animations`` moves an unskinned object's node (``poses``
+    ``[T, 4, 4]``: its transform at each time). Returns per object what binding it changed
+    (``None`` for an unskinned object)."""
 
 def write_texture_set(
     asset: FurAsset | Sequence[FurAsset],

@@ -75,6 +75,7 @@ pub(super) fn export_gltf(options: &BenchOptions) -> Result<Vec<CaseResult>> {
         transform: Default::default(),
         skin: None,
         materials: None,
+        animations: &[],
     };
     let reps = if options.quick { 3 } else { 7 };
     let mut results = Vec::new();
@@ -203,6 +204,7 @@ fn skinned(
             weights: &weights,
         }),
         materials: None,
+        animations: &[],
     };
     let skeletons = std::slice::from_ref(&skeleton);
     let mut results = Vec::new();

@@ -54,6 +54,7 @@ impl<'a> ExportInput<'a> {
             transform: Default::default(),
             skin: None,
             materials: None,
+            animations: &[],
         }
     }
 }

@@ -15,7 +15,7 @@ use crate::volume::HairVolume;
 use crate::mesh::MAX_FUR_DEPTH;
 
 use super::materials::MaterialSlots;
-use super::rig::{SkinBinding, Transform};
+use super::rig::{Animation, SkinBinding, Transform};
 
 /// The packed transfer textures of one object (see [`crate::prt::pack`]).
 #[derive(Debug, Clone, Copy)]
@@ -52,6 +52,9 @@ pub struct ExportInput<'a> {
     pub transform: Transform,
     /// The object's binding to one of the export's skeletons, if it is skinned.
     pub skin: Option<SkinBinding<'a>>,
+    /// The object's own animations: its node's transform (as [`ExportInput::transform`]) at each
+    /// time, one pose per time. An unskinned object only: a skinned one moves with its joints.
+    pub animations: &'a [Animation],
     /// The object's own materials, kept on its bald faces ([`super::materials`]); `None`: every
     /// face is Pelt's skin.
     pub materials: Option<MaterialSlots<'a>>,
@@ -76,12 +79,13 @@ impl ExportInput<'_> {
     }
 
     /// Checks the name, the UVs against the mesh, the volume's arrays against its sizes, the
-    /// transfer textures against the volume, the fur depth, the shell count, the materials and the
-    /// transform (the skin binding is checked against the skeletons by the glTF export).
+    /// transfer textures against the volume, the fur depth, the shell count, the materials, the
+    /// object's animations and the transform (the skin binding is checked against the skeletons
+    /// by the glTF export).
     ///
     /// # Errors
     /// [`PeltError::InvalidParameter`] naming `name`, `corner_uvs`, the `volume.*` array,
-    /// `transfer.*`, `fur_depth`, `shells`, `materials.*` or `transform`.
+    /// `transfer.*`, `fur_depth`, `shells`, `materials.*`, `animations[*]` or `transform`.
     pub fn validate(&self) -> Result<()> {
         let chars = self.name.chars().count();
         if !(1..=MAX_NAME_CHARS).contains(&chars) || self.name.chars().any(char::is_control) {
@@ -114,6 +118,15 @@ impl ExportInput<'_> {
         }
         if let Some(materials) = &self.materials {
             materials.validate(self.mesh.face_count())?;
+        }
+        if !self.animations.is_empty() && self.skin.is_some() {
+            return Err(PeltError::parameter(
+                "animations",
+                "a skinned object moves with its skeleton's animations: give it none of its own",
+            ));
+        }
+        for (a, animation) in self.animations.iter().enumerate() {
+            animation.validate(a, 1)?;
         }
         self.transform.validate("transform")
     }

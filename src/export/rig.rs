@@ -239,7 +239,9 @@ impl Skeleton {
 }
 
 impl Animation {
-    fn validate(&self, index: usize, nodes: usize) -> Result<()> {
+    /// Checks the times (finite, non-negative, increasing) and that there are `nodes` valid
+    /// transforms per time; errors name `animations[index].*`.
+    pub(crate) fn validate(&self, index: usize, nodes: usize) -> Result<()> {
         let name = |field: &str| format!("animations[{index}].{field}");
         let t = &self.times;
         if t.is_empty() {

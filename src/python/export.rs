@@ -272,11 +272,12 @@ fn manifest_object<'py>(py: Python<'py>, manifest: &Manifest) -> PyResult<Bound<
 /// ``skin`` (per object ``None`` or ``{"skeleton", "joints", "weights"}``) make skinned,
 /// animated characters; ``materials`` (per object ``None`` or ``{"slots": [None | {"name",
 /// "base_color", "metallic", "roughness"}], "triangle_slot": [T]}``) keeps the object's own
-/// materials on its bald faces. Returns per object what the binding changed (``None`` when
-/// unskinned).
+/// materials on its bald faces; ``animations`` (per object ``None``, a dict or a list of
+/// ``{"name", "times": [T], "poses": [T, 4, 4]}``) moves an unskinned object's node. Returns per
+/// object what the binding changed (``None`` when unskinned).
 /// GIL released.
 #[pyfunction(name = "export_gltf")]
-#[pyo3(signature = (asset, path, *, mode="engine", name=None, fins=true, shells=None, transform=None, skin=None, skeletons=None, materials=None))]
+#[pyo3(signature = (asset, path, *, mode="engine", name=None, fins=true, shells=None, transform=None, skin=None, skeletons=None, materials=None, animations=None))]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn export_gltf_py<'py>(
     py: Python<'py>,
@@ -290,6 +291,7 @@ pub(super) fn export_gltf_py<'py>(
     skin: Option<&Bound<'py, PyAny>>,
     skeletons: Option<&Bound<'py, PyAny>>,
     materials: Option<&Bound<'py, PyAny>>,
+    animations: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let shells: Option<usize> = super::ints::unsigned_opt("shells", shells)?;
     let mode = GltfMode::parse(mode)?;
@@ -297,6 +299,7 @@ pub(super) fn export_gltf_py<'py>(
     let transforms = super::rig::object_transforms(transform, assets.len())?;
     let skins = super::rig::object_skins(skin, assets.len())?;
     let materials = super::materials::object_materials(materials, assets.len())?;
+    let animations = super::rig::object_animations(animations, assets.len())?;
     let skeletons: Vec<Skeleton> = match skeletons.filter(|s| !s.is_none()) {
         None => Vec::new(),
         Some(list) => list
@@ -306,9 +309,14 @@ pub(super) fn export_gltf_py<'py>(
             .collect::<PyResult<_>>()?,
     };
     let mut objects = inputs(&assets, shells);
-    for (((input, transform), skin), slots) in objects.iter_mut().zip(transforms).zip(&skins).zip(&materials)
-    {
+    let per_object = transforms
+        .into_iter()
+        .zip(&skins)
+        .zip(&materials)
+        .zip(&animations);
+    for (input, (((transform, skin), slots), animations)) in objects.iter_mut().zip(per_object) {
         input.transform = transform;
+        input.animations = animations;
         input.skin = skin.as_ref().map(|s| SkinBinding {
             skeleton: s.skeleton,
             influences: s.influences,

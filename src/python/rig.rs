@@ -86,32 +86,70 @@ pub(super) fn skeleton(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Skeleton>
             rest,
         });
     }
-    let mut animations = Vec::new();
-    if let Some(list) = dict.get_item("animations")? {
-        for (a, entry) in list.try_iter()?.enumerate() {
-            let entry = entry?;
-            let at = format!("{name}.animations[{a}]");
-            let entry = as_dict(&entry, &at)?;
-            let anim_name: String = item(entry, "name", &at)?
-                .extract()
-                .map_err(|_| PeltError::parameter(format!("{at}.name"), "must be a string"))?;
-            let times: Vec<f32> = item(entry, "times", &at)?
-                .extract()
-                .or_else(|_| item(entry, "times", &at)?.call_method0("tolist")?.extract())
-                .map_err(|_| PeltError::parameter(format!("{at}.times"), "must be a sequence of numbers"))?;
-            let poses = transforms(
-                &item(entry, "poses", &at)?,
-                &format!("{at}.poses"),
-                &[times.len(), n],
-            )?;
-            animations.push(Animation {
-                name: anim_name,
-                times,
-                poses,
-            });
-        }
-    }
+    let animations = match dict.get_item("animations")? {
+        Some(list) => animations(&list, &format!("{name}.animations"), Some(n))?,
+        None => Vec::new(),
+    };
     Ok(Skeleton { nodes, animations })
+}
+
+/// A sequence of `{"name", "times": [T], "poses": [T, nodes, 4, 4]}` (`[T, 4, 4]` for an
+/// object's own node, `nodes` `None`).
+fn animations(list: &Bound<'_, PyAny>, name: &str, nodes: Option<usize>) -> PyResult<Vec<Animation>> {
+    let mut animations = Vec::new();
+    for (a, entry) in list.try_iter()?.enumerate() {
+        let entry = entry?;
+        let at = format!("{name}[{a}]");
+        let entry = as_dict(&entry, &at)?;
+        let anim_name: String = item(entry, "name", &at)?
+            .extract()
+            .map_err(|_| PeltError::parameter(format!("{at}.name"), "must be a string"))?;
+        let times: Vec<f32> = item(entry, "times", &at)?
+            .extract()
+            .or_else(|_| item(entry, "times", &at)?.call_method0("tolist")?.extract())
+            .map_err(|_| PeltError::parameter(format!("{at}.times"), "must be a sequence of numbers"))?;
+        let prefix: Vec<usize> = std::iter::once(times.len()).chain(nodes).collect();
+        let poses = transforms(&item(entry, "poses", &at)?, &format!("{at}.poses"), &prefix)?;
+        animations.push(Animation {
+            name: anim_name,
+            times,
+            poses,
+        });
+    }
+    Ok(animations)
+}
+
+/// One object's own animations (its node's transform over time): `None`, for a single object a
+/// dict (one animation) or a list of dicts, or a sequence with one entry (or `None`) per object,
+/// each a dict or a list of dicts. Poses are `[T, 4, 4]`.
+pub(super) fn object_animations(
+    obj: Option<&Bound<'_, PyAny>>,
+    objects: usize,
+) -> PyResult<Vec<Vec<Animation>>> {
+    let dict_or_dicts = |o: &Bound<'_, PyAny>| {
+        o.cast::<PyDict>().is_ok()
+            || o.try_iter().is_ok_and(|mut items| {
+                items
+                    .next()
+                    .is_some_and(|first| first.is_ok_and(|f| f.cast::<PyDict>().is_ok()))
+            })
+    };
+    per_object(
+        obj,
+        objects,
+        "animations",
+        "animation lists",
+        |o| objects == 1 && dict_or_dicts(o),
+        Vec::new,
+        |entry, name| {
+            if entry.cast::<PyDict>().is_ok() {
+                let list = pyo3::types::PyList::new(entry.py(), [entry])?;
+                animations(list.as_any(), name, None)
+            } else {
+                animations(entry, name, None)
+            }
+        },
+    )
 }
 
 /// One object's binding: `{"skeleton": int, "joints": [V, K] ints, "weights": [V, K]}`, as owned

@@ -105,13 +105,20 @@ def test_skinned_fur_round_trips_through_blenders_importer(addon, tmp_path):
     prop.location = (-2.0, 0.5, 1.0)
     prop.rotation_euler = (math.radians(40), 0.0, 0.0)
     small_fur(prop, tile_size=0.4, fur_depth=0.05)
+    # The prop has an action of its own: it rises and turns.
+    prop.keyframe_insert("location", frame=FIRST)
+    prop.keyframe_insert("rotation_euler", frame=FIRST)
+    prop.location.z += 1.5
+    prop.rotation_euler.z = math.radians(70)
+    prop.keyframe_insert("location", frame=LAST)
+    prop.keyframe_insert("rotation_euler", frame=LAST)
     scene = bpy.context.scene
-    posed = {}
+    posed, prop_world = {}, {}
     for frame in (FIRST, LAST):
         scene.frame_set(frame)
         posed[frame] = world_vertices(body)
+        prop_world[frame] = world_vertices(prop)
     scene.frame_set(FIRST)
-    prop_world = world_vertices(prop)
     reach = 1.5 * settings.fur_depth * 1.5  # length 1 along a combed normal, with margin
 
     path = tmp_path / "character.glb"
@@ -145,8 +152,17 @@ def test_skinned_fur_round_trips_through_blenders_importer(addon, tmp_path):
         assert distance.max() < reach, (frame, distance.max())
     # A control: the last frame is far from the first, so the checks above could fail.
     assert nearest(got[:skin_count], posed[FIRST]).max() > 0.3
-    # The prop stands where it stood (skin vertices), turned back from Y-up by the importer.
-    assert nearest(world_vertices(prop)[: len(prop_world)], prop_world).max() < 1e-3
+    # The prop moves as it moved (skin vertices), turned back from Y-up by the importer; its
+    # action may come in as an NLA strip when it is not the file's first animation.
+    data = prop.animation_data
+    assert data is not None, "the prop's own action was exported"
+    if data.action is None:
+        data.action = next(s.action for t in data.nla_tracks for s in t.strips)
+    for frame, original in prop_world.items():
+        scene.frame_set(first + frame - FIRST)
+        got = world_vertices(prop)[: len(original)]
+        assert nearest(got, original).max() < 1e-3, frame
+    assert nearest(prop_world[LAST], prop_world[FIRST]).max() > 1.0
 
 
 def test_export_gltf_checks_its_skinning_and_material_arguments(tmp_path):
@@ -159,6 +175,9 @@ def test_export_gltf_checks_its_skinning_and_material_arguments(tmp_path):
     skin = {"skeleton": 0, "joints": np.zeros((4, 1), np.uint32), "weights": np.ones((4, 1), np.float32)}
     path = tmp_path / "x.glb"
     eyes, both = {"name": "Eyes", "base_color": [0.1, 0.1, 0.1, 1.0]}, [0, 0]
+    half_turn = np.diag([1.0, -1.0, -1.0, 1.0])
+    turn = {"name": "Turn", "times": [0.0, 1.0], "poses": np.stack([np.eye(4), half_turn])}
+    assert pelt.export_gltf(asset, path, animations=turn) == [None]
     assert pelt.export_gltf(asset, path, skin=skin, skeletons=[skeleton]) == [
         {"vertices": 4, "reduced": 0, "renormalized": 0}
     ]
@@ -179,6 +198,9 @@ def test_export_gltf_checks_its_skinning_and_material_arguments(tmp_path):
         ({"materials": {"slots": [{**eyes, "roughness": -1}], "triangle_slot": both}}, "roughness"),
         ({"materials": {"slots": [{"name": ""}], "triangle_slot": both}}, r"slots\[0\]\.name"),
         ({"materials": {"slots": [eyes]}}, "triangle_slot"),
+        ({"animations": {**turn, "times": [1.0, 0.5]}}, r"animations\[0\]\.times"),
+        ({"animations": [{**turn, "poses": np.eye(4)[None]}]}, r"animations\[0\]\.poses"),
+        ({"animations": turn, "skin": skin}, "animations"),
     ]
     for arguments, name in bad:
         arguments.setdefault("skeletons", [skeleton])

@@ -1,5 +1,5 @@
 // Example: a Pelt `engine`-mode GLB (`?model=path`, default character_engine.glb next to this
-// page) with its fur drawn by PeltShellFurPlugin, its first animation playing, a fixed camera.
+// page) with its fur drawn by PeltShellFurPlugin, its animations playing, a fixed camera.
 // `?lighting=kajiya-kay` or `prt` picks the fur's lighting model. `?paused` stops the clock (tests drive it through window.pelt.setTime). window.pelt:
 //   ready          Promise of a summary of what the plugin found
 //   setTime(s)     poses the animation at s seconds and renders that one frame
@@ -150,7 +150,7 @@ async function load() {
 	if ( gltf.animations.length > 0 ) {
 
 		mixer = new THREE.AnimationMixer( gltf.scene );
-		mixer.clipAction( gltf.animations[ 0 ] ).play();
+		for ( const clip of gltf.animations ) mixer.clipAction( clip ).play();
 
 	}
 

@@ -16,7 +16,7 @@ import { after, before, test } from 'node:test';
 
 import puppeteer from 'puppeteer-core';
 
-import { BLENDER_GLB, GLB, OUT_DIR, PACKAGE_DIR, REFERENCE } from './support/paths.mjs';
+import { BIG_GLB, BLENDER_GLB, GLB, OUT_DIR, PACKAGE_DIR, REFERENCE } from './support/paths.mjs';
 import { serve } from './support/server.mjs';
 
 const CHROMIUM = process.env.PELT_CHROMIUM || '/usr/bin/chromium';
@@ -29,6 +29,7 @@ const CHANGED = 8;
 // Mean luminance over the preview's object may differ by this share.
 const LUMINANCE_TOLERANCE = 0.10;
 const missing = ! existsSync( GLB ) ? `no ${GLB} (make check-gltf writes it)`
+	: ! existsSync( BIG_GLB ) ? `no ${BIG_GLB} (make check-gltf writes it)`
 	: ! existsSync( BLENDER_GLB ) ? `no ${BLENDER_GLB} (make check-three has the add-on export it)`
 	: ! existsSync( CHROMIUM ) ? `no ${CHROMIUM} (make system-deps installs Debian's chromium)`
 		: ! existsSync( join( REFERENCE, 'scene.json' ) ) ? `no reference scene in ${REFERENCE} (make check-three writes it)` : null;
@@ -40,7 +41,7 @@ let profile;
 before( async () => {
 
 	assert.equal( missing, null, missing );
-	server = await serve( PACKAGE_DIR, { '/model.glb': GLB, '/blender.glb': BLENDER_GLB }, REFERENCE );
+	server = await serve( PACKAGE_DIR, { '/model.glb': GLB, '/big.glb': BIG_GLB, '/blender.glb': BLENDER_GLB }, REFERENCE );
 	profile = mkdtempSync( join( tmpdir(), 'pelt-three-' ) );
 	browser = await puppeteer.launch( {
 		executablePath: CHROMIUM,
@@ -238,6 +239,27 @@ test( 'the example draws the fur of the exported character (PRT)', { timeout: 90
 		assert.ok( lod.far[ i ] < f.shells && lod.far[ i ] >= Math.ceil( f.shells / 4 ), `${lod.far[ i ]} shells far away` );
 
 	} );
+	assert.deepEqual( problems, [] );
+	await page.close();
+
+} );
+
+test( 'a 30k-triangle skinned character with 32 shells and fins: two draw calls for its fur', { timeout: 90_000 }, async ( t ) => {
+
+	const { page, problems, summary } = await openExample( 'lighting=kajiya-kay', '/big.glb' );
+	assert.deepEqual( problems, [] );
+	assert.equal( summary.furs.length, 1 );
+	const [ fur ] = summary.furs;
+	assert.ok( fur.skinned );
+	assert.equal( fur.shells, 32 );
+	assert.ok( fur.fins > 30_000, `fins: ${fur.fins}` );
+	const { total, perFur } = summary.drawCalls;
+	t.diagnostic( `30720 triangles, 32 shells, ${fur.fins} fins: ${perFur[ 0 ]} fur draw calls (+ the skin), ${total} in all; frame time ${summary.frameTimeMs.toFixed( 1 )} ms at 512 × 512` );
+	assert.ok( perFur[ 0 ] + 1 <= 3, `${perFur[ 0 ]} fur draw calls + the skin` );
+	const bare = await frame( page, 0, false );
+	const furred = await frame( page, 0, true );
+	save( 'big_t0.png', furred );
+	assertFurCovers( t, '30k triangles', bare, furred );
 	assert.deepEqual( problems, [] );
 	await page.close();
 

@@ -177,7 +177,7 @@ fn encode(
         scene_nodes.extend(roots);
         skeleton_nodes.push(nodes);
     }
-    for (input, node) in objects.iter().zip(object_nodes) {
+    for (input, &node) in objects.iter().zip(&object_nodes) {
         if let Some(binding) = input.skin {
             let s = binding.skeleton;
             let skin = rig::add_skin(
@@ -192,6 +192,9 @@ fn encode(
     }
     for (skeleton, nodes) in skeletons.iter().zip(&skeleton_nodes) {
         rig::add_animations(&mut builder, skeleton, nodes);
+    }
+    for (input, &node) in objects.iter().zip(&object_nodes) {
+        rig::add_node_animations(&mut builder, input.animations, &[input.transform], &[node]);
     }
     let scene = builder.root.push(json::Scene {
         extensions: None,

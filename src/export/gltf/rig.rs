@@ -9,7 +9,7 @@ use gltf_json as json;
 use json::validation::Checked;
 
 use super::builder::GlbBuilder;
-use crate::export::rig::{Skeleton, Transform, VertexWeights};
+use crate::export::rig::{Animation, Skeleton, Transform, VertexWeights};
 
 /// A sample further than this from the rest value makes a channel worth writing.
 const STILL: f32 = 1e-6;
@@ -112,19 +112,31 @@ pub(super) fn skin_attributes(
     ]
 }
 
-/// One glTF animation per animation of `skeleton`: a translation, rotation and scale channel for
-/// every node whose samples leave its rest value (the others keep their rest transform), linear
-/// interpolation (spherical for rotations, each sample on the same side as the one before).
+/// One glTF animation per animation of `skeleton` ([`add_node_animations`]).
 pub(super) fn add_animations(builder: &mut GlbBuilder, skeleton: &Skeleton, nodes: &SkeletonNodes) {
+    let rests: Vec<Transform> = skeleton.nodes.iter().map(|n| n.rest).collect();
+    add_node_animations(builder, &skeleton.animations, &rests, &nodes.0);
+}
+
+/// One glTF animation per one of `animations` of the glTF `nodes` (whose transforms are
+/// `rests`; the poses hold one transform per node and time): a translation, rotation and scale
+/// channel for every node whose samples leave its rest value (the others keep their rest
+/// transform), linear interpolation (spherical for rotations, each sample on the same side as
+/// the one before).
+pub(super) fn add_node_animations(
+    builder: &mut GlbBuilder,
+    animations: &[Animation],
+    rests: &[Transform],
+    nodes: &[json::Index<json::Node>],
+) {
     use json::animation::{Channel, Interpolation, Property, Sampler, Target};
-    let n = skeleton.nodes.len();
-    for animation in &skeleton.animations {
+    let n = rests.len();
+    for animation in animations {
         let times: Vec<[f32; 1]> = animation.times.iter().map(|&t| [t]).collect();
         let mut input = None;
         let (mut channels, mut samplers) = (Vec::new(), Vec::new());
-        for (j, node) in skeleton.nodes.iter().enumerate() {
+        for (j, &rest) in rests.iter().enumerate() {
             let poses: Vec<&Transform> = (0..times.len()).map(|t| &animation.poses[t * n + j]).collect();
-            let rest = node.rest;
             let moved = |f: &dyn Fn(&Transform) -> [f32; 4]| {
                 let r = f(&rest);
                 poses
@@ -171,7 +183,7 @@ pub(super) fn add_animations(builder: &mut GlbBuilder, skeleton: &Skeleton, node
                     target: Target {
                         extensions: None,
                         extras: None,
-                        node: nodes.0[j],
+                        node: nodes[j],
                         path: Checked::Valid(path),
                     },
                     extensions: None,

@@ -102,6 +102,7 @@ impl Fixture {
             transform: Default::default(),
             skin: None,
             materials: None,
+            animations: &[],
         }
     }
 }

@@ -273,6 +273,86 @@ fn unmoved_nodes_get_no_channels_and_unskinned_objects_keep_their_place() {
 }
 
 #[test]
+fn an_unskinned_object_moves_by_its_own_animation_and_a_skinned_one_may_not_have_one() {
+    let fx = Fixture::new();
+    // The prop rises by 2 and turns a quarter about y over a second, from where it stands.
+    let start = bind();
+    let end = Transform {
+        translation: start.translation + Vec3::Y * 2.0,
+        rotation: Quat::from_rotation_y(std::f32::consts::FRAC_PI_2) * start.rotation,
+        ..start
+    };
+    let animations = [Animation {
+        name: "Rise".into(),
+        times: vec![0.0, 1.0],
+        poses: vec![start, end],
+    }];
+    let moving = crate::export::ExportInput {
+        transform: start,
+        animations: &animations,
+        ..fx.input("Prop")
+    };
+    let glb = Glb::parse(&encode_glb(&[moving], &[], &GltfOptions::default()).unwrap());
+    let animation = &glb.json["animations"][0];
+    assert_eq!(animation["name"], "Rise");
+    let paths: Vec<&str> = animation["channels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| {
+            assert_eq!(c["target"]["node"], 0, "the object's own node");
+            c["target"]["path"].as_str().unwrap()
+        })
+        .collect();
+    assert_eq!(paths, ["translation", "rotation"]);
+    // At each key the node stands where the pose says, as an independent TRS product.
+    for (key, pose) in [(0, start), (1, end)] {
+        let world = world_matrices(&glb, Some(key))[0];
+        assert!(world.abs_diff_eq(pose.matrix(), 1e-5), "key {key}: {world:?}");
+    }
+
+    // Refused: an animation on a skinned object, and bad times or poses, by name.
+    let skeleton = skeleton();
+    let (joints, weights) = binding(&fx);
+    let skinned = crate::export::ExportInput {
+        skin: Some(SkinBinding {
+            skeleton: 0,
+            influences: 2,
+            joints: &joints,
+            weights: &weights,
+        }),
+        animations: &animations,
+        ..fx.input("Character")
+    };
+    let one = std::slice::from_ref(&skeleton);
+    assert_eq!(
+        parameter_name(encode_glb(&[skinned], one, &GltfOptions::default())),
+        "objects[0].animations"
+    );
+    let backwards = [Animation {
+        times: vec![1.0, 0.5],
+        ..animations[0].clone()
+    }];
+    let short = [Animation {
+        poses: vec![start],
+        ..animations[0].clone()
+    }];
+    for (bad, name) in [
+        (&backwards, "objects[0].animations[0].times"),
+        (&short, "objects[0].animations[0].poses"),
+    ] {
+        let input = crate::export::ExportInput {
+            animations: bad,
+            ..fx.input("Prop")
+        };
+        assert_eq!(
+            parameter_name(encode_glb(&[input], &[], &GltfOptions::default())),
+            name
+        );
+    }
+}
+
+#[test]
 fn more_than_four_influences_keep_the_strongest_normalized() {
     let joints = [
         1, 2, 3, 4, 5, 2, /* */ 0, 0, 0, 0, 0, 0, /* */ 3, 1, 0, 0, 0, 0,

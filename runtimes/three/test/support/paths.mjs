@@ -10,6 +10,8 @@ export const REPO_DIR = resolve( PACKAGE_DIR, '..', '..' );
 export const GLB = process.env.PELT_GLB
 	? resolve( process.env.INIT_CWD || process.cwd(), process.env.PELT_GLB )
 	: resolve( REPO_DIR, 'target/tmp/gltf-check/character_engine.glb' );
+// The 30k-triangle character with 32 shells written beside it.
+export const BIG_GLB = resolve( dirname( GLB ), 'big_character_engine.glb' );
 export const BLENDER_GLB = resolve( process.env.INIT_CWD || process.cwd(), process.env.PELT_BLENDER_GLB || resolve( REPO_DIR, 'target/tmp/three-blender/blender_character.glb' ) );
 export const OUT_DIR = resolve( PACKAGE_DIR, 'test', 'out' );
 // The wgpu preview's reference scene (reference/make_reference.py's folder; env PELT_REFERENCE).
