@@ -28,6 +28,7 @@ PYTHON_TARGETS = (
     "build_patches",
     "pipeline",
     "export_skin",
+    "export_materials",
     "settings",
 )
 

@@ -302,8 +302,7 @@ pub(super) fn export_gltf_py<'py>(
     let animations = super::rig::object_animations(animations, assets.len())?;
     let skeletons: Vec<Skeleton> = match skeletons.filter(|s| !s.is_none()) {
         None => Vec::new(),
-        Some(list) => list
-            .try_iter()?
+        Some(list) => super::rig::sequence(list, "skeletons")?
             .enumerate()
             .map(|(s, entry)| super::rig::skeleton(&entry?, &format!("skeletons[{s}]")))
             .collect::<PyResult<_>>()?,

@@ -6,7 +6,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use super::arrays::uint_ndarray;
-use super::rig::{as_dict, item, per_object};
+use super::rig::{as_dict, item, per_object, sequence};
 use crate::error::PeltError;
 use crate::export::OwnMaterial;
 
@@ -57,7 +57,7 @@ fn material(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<OwnMaterial> {
 fn slots(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<OwnedSlots> {
     let dict = as_dict(obj, name)?;
     let mut slots = Vec::new();
-    for (s, entry) in item(dict, "slots", name)?.try_iter()?.enumerate() {
+    for (s, entry) in sequence(&item(dict, "slots", name)?, &format!("{name}.slots"))?.enumerate() {
         let entry = entry?;
         slots.push(if entry.is_none() {
             None

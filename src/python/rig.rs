@@ -37,6 +37,15 @@ fn transforms(obj: &Bound<'_, PyAny>, name: &str, prefix: &[usize]) -> PyResult<
         .collect()
 }
 
+/// The items of `obj`, the argument `name`, or an error naming it when it is not a sequence.
+pub(super) fn sequence<'py>(
+    obj: &Bound<'py, PyAny>,
+    name: &str,
+) -> PyResult<Bound<'py, pyo3::types::PyIterator>> {
+    obj.try_iter()
+        .map_err(|_| PeltError::parameter(name, "must be a sequence").into())
+}
+
 /// A required item of a dict argument.
 pub(super) fn item<'py>(dict: &Bound<'py, PyDict>, key: &str, name: &str) -> PyResult<Bound<'py, PyAny>> {
     dict.get_item(key)?
@@ -97,7 +106,7 @@ pub(super) fn skeleton(obj: &Bound<'_, PyAny>, name: &str) -> PyResult<Skeleton>
 /// object's own node, `nodes` `None`).
 fn animations(list: &Bound<'_, PyAny>, name: &str, nodes: Option<usize>) -> PyResult<Vec<Animation>> {
     let mut animations = Vec::new();
-    for (a, entry) in list.try_iter()?.enumerate() {
+    for (a, entry) in sequence(list, name)?.enumerate() {
         let entry = entry?;
         let at = format!("{name}[{a}]");
         let entry = as_dict(&entry, &at)?;
@@ -220,7 +229,7 @@ pub(super) fn per_object<T>(
         return Ok(vec![parse(obj, name)?]);
     }
     let mut out = Vec::with_capacity(objects);
-    for (i, entry) in obj.try_iter()?.enumerate() {
+    for (i, entry) in sequence(obj, name)?.enumerate() {
         let entry = entry?;
         out.push(if entry.is_none() {
             default()

@@ -198,6 +198,10 @@ def test_export_gltf_checks_its_skinning_and_material_arguments(tmp_path):
         ({"materials": {"slots": [{**eyes, "roughness": -1}], "triangle_slot": both}}, "roughness"),
         ({"materials": {"slots": [{"name": ""}], "triangle_slot": both}}, r"slots\[0\]\.name"),
         ({"materials": {"slots": [eyes]}}, "triangle_slot"),
+        # Found by the fuzz: a number where a sequence goes raised an unnamed TypeError.
+        ({"materials": {"slots": 0.0, "triangle_slot": both}}, r"materials\.slots"),
+        ({"animations": [5.0]}, r"animations\[0\]"),
+        ({"skeletons": 1.5, "skin": None}, "skeletons"),
         ({"animations": {**turn, "times": [1.0, 0.5]}}, r"animations\[0\]\.times"),
         ({"animations": [{**turn, "poses": np.eye(4)[None]}]}, r"animations\[0\]\.poses"),
         ({"animations": turn, "skin": skin}, "animations"),

@@ -308,6 +308,48 @@ def test_export_skin(tmp_path_factory, nodes, data, influences, broken, mode):
     )
 
 
+MATERIAL_PARTS = ("slots", "triangle_slot", "name", "base_color", "factors", "times", "poses")
+
+
+@FUZZ
+@given(
+    data=st.data(),
+    slot_count=st.integers(0, 3),
+    broken=st.sampled_from((None,) * len(MATERIAL_PARTS) + MATERIAL_PARTS),
+    mode=st.sampled_from(["engine", "geometry"]),
+)
+def test_export_materials(tmp_path_factory, data, slot_count, broken, mode):
+    """An object's own materials (on its bald faces) and its own animation: half the cases valid
+    throughout, the others with one part broken."""
+
+    def strategy(name, valid, wild):
+        return wild if broken == name else valid
+
+    def part(name, valid, wild):
+        return data.draw(strategy(name, valid, wild))
+
+    unit = st.floats(0, 1)
+    color = strategy("base_color", st.lists(unit, min_size=4, max_size=4), st.lists(NUMBERS, max_size=6))
+    name = strategy("name", st.text(min_size=1, max_size=20).filter(str.isprintable), st.text(max_size=80))
+    material = st.fixed_dictionaries(
+        {"name": name, "base_color": color, "metallic": strategy("factors", unit, NUMBERS), "roughness": unit}
+    )
+    valid_slots = st.lists(st.one_of(st.none(), material), min_size=slot_count, max_size=slot_count)
+    wild_slots = st.one_of(st.lists(st.one_of(st.none(), material, INTEGERS), max_size=4), NUMBERS)
+    slots = part("slots", valid_slots, wild_slots)
+    # The octahedron has 8 triangles.
+    valid_triangle_slots = st.lists(st.integers(0, max(slot_count - 1, 0)), min_size=8, max_size=8)
+    triangle_slot = part("triangle_slot", valid_triangle_slots, st.lists(INTEGERS, max_size=10))
+    times = part("times", st.lists(st.integers(0, 100), min_size=1, max_size=3, unique=True).map(
+        lambda t: [x / 30 for x in sorted(t)]), st.lists(NUMBERS, min_size=1, max_size=3))  # fmt: skip
+    poses = data.draw(matrices(len(times), broken == "poses"))
+    animations = [{"name": "a", "times": times, "poses": np.reshape(poses, (len(times), 4, 4))}]
+    materials = {"slots": slots, "triangle_slot": triangle_slot} if slot_count or broken else None
+    path = tmp_path_factory.mktemp("materials") / "x.glb"
+    asset = octahedron_asset()
+    check(lambda: pelt.export_gltf(asset, path, mode=mode, materials=materials, animations=animations))
+
+
 @FUZZ
 @given(limit=st.one_of(st.none(), NUMBERS, INTEGERS), threads=INTEGERS)
 def test_settings(limit, threads):
