@@ -87,16 +87,7 @@ impl ExportInput<'_> {
     /// [`PeltError::InvalidParameter`] naming `name`, `corner_uvs`, the `volume.*` array,
     /// `transfer.*`, `fur_depth`, `shells`, `materials.*`, `animations[*]` or `transform`.
     pub fn validate(&self) -> Result<()> {
-        let chars = self.name.chars().count();
-        if !(1..=MAX_NAME_CHARS).contains(&chars) || self.name.chars().any(char::is_control) {
-            return Err(PeltError::parameter(
-                "name",
-                format!(
-                    "must have 1 to {MAX_NAME_CHARS} characters and no control characters, got {:?}",
-                    self.name
-                ),
-            ));
-        }
+        validate_name("name", self.name)?;
         validate_uvs(self.mesh, self.corner_uvs)?;
         validate_volume(self.volume)?;
         if let Some(transfer) = &self.transfer {
@@ -130,6 +121,19 @@ impl ExportInput<'_> {
         }
         self.transform.validate("transform")
     }
+}
+
+/// Checks a name written into the file (an object's, a material's): 1 to [`MAX_NAME_CHARS`]
+/// characters, none of them a control character; the error names `field`.
+pub(crate) fn validate_name(field: &str, name: &str) -> Result<()> {
+    let chars = name.chars().count();
+    if !(1..=MAX_NAME_CHARS).contains(&chars) || name.chars().any(char::is_control) {
+        return Err(PeltError::parameter(
+            field,
+            format!("must have 1 to {MAX_NAME_CHARS} characters and no control characters, got {name:?}"),
+        ));
+    }
+    Ok(())
 }
 
 /// `name` with every character outside `[A-Za-z0-9_.-]` replaced by `_`; a leading `.` too, so

@@ -4,17 +4,16 @@
 //! metallic-roughness material on a skin primitive of its own, sharing the skin's vertices, with
 //! no shells, fins or fur extension on it; every other face is Pelt's furred skin.
 
+use super::input::validate_name;
 use crate::error::{PeltError, Result};
 
 /// Most material slots (Blender's: a face's material index is a 16-bit integer).
 pub const MAX_SLOTS: usize = 32_767;
-/// Most characters of a material name.
-pub const MAX_MATERIAL_NAME_CHARS: usize = 64;
 
 /// One of the object's own materials, as glTF's metallic-roughness model takes it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct OwnMaterial {
-    /// The glTF material's name, 1 to 64 characters.
+    /// The glTF material's name, 1 to 64 characters (as an object's, [`super::input::MAX_NAME_CHARS`]).
     pub name: String,
     /// Linear RGBA, each in `[0, 1]`; alpha below 1 makes the material alpha-blended.
     pub base_color: [f32; 4],
@@ -33,7 +32,7 @@ pub struct MaterialSlots<'a> {
     pub triangle_slot: &'a [u32],
 }
 
-impl MaterialSlots<'_> {
+impl<'a> MaterialSlots<'a> {
     /// Checks the slots against a mesh of `triangles` triangles.
     ///
     /// # Errors
@@ -77,8 +76,8 @@ impl MaterialSlots<'_> {
         Ok(())
     }
 
-    /// The own material triangle `t` keeps when bald, if its slot has one.
-    pub fn own(&self, t: usize) -> Option<(usize, &OwnMaterial)> {
+    /// The own material triangle `t` keeps when bald, if its slot has one, with the slot.
+    pub fn own(&self, t: usize) -> Option<(usize, &'a OwnMaterial)> {
         let slot = *self.triangle_slot.get(t)? as usize;
         self.slots.get(slot)?.as_ref().map(|m| (slot, m))
     }
@@ -86,16 +85,7 @@ impl MaterialSlots<'_> {
 
 impl OwnMaterial {
     fn validate(&self, name: &str) -> Result<()> {
-        let chars = self.name.chars().count();
-        if !(1..=MAX_MATERIAL_NAME_CHARS).contains(&chars) || self.name.chars().any(char::is_control) {
-            return Err(PeltError::parameter(
-                format!("{name}.name"),
-                format!(
-                    "must have 1 to {MAX_MATERIAL_NAME_CHARS} characters and no control characters, got {:?}",
-                    self.name
-                ),
-            ));
-        }
+        validate_name(&format!("{name}.name"), &self.name)?;
         let unit = |v: f32| (0.0..=1.0).contains(&v);
         if !self.base_color.iter().all(|&c| unit(c)) {
             return Err(PeltError::parameter(
@@ -116,15 +106,15 @@ impl OwnMaterial {
 }
 
 /// The split skin's triangles (`indices`, three per mesh triangle, in mesh order) by what draws
-/// them: Pelt's skin first, then one group per slot whose material some bald triangle keeps (a
+/// them: Pelt's skin first, then one group per own material some bald triangle keeps (a
 /// triangle is bald when `lengths` is 0 at its three corners), in slot order. When no triangle
 /// would be left to Pelt's skin, every triangle stays on it (a glTF primitive needs one, and the
 /// fur extension stands on it).
-pub fn skin_groups(
+pub fn skin_groups<'a>(
     indices: &[u32],
     lengths: &[f32],
-    slots: Option<&MaterialSlots<'_>>,
-) -> (Vec<u32>, Vec<(usize, Vec<u32>)>) {
+    slots: Option<&MaterialSlots<'a>>,
+) -> (Vec<u32>, Vec<(&'a OwnMaterial, Vec<u32>)>) {
     let Some(slots) = slots else {
         return (indices.to_vec(), Vec::new());
     };
@@ -144,6 +134,7 @@ pub fn skin_groups(
         .into_iter()
         .enumerate()
         .filter(|(_, group)| !group.is_empty())
+        .filter_map(|(slot, group)| Some((slots.slots[slot].as_ref()?, group)))
         .collect();
     (pelt, groups)
 }
@@ -177,7 +168,7 @@ mod tests {
         materials.validate(4).unwrap();
         let (pelt, own) = skin_groups(&indices, &lengths, Some(&materials));
         assert_eq!(pelt, [0, 1, 2, 2, 3, 4, 3, 4, 5]);
-        assert_eq!(own, vec![(1, vec![3, 4, 5])]);
+        assert_eq!(own, vec![(&eyes(), vec![3, 4, 5])]);
         // Without slots, or when nothing would be left to Pelt's skin, it keeps every face.
         assert_eq!(skin_groups(&indices, &lengths, None).0, indices);
         let all_bald = [0.0; 6];

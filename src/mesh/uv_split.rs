@@ -172,7 +172,7 @@ type WeightedDerivatives = ([f64; 3], [f64; 3], f64);
 type UvInverse = Option<[f64; 4]>;
 
 /// Memory for each triangle's derivatives, kept between poses by
-/// [`SplitLayout::derivatives_into`]'s caller so that posing allocates nothing.
+/// [`SplitLayout::derivatives_into`]'s caller so that a pose does not allocate it again.
 #[derive(Debug, Clone, Default)]
 pub struct FaceDerivatives(Vec<Option<WeightedDerivatives>>);
 

@@ -27,7 +27,7 @@ pub(super) struct Deformer {
     /// Each surface vertex's comb vector in its rest frame `(t, b, n)`, `t` along `∂P/∂u`.
     comb_in_frame: Vec<[f32; 3]>,
     /// The last pose's skin vertices and its triangles' derivatives: kept, so that a pose
-    /// allocates nothing (fresh pages cost as much as the arithmetic here).
+    /// allocates neither again (fresh pages cost as much as the arithmetic here).
     surface: Vec<SurfaceVertex>,
     faces: FaceDerivatives,
 }

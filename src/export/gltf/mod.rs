@@ -333,11 +333,10 @@ fn skin_primitives(
     let skin = base.primitive(indices, skin_material, &[fur, skinned].concat());
     let own = own
         .into_iter()
-        .filter_map(|(slot, triangles)| {
-            let material = input.materials.as_ref()?.slots[slot].as_ref()?;
+        .map(|(material, triangles)| {
             let material = plain_material(builder, material);
             let indices = builder.indices(&triangles);
-            Some(base.without_color(indices, material, skinned))
+            base.without_color(indices, material, skinned)
         })
         .collect();
     (skin, own)
