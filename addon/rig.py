@@ -194,6 +194,15 @@ def _skin(obj, modifier, bone_index: dict[str, int], notes: list[str]) -> tuple[
     return joints, weights
 
 
+def _save_object(obj) -> list:
+    return [tuple(getattr(obj, prop)) for prop in _OBJECT_TRANSFORMS]
+
+
+def _restore_object(obj, saved: list) -> None:
+    for prop, value in zip(_OBJECT_TRANSFORMS, saved, strict=True):
+        setattr(obj, prop, value)
+
+
 def _save_transforms(arm) -> tuple[list[np.ndarray], list]:
     bones = arm.pose.bones
     saved_bones = []
@@ -201,15 +210,14 @@ def _save_transforms(arm) -> tuple[list[np.ndarray], list]:
         values = np.empty(len(bones) * size, np.float32)
         bones.foreach_get(prop, values)
         saved_bones.append(values)
-    return saved_bones, [tuple(getattr(arm, prop)) for prop in _OBJECT_TRANSFORMS]
+    return saved_bones, _save_object(arm)
 
 
 def _restore_transforms(arm, saved: tuple[list[np.ndarray], list]) -> None:
     saved_bones, saved_object = saved
     for (prop, _), values in zip(_BONE_TRANSFORMS, saved_bones, strict=True):
         arm.pose.bones.foreach_set(prop, values)
-    for prop, value in zip(_OBJECT_TRANSFORMS, saved_object, strict=True):
-        setattr(arm, prop, value)
+    _restore_object(arm, saved_object)
     # foreach_set tags nothing: evaluate the pose again (not the action: the frame is unchanged),
     # so that the world matrices read next are those of the restored pose.
     arm.update_tag(refresh={"OBJECT", "DATA"})
@@ -286,15 +294,14 @@ def object_animations(obj, scene) -> list[Animation]:
     frames = range(first, last + 1)
     poses = np.empty((len(frames), 4, 4))
     frame, subframe = scene.frame_current, scene.frame_subframe
-    saved = [tuple(getattr(obj, prop)) for prop in _OBJECT_TRANSFORMS]
+    saved = _save_object(obj)
     try:
         for t, f in enumerate(frames):
             scene.frame_set(f)
             poses[t] = Y_UP @ np.array(obj.matrix_world)
     finally:
         scene.frame_set(frame, subframe=subframe)
-        for prop, value in zip(_OBJECT_TRANSFORMS, saved, strict=True):
-            setattr(obj, prop, value)
+        _restore_object(obj, saved)
     return [Animation(action.name, _times(len(frames), scene), poses.astype(np.float32))]
 
 
