@@ -1,12 +1,13 @@
 """Runs Pelt's fuzz targets, each in its own process under a time and a memory limit, and sums up.
 
-Rust targets (``examples/fuzz.rs``, built by ``cargo test`` or ``cargo build --example fuzz``)
+Rust targets (``examples/fuzz/``, built by ``cargo test`` or ``cargo build --example fuzz``)
 and Python targets (``tests/fuzz/test_api_fuzz.py``, hypothesis). A target fails when it reports
 a failed case, or when its process is killed (a hang past the time limit, an abort such as an
 allocation past the memory limit, a crash) or exits without its report.
 
     python scripts/fuzz.py --cases 300 [--seed 1] [--binary target/debug/examples/fuzz]
         [--time-limit 600] [--memory-limit-mib 4096] [--json out/fuzz.json]
+        [--only rust|python] [--targets NAME ...]
 """
 
 import argparse
@@ -18,7 +19,7 @@ import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-RUST_TARGETS = ("mesh", "obj", "gltf", "patches", "volume", "transfer", "sh", "pipeline")
+RUST_TARGETS = ("mesh", "obj", "gltf", "patches", "volume", "transfer", "sh", "pipeline", "corpus")
 PYTHON_TARGETS = (
     "fur_mesh",
     "hair_params",
@@ -106,13 +107,21 @@ def main() -> int:
     parser.add_argument("--time-limit", type=int, default=900, help="seconds per target")
     parser.add_argument("--memory-limit-mib", type=int, default=4096, help="address space per target")
     parser.add_argument("--only", choices=("rust", "python"), help="one side only")
+    parser.add_argument("--targets", nargs="+", metavar="NAME", help="these targets only (either side)")
     parser.add_argument("--json", type=Path, help="write the reports here")
     args = parser.parse_args()
+    unknown = set(args.targets or ()) - set(RUST_TARGETS) - set(PYTHON_TARGETS)
+    if unknown:
+        parser.error(f"unknown targets: {', '.join(sorted(unknown))}")
+
+    def chosen(name):
+        return args.targets is None or name in args.targets
+
     reports = []
     if args.only != "python":
-        reports += [rust_target(args.binary, name, args) for name in RUST_TARGETS]
+        reports += [rust_target(args.binary, n, args) for n in RUST_TARGETS if chosen(n)]
     if args.only != "rust":
-        reports += [python_target(name, args) for name in PYTHON_TARGETS]
+        reports += [python_target(n, args) for n in PYTHON_TARGETS if chosen(n)]
     failed = 0
     for r in reports:
         cases = r.get("cases", args.cases)

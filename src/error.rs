@@ -75,6 +75,22 @@ impl PeltError {
     }
 }
 
+/// A number as a message shows it: as Rust writes it, but in exponent form when it is huge or
+/// tiny (`1e300`, not three hundred digits; `1e-30`, not thirty zeros).
+#[derive(Debug, Clone, Copy)]
+pub struct Num(pub f64);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let x = self.0;
+        if x.is_finite() && x != 0.0 && !(1e-5..1e16).contains(&x.abs()) {
+            write!(f, "{x:e}")
+        } else {
+            write!(f, "{x}")
+        }
+    }
+}
+
 /// `Ok` when `value` lies in `[lo, hi]`; otherwise [`PeltError::InvalidParameter`] naming `name`
 /// and the range (NaN is outside every range). The range check shared by the parameter structs.
 pub(crate) fn check_range(name: &str, value: f64, lo: f64, hi: f64) -> Result<()> {
@@ -83,7 +99,7 @@ pub(crate) fn check_range(name: &str, value: f64, lo: f64, hi: f64) -> Result<()
     } else {
         Err(PeltError::parameter(
             name,
-            format!("must be in [{lo}, {hi}], got {value}"),
+            format!("must be in [{}, {}], got {}", Num(lo), Num(hi), Num(value)),
         ))
     }
 }
@@ -168,7 +184,7 @@ pub enum MeshError {
     },
 
     /// A hair length multiplier outside `[0, MAX_LENGTH]`.
-    #[error("`length` of vertex {vertex} is {value}, outside [0, {max}]")]
+    #[error("`length` of vertex {vertex} is {}, outside [0, {max}]", Num(f64::from(*value)))]
     LengthOutOfRange {
         /// Vertex index.
         vertex: usize,
@@ -188,4 +204,24 @@ pub enum MeshError {
     /// More vertices than 32-bit indices can address.
     #[error("the mesh has {0} vertices; at most 4294967295 are supported")]
     TooManyVertices(usize),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn huge_and_tiny_numbers_show_in_exponent_form() {
+        let shown = |x: f64| Num(x).to_string();
+        assert_eq!(shown(1e300), "1e300");
+        assert_eq!(shown(-3.4e38), "-3.4e38");
+        assert_eq!(shown(1e-30), "1e-30");
+        assert_eq!(shown(0.25), "0.25");
+        assert_eq!(shown(12345.5), "12345.5");
+        assert_eq!(shown(0.0), "0");
+        assert_eq!(shown(f64::NAN), "NaN");
+        assert_eq!(shown(f64::INFINITY), "inf");
+        let error = check_range("curl", 1e300, 0.0, 1.0).unwrap_err().to_string();
+        assert!(error.ends_with("must be in [0, 1], got 1e300"), "{error}");
+    }
 }

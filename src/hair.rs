@@ -19,7 +19,7 @@ use std::f64::consts::TAU;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::error::{PeltError, Result, check_range};
+use crate::error::{Num, PeltError, Result, check_range};
 use crate::rng::Rng;
 use crate::threads::pool;
 
@@ -143,7 +143,7 @@ fn check_color(name: &str, color: [f32; 3]) -> Result<()> {
         if !(0.0..=1.0).contains(&c) {
             return Err(PeltError::parameter(
                 name,
-                format!("component {i} must be in [0, 1], got {c}"),
+                format!("component {i} must be in [0, 1], got {}", Num(f64::from(c))),
             ));
         }
     }

@@ -237,15 +237,10 @@ pub(crate) fn time_median<T>(reps: usize, mut work: impl FnMut() -> T) -> (f64, 
 /// Times one run of `work` that also measures its peak heap, for cases too slow to repeat (a
 /// reference method that takes minutes); returns the result with the timing.
 pub(crate) fn time_once<T>(work: impl FnOnce() -> Result<T>) -> Result<(T, (f64, Option<usize>))> {
-    let base = CURRENT.load(Ordering::Relaxed);
-    PEAK.store(base, Ordering::Relaxed);
     let start = Instant::now();
-    let out = work()?;
+    let (out, peak) = peak_heap(work);
     let seconds = start.elapsed().as_secs_f64();
-    let peak = TRACKING
-        .load(Ordering::Relaxed)
-        .then(|| PEAK.load(Ordering::Relaxed).saturating_sub(base));
-    Ok((out, (seconds, peak)))
+    Ok((out?, (seconds, peak)))
 }
 
 /// Runs `work` through [`time_median`], keeping the first error instead of timing a failure.
@@ -260,6 +255,18 @@ pub(crate) fn time_fallible<T>(
         }
     });
     failure.map_or(Ok(timing), Err)
+}
+
+/// Runs `work` once and returns its result with its peak heap growth, when the tracking
+/// allocator is installed (for tests that compare a memory estimate with the real peak).
+pub fn peak_heap<T>(work: impl FnOnce() -> T) -> (T, Option<usize>) {
+    let base = CURRENT.load(Ordering::Relaxed);
+    PEAK.store(base, Ordering::Relaxed);
+    let out = work();
+    let peak = TRACKING
+        .load(Ordering::Relaxed)
+        .then(|| PEAK.load(Ordering::Relaxed).saturating_sub(base));
+    (out, peak)
 }
 
 static TRACKING: AtomicBool = AtomicBool::new(false);

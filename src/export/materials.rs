@@ -5,7 +5,7 @@
 //! no shells, fins or fur extension on it; every other face is Pelt's furred skin.
 
 use super::input::validate_name;
-use crate::error::{PeltError, Result};
+use crate::error::{Num, PeltError, Result};
 
 /// Most material slots (Blender's: a face's material index is a 16-bit integer).
 pub const MAX_SLOTS: usize = 32_767;
@@ -97,7 +97,7 @@ impl OwnMaterial {
             if !unit(value) {
                 return Err(PeltError::parameter(
                     format!("{name}.{field}"),
-                    format!("must be in [0, 1], got {value}"),
+                    format!("must be in [0, 1], got {}", Num(f64::from(value))),
                 ));
             }
         }

@@ -47,7 +47,7 @@ pub use asset::{AssetOptions, write_asset, write_asset_files};
 pub use atlas::{AtlasLayout, pack_atlas};
 pub use description::StackDescription;
 pub use exr::{ExrCompression, ExrOptions, ExrSample, save_exr, write_exr};
-pub use gltf::{GltfMode, GltfOptions, encode_glb, save_glb};
+pub use gltf::{GltfMode, GltfOptions, encode_glb, glb_peak_bytes, save_glb};
 pub use image::{Image, ImageRef, layer_views};
 pub use input::{ExportInput, TransferTextures};
 pub use ktx2::{Ktx2Format, Ktx2Texture, save_ktx2, write_ktx2};
@@ -57,7 +57,7 @@ pub use mip::{MipAlpha, MipLevels, MipOptions, full_mip_count, mip_chain_rgba8, 
 pub use png::{PngCompression, PngOptions, PngSample, save_png, write_png};
 pub use rig::{Animation, Skeleton, SkeletonNode, SkinBinding, Transform, WeightReport};
 pub use staging::StagedFolder;
-pub use texture_set::{TextureFormats, write_texture_set};
+pub use texture_set::{TextureFormats, texture_set_peak_bytes, write_texture_set};
 
 /// The name [`PeltError::Io`] reports for failures of a caller's `Write` (it has no path).
 pub const WRITER_NAME: &str = "<writer>";

@@ -43,6 +43,19 @@ impl StackImage<'_> {
         )
     }
 
+    /// Texels of the image written (an atlas counts its empty cells too).
+    pub(crate) fn texels(&self) -> usize {
+        let atlas = |layers, side| AtlasLayout::new(layers, side).map_or(usize::MAX, |a| a.width * a.height);
+        match *self {
+            StackImage::Layer(volume, _) => volume.resolution * volume.resolution,
+            StackImage::ShellAtlas(volume) | StackImage::TangentAtlas(volume) => {
+                atlas(volume.layers, volume.resolution)
+            }
+            StackImage::Fin(volume) => volume.fin_size[0] * volume.fin_size[1],
+            StackImage::Transfer(packed, _) => atlas(packed.layers, packed.resolution),
+        }
+    }
+
     /// The PNG file.
     pub(crate) fn encode(&self) -> Result<Vec<u8>> {
         let options = PngOptions {

@@ -14,9 +14,10 @@
 //!   RGBA16F, full chain).
 //!
 //! The stack follows Lengyel et al. 2001, §2.2 (shell and fin textures) and §2.4 (mipmaps); the
-//! transfer textures the PRT shell-fur paper, §2.3. Files are encoded in parallel in Pelt's pool,
-//! collected in a fixed order and written one by one, so the bytes do not depend on the thread
-//! count.
+//! transfer textures the PRT shell-fur paper, §2.3. Each file is encoded and written by one task
+//! of Pelt's pool, so a file's bytes do not depend on the thread count, and at most one encoding
+//! per worker is held at a time: the peak is that of the largest few files, not of the whole set,
+//! and is checked against the memory budget before the first file is encoded.
 
 use std::path::Path;
 
@@ -32,8 +33,9 @@ use super::manifest::{Manifest, ManifestFile, ManifestObject};
 use super::mip::{MipAlpha, MipOptions};
 use super::stack_png::StackImage;
 use crate::error::{PeltError, Result};
+use crate::memory;
 use crate::mesh::split_at_uv_seams;
-use crate::threads::pool;
+use crate::threads::{pool, thread_count};
 
 /// Which containers a texture set is written in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -99,7 +101,51 @@ enum Job<'a> {
     Ktx2Transfer(&'a ExportInput<'a>),
 }
 
+/// Bytes of a full mip chain over `base` bytes: a third more, and a texel per level and layer for
+/// the odd sides that round up.
+fn chain_bytes(base: f64, layers: f64, texel: f64) -> f64 {
+    base * 4.0 / 3.0 + 32.0 * layers * texel
+}
+
 impl Job<'_> {
+    /// Estimated peak bytes of encoding this file: its input copies (atlas, mip chain), the
+    /// encoder's working buffers and its output, from the sizes alone (checked against the
+    /// measured peaks in `tests/memory_estimates.rs`).
+    fn peak_bytes(&self) -> f64 {
+        let atlas = |layers: usize, resolution: usize| {
+            AtlasLayout::new(layers, resolution).map_or(f64::INFINITY, |a| (a.width * a.height) as f64)
+        };
+        match *self {
+            // An image (or atlas) copy, the encoder's filtered rows, and a growing output.
+            Job::Png(image) => 4.0 * 4.0 * image.texels() as f64,
+            // Atlas, the encoder's interleaved copy and its zlib output.
+            Job::Density(input) => 5.0 * 4.0 * atlas(input.volume.layers, input.volume.resolution),
+            Job::TransferExr(input, _) => {
+                let (l, r) = input
+                    .transfer
+                    .map_or((1, 1), |t| (t.f16.layers, t.f16.resolution));
+                5.0 * 8.0 * atlas(l, r)
+            }
+            // The levels (cloned or generated) and the file that holds them.
+            Job::Ktx2Shells(input) | Job::Ktx2Tangents(input) => {
+                let v = input.volume;
+                let base = 4.0 * (v.layers * v.resolution * v.resolution) as f64;
+                3.0 * chain_bytes(base, v.layers as f64, 4.0)
+            }
+            Job::Ktx2Fin(input) => {
+                let [w, h] = input.volume.fin_size;
+                3.0 * chain_bytes(4.0 * (w * h) as f64, 1.0, 4.0)
+            }
+            // Half floats: the chain, its bytes, one level's finiteness check and the file.
+            Job::Ktx2Transfer(input) => input.transfer.map_or(0.0, |t| {
+                let p = t.f16;
+                let layers = (p.textures * p.layers) as f64;
+                let base = 8.0 * layers * (p.resolution * p.resolution) as f64;
+                4.0 * chain_bytes(base, layers, 8.0) + base
+            }),
+        }
+    }
+
     fn encode(&self) -> Result<Vec<u8>> {
         match *self {
             Job::Png(image) => image.encode(),
@@ -461,6 +507,7 @@ pub(crate) fn texture_set(
         ));
     }
     validate_objects(objects)?;
+    check_memory(objects, formats)?;
     let stems: Vec<String> = objects.iter().map(ExportInput::file_stem).collect();
     for (i, stem) in stems.iter().enumerate() {
         if let Some(j) = stems[..i].iter().position(|s| s == stem) {
@@ -485,26 +532,61 @@ pub(crate) fn texture_set(
     Ok(manifest)
 }
 
-/// Encodes one object's files in parallel and writes them in order.
+/// Estimated peak bytes of writing `input`'s files in `formats`: the encodings of the largest
+/// files that Pelt's workers may hold at once.
+///
+/// # Errors
+/// As [`AtlasLayout::new`] for a volume without layers.
+pub fn texture_set_peak_bytes(input: &ExportInput<'_>, formats: TextureFormats) -> Result<f64> {
+    let mut peaks: Vec<f64> = plan(input, formats)?
+        .iter()
+        .map(|(job, _)| job.peak_bytes())
+        .collect();
+    peaks.sort_unstable_by(|a, b| b.total_cmp(a));
+    Ok(peaks.iter().take(thread_count().max(1)).sum())
+}
+
+/// `Ok` when every object's [`texture_set_peak_bytes`] fits the memory limit; otherwise
+/// [`PeltError::MemoryLimit`] naming the sizes to lower.
+fn check_memory(objects: &[ExportInput<'_>], formats: TextureFormats) -> Result<()> {
+    for (i, input) in objects.iter().enumerate() {
+        let bytes = texture_set_peak_bytes(input, formats).map_err(|e| in_object(i, input.name, e))?;
+        let v = input.volume;
+        memory::check("write_texture_set", bytes, || {
+            format!(
+                "the volume's `resolution` ({}) or `layers` ({}), the transfer's `order`, or \
+                 write fewer `formats`",
+                v.resolution, v.layers
+            )
+        })?;
+    }
+    Ok(())
+}
+
+/// Encodes and writes one object's files in parallel, each by the task that encoded it.
 fn write_object(input: &ExportInput<'_>, folder: &Path, formats: TextureFormats) -> Result<ManifestObject> {
     let uv_scale = split_at_uv_seams(input.mesh, input.corner_uvs)?.uv_scale;
     let stack = StackDescription::new(input, uv_scale)?;
     let planned = plan(input, formats)?;
-    let encoded: Vec<Vec<u8>> = pool().install(|| {
+    let sizes: Vec<u64> = pool().install(|| {
         planned
             .par_iter()
-            .map(|(job, _)| job.encode())
+            .map(|(job, entry)| {
+                let bytes = job.encode()?;
+                let path = folder.join(&entry.path);
+                std::fs::write(&path, &bytes).map_err(|source| PeltError::Io {
+                    path: path.display().to_string(),
+                    source,
+                })?;
+                Ok(bytes.len() as u64)
+            })
             .collect::<Result<_>>()
     })?;
-    let mut files = Vec::with_capacity(planned.len());
-    for ((_, entry), bytes) in planned.into_iter().zip(encoded) {
-        let path = folder.join(&entry.path);
-        std::fs::write(&path, &bytes).map_err(|source| PeltError::Io {
-            path: path.display().to_string(),
-            source,
-        })?;
-        files.push(entry.manifest_file(bytes.len() as u64));
-    }
+    let files = planned
+        .into_iter()
+        .zip(sizes)
+        .map(|((_, entry), bytes)| entry.manifest_file(bytes))
+        .collect();
     Ok(ManifestObject {
         name: input.name.into(),
         stack,

@@ -41,11 +41,13 @@ impl MeshData {
 /// [`PeltError::Io`] when the file cannot be read; [`PeltError::InvalidParameter`] naming the file
 /// and line for a malformed statement or an index outside the vertices read so far.
 pub fn read_obj(path: &Path) -> Result<MeshData> {
-    let text = std::fs::read_to_string(path).map_err(|source| PeltError::Io {
+    let bytes = std::fs::read(path).map_err(|source| PeltError::Io {
         path: path.display().to_string(),
         source,
     })?;
-    parse_obj(&text).map_err(|e| match e {
+    // Bytes that are not UTF-8 (a Latin-1 comment or group name from an older exporter) stand
+    // only in words Pelt does not read; numbers and keywords are ASCII either way.
+    parse_obj(&String::from_utf8_lossy(&bytes)).map_err(|e| match e {
         PeltError::InvalidParameter { reason, .. } => {
             PeltError::parameter(path.display().to_string(), reason)
         }
@@ -167,5 +169,17 @@ mod tests {
     fn missing_file_is_an_io_error() {
         let error = read_obj(Path::new("/nonexistent/pelt.obj")).unwrap_err();
         assert!(matches!(error, PeltError::Io { .. }), "{error}");
+    }
+
+    #[test]
+    fn latin1_comments_and_names_do_not_stop_the_read() {
+        let path = std::env::temp_dir().join(format!("pelt-latin1-{}.obj", std::process::id()));
+        // "Créé" and "Fläche" in Latin-1: bytes that are not UTF-8.
+        let text = b"# Cr\xe9\xe9 par un vieil export\ng Fl\xe4che\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+        std::fs::write(&path, text).unwrap();
+        let mesh = read_obj(&path);
+        std::fs::remove_file(&path).unwrap();
+        let mesh = mesh.unwrap();
+        assert_eq!((mesh.positions.len(), mesh.triangles.len()), (3, 1));
     }
 }

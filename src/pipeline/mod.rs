@@ -15,7 +15,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::FurMesh;
-use crate::error::{PeltError, Result};
+use crate::error::{Num, PeltError, Result};
 use crate::hair::HairParams;
 use crate::lapped::{self, PatchParams, Patches};
 use crate::progress::ProgressCallback;
@@ -113,7 +113,7 @@ impl BakeParams {
             return Err(match self.fur_depth {
                 Some(_) => PeltError::parameter(
                     "fur_depth",
-                    format!("must be in (0, {MAX_FUR_DEPTH}] object units, got {depth}"),
+                    format!("must be in (0, {MAX_FUR_DEPTH}] object units, got {}", Num(depth)),
                 ),
                 // The depth defaults to the tile size: name what the user set.
                 None => PeltError::parameter(

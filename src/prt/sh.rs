@@ -24,7 +24,7 @@ use std::f64::consts::{PI, SQRT_2};
 use rayon::prelude::*;
 
 use super::sphere::gauss_legendre;
-use crate::error::{PeltError, Result};
+use crate::error::{Num, PeltError, Result};
 use crate::threads::pool;
 
 /// Highest supported order (bands `l = 0..8`).
@@ -219,7 +219,7 @@ pub fn project_samples(
         if !(w * v).is_finite() {
             return Err(PeltError::parameter(
                 format!("weights[{k}] / values[{k}]"),
-                format!("must be finite, got {w} and {v}"),
+                format!("must be finite, got {} and {}", Num(w), Num(v)),
             ));
         }
         eval_unit(order, d, &mut y);
@@ -367,7 +367,7 @@ pub fn cap_zonal(order: usize, half_angle: f64) -> Result<Vec<f64>> {
     if !(0.0..=PI).contains(&half_angle) {
         return Err(PeltError::parameter(
             "half_angle",
-            format!("must be between 0 and π radians, got {half_angle}"),
+            format!("must be between 0 and π radians, got {}", Num(half_angle)),
         ));
     }
     let s = 2.0 * (0.5 * half_angle).sin().powi(2);

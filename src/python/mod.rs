@@ -25,7 +25,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use pyo3::prelude::*;
 
-use crate::error::PeltError;
+use crate::error::{Num, PeltError};
 
 /// Runs `work` without the GIL; a panic inside becomes `pelt.PeltError` instead of crossing into
 /// the host process (Blender) as a `PanicException` or an abort.
@@ -79,8 +79,9 @@ fn set_memory_limit(limit: Option<f64>) -> PyResult<()> {
         Some(b) if b.is_finite() && b >= 0.0 && b < u64::MAX as f64 => Some(b as u64),
         Some(b) => {
             let reason = format!(
-                "must be a byte count of at least {} (or None), got {b}",
-                crate::memory::MIN_LIMIT
+                "must be a byte count of at least {} (or None), got {}",
+                crate::memory::MIN_LIMIT,
+                Num(b)
             );
             return Err(crate::PeltError::parameter("memory_limit", reason).into());
         }

@@ -13,7 +13,7 @@
 use glam::{Vec2, Vec3, Vec3A};
 use rayon::prelude::*;
 
-use crate::error::{PeltError, Result};
+use crate::error::{Num, PeltError, Result};
 use crate::hair::Strand;
 use crate::lapped::{NO_PATCH, Patches};
 use crate::mesh::FurMesh;
@@ -154,7 +154,7 @@ impl FurGeometry {
         if !(fur_depth.is_finite() && fur_depth > 0.0) {
             return Err(PeltError::parameter(
                 "fur_depth",
-                format!("must be positive and finite, got {fur_depth}"),
+                format!("must be positive and finite, got {}", Num(fur_depth)),
             ));
         }
         if patches.uv.len() != mesh.face_count() || patches.patch.len() != mesh.face_count() {

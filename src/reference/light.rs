@@ -6,7 +6,7 @@ use std::f64::consts::PI;
 
 use glam::{DVec3, Vec3, Vec3A};
 
-use crate::error::{PeltError, Result, check_range};
+use crate::error::{Num, PeltError, Result, check_range};
 use crate::prt::sh;
 
 /// Largest light strength or environment coefficient accepted.
@@ -92,7 +92,10 @@ impl ReferenceLight {
                 {
                     return Err(PeltError::parameter(
                         name,
-                        format!("coefficients must be finite with magnitude at most {MAX_STRENGTH}, got {v}"),
+                        format!(
+                            "coefficients must be finite with magnitude at most {MAX_STRENGTH}, got {}",
+                            Num(f64::from(*v))
+                        ),
                     ));
                 }
                 Ok(Prepared::Environment(EnvironmentSampler::new(order, sh)))

@@ -5,7 +5,7 @@
 //! downsampled figure is the fair one), the ratio of mean luminance, and the silhouette's alpha
 //! profile: mean coverage against distance from the skin's outline, in fur depths.
 
-use crate::error::{PeltError, Result};
+use crate::error::{Num, PeltError, Result};
 
 /// Width of one bin of the alpha profile, fur depths.
 pub const PROFILE_BIN: f64 = 0.1;
@@ -76,7 +76,7 @@ pub fn compare(
     if !(fur_depth_pixels.is_finite() && fur_depth_pixels > 0.0) {
         return Err(PeltError::parameter(
             "fur_depth_pixels",
-            format!("must be positive, got {fur_depth_pixels}"),
+            format!("must be positive, got {}", Num(fur_depth_pixels)),
         ));
     }
     let fur = |i: usize| preview.pixels[i][3] > 0.0 || reference.pixels[i][3] > 0.0;

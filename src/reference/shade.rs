@@ -9,7 +9,7 @@
 
 use glam::{Vec3, Vec3A};
 
-use crate::error::{PeltError, Result};
+use crate::error::{Num, PeltError, Result};
 
 /// Largest coefficient or exponent accepted.
 pub const MAX_COEFFICIENT: f32 = 1e4;
@@ -52,7 +52,10 @@ impl HairShading {
                 let bracket = if open { "(" } else { "[" };
                 return Err(PeltError::parameter(
                     name,
-                    format!("must be in {bracket}0, {MAX_COEFFICIENT}], got {v}"),
+                    format!(
+                        "must be in {bracket}0, {MAX_COEFFICIENT}], got {}",
+                        Num(f64::from(v))
+                    ),
                 ));
             }
         }

@@ -34,7 +34,7 @@ use super::density::DensityField;
 use super::geometry::{Skin, growth_vectors, lateral_scale, mean_root_color, skin_of};
 use super::intersect::ray_triangle;
 use super::render::{Lights, Sampler};
-use crate::error::{PeltError, Result};
+use crate::error::{Num, PeltError, Result};
 use crate::hair::Strand;
 use crate::lapped::{NO_PATCH, Patches};
 use crate::mesh::FurMesh;
@@ -167,7 +167,7 @@ impl VolumeScene {
         if !(fur_depth.is_finite() && fur_depth > 0.0) {
             return Err(PeltError::parameter(
                 "fur_depth",
-                format!("must be positive and finite, got {fur_depth}"),
+                format!("must be positive and finite, got {}", Num(fur_depth)),
             ));
         }
         if uv.len() != mesh.face_count() || patch.len() != mesh.face_count() {

@@ -8,7 +8,7 @@
 //!   into each vertex's tile frame and dotted per fragment with the scene's transfer textures
 //!   (`prt_light.rs`, `prt_rotate.rs`, `prt.wgsl`).
 
-use crate::error::{PeltError, Result};
+use crate::error::{Num, PeltError, Result};
 use crate::prt::sh;
 
 /// Largest Kajiya–Kay exponent accepted.
@@ -135,7 +135,7 @@ fn in_range(name: &str, value: f32, lo: f32, hi: f32, open_lo: bool) -> Result<(
         let bracket = if open_lo { "(" } else { "[" };
         Err(PeltError::parameter(
             name,
-            format!("must be in {bracket}{lo}, {hi}], got {value}"),
+            format!("must be in {bracket}{lo}, {hi}], got {}", Num(f64::from(value))),
         ))
     }
 }
@@ -229,7 +229,10 @@ fn check_prt(prt: &Prt) -> Result<()> {
         if let Some(c) = row.iter().find(|c| !(c.is_finite() && c.abs() <= MAX_RADIANCE)) {
             return Err(PeltError::parameter(
                 format!("prt.environment[{i}]"),
-                format!("values must be finite with magnitude at most {MAX_RADIANCE}, got {c}"),
+                format!(
+                    "values must be finite with magnitude at most {MAX_RADIANCE}, got {}",
+                    Num(f64::from(*c))
+                ),
             ));
         }
     }

@@ -2,7 +2,7 @@
 //! fixed, or chosen by level of detail from the object's projected size (§2.4) — how long the fur
 //! is in object units (§3: layer spacing × per-vertex length), and the background.
 
-use crate::error::{PeltError, Result};
+use crate::error::{Num, PeltError, Result};
 
 /// Longest fur accepted, object units ([`crate::mesh::MAX_FUR_DEPTH`] as the shaders' f32).
 pub const MAX_FUR_DEPTH: f32 = crate::mesh::MAX_FUR_DEPTH as f32;
@@ -119,7 +119,7 @@ fn check(name: &str, value: f32, hi: f32) -> Result<()> {
     } else {
         Err(PeltError::parameter(
             name,
-            format!("must be in [0, {hi}], got {value}"),
+            format!("must be in [0, {hi}], got {}", Num(f64::from(value))),
         ))
     }
 }

@@ -9,7 +9,7 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::error::{PeltError, Result, check_range};
+use crate::error::{Num, PeltError, Result, check_range};
 use crate::hair::{HairParams, Strand, grow_strands};
 use crate::progress::{Progress, ProgressCallback};
 use crate::threads::pool;
@@ -197,7 +197,7 @@ fn validate_strands(strands: &[Strand]) -> Result<()> {
             return bad("has a coordinate that is not finite".into());
         }
         if let Some(r) = s.radii.iter().find(|r| !(0.0..0.5).contains(*r)) {
-            return bad(format!("radius must be in [0, 0.5) tile units, got {r}"));
+            return bad(format!("radius must be in [0, 0.5) tile units, got {}", Num(*r)));
         }
     }
     Ok(())

@@ -17,7 +17,7 @@ use std::str::FromStr;
 
 use super::footprint::{FootprintScratch, visit_exact};
 use super::grid::{floor_i64, fract_wrap, wrap_near};
-use crate::error::{PeltError, Result};
+use crate::error::{Num, PeltError, Result};
 
 thread_local! {
     /// Buffers of the exact footprint, reused by every disk splatted on this thread.
@@ -278,11 +278,17 @@ pub fn disk_texel_coverage(
     }
     for (name, value) in [("cx", cx), ("cy", cy)] {
         if !value.is_finite() {
-            return Err(PeltError::parameter(name, format!("must be finite, got {value}")));
+            return Err(PeltError::parameter(
+                name,
+                format!("must be finite, got {}", Num(value)),
+            ));
         }
     }
     if !(0.0..0.5).contains(&r) {
-        return Err(PeltError::parameter("r", format!("must be in [0, 0.5), got {r}")));
+        return Err(PeltError::parameter(
+            "r",
+            format!("must be in [0, 0.5), got {}", Num(r)),
+        ));
     }
     SCRATCH.with_borrow_mut(|scratch| {
         visit_disk_texels(resolution, cx, cy, r, mode, scratch, |texel, _, share| {

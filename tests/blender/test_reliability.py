@@ -109,6 +109,9 @@ def test_messages_name_the_argument_its_value_and_range():
         (lambda: pelt.sh_project_light((0, 0, 1), -1), r"`order`.*got -1"),
         (lambda: pelt.build_patches(mesh, 1.0, seed=-5), r"`seed`.*got -5"),
         (lambda: pelt.HairParams(curl=float("nan")), r"`curl`.*not a finite number"),
+        # Huge and tiny numbers in exponent form, not hundreds of digits.
+        (lambda: pelt.HairParams(curl=1e300), r"`curl`.*got 1e300$"),
+        (lambda: pelt.set_memory_limit(1e300), r"`memory_limit`.*got 1e300$"),
         (lambda: pelt.FurMesh(None, np.zeros((1, 3), np.uint32)), r"`positions`.*got None"),
         (
             lambda: pelt.FurMesh(mesh.positions, np.array([[0, 1, 2**64 - 1]], np.uint64)),

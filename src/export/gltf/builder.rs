@@ -61,6 +61,11 @@ impl GlbBuilder {
         }
     }
 
+    /// Bytes in the binary buffer so far.
+    pub fn buffer_len(&self) -> usize {
+        self.bin.len()
+    }
+
     /// Appends `bytes` to the binary buffer (4-byte aligned) as a new buffer view.
     fn view(
         &mut self,

@@ -21,9 +21,10 @@ use super::super::description::StackDescription;
 use super::super::input::ExportInput;
 use super::super::stack_png::{StackImage, encode_all};
 use super::builder::{GlbBuilder, SamplerKind};
+use super::peak::{ObjectSizes, check_object};
 use super::rig::skin_attributes;
 use super::vertices::SplitVertices;
-use super::{EngineAttributes, EngineTextures, Primitive, material, skin_primitives};
+use super::{EngineAttributes, EngineTextures, GltfMode, Primitive, material, skin_primitives};
 use crate::error::{PeltError, Result};
 use crate::export::rig::VertexWeights;
 use crate::mesh::shell_offset::shell_layer;
@@ -70,6 +71,12 @@ pub(super) fn add_object(
 ) -> Result<json::Index<json::Mesh>> {
     let v = SplitVertices::new(input)?;
     v.check_derivatives()?;
+    let sizes = ObjectSizes {
+        split_vertices: v.positions.len(),
+        skinned: weights.is_some(),
+        fins: true,
+    };
+    check_object(input, GltfMode::Engine, &sizes, builder.buffer_len())?;
     let volume = input.volume;
     let shown = fallback_layers(input);
     let mut jobs = vec![

@@ -17,9 +17,10 @@ use super::super::description::StackDescription;
 use super::super::input::ExportInput;
 use super::super::stack_png::{StackImage, encode_all};
 use super::builder::{GlbBuilder, SamplerKind};
+use super::peak::{ObjectSizes, check_object};
 use super::rig::skin_attributes;
 use super::vertices::{SplitVertices, check_lifted};
-use super::{Primitive, material, pelt_extras, skin_primitives};
+use super::{GltfMode, Primitive, material, pelt_extras, skin_primitives};
 use crate::error::Result;
 use crate::export::rig::VertexWeights;
 use crate::mesh::shell_offset::{lifted, shell_layer};
@@ -33,6 +34,12 @@ pub(super) fn add_object(
     weights: Option<&VertexWeights>,
 ) -> Result<json::Index<json::Mesh>> {
     let v = SplitVertices::new(input)?;
+    let sizes = ObjectSizes {
+        split_vertices: v.positions.len(),
+        skinned: weights.is_some(),
+        fins,
+    };
+    check_object(input, GltfMode::Geometry, &sizes, builder.buffer_len())?;
     let volume = input.volume;
     let shells = input.shell_count();
     let layers: Vec<usize> = (1..=shells)

@@ -8,16 +8,19 @@
 //! order, images stored once per distinct content, parallel work collected in order.
 //!
 //! Files: `builder.rs` (buffer views, accessors, images, samplers, the GLB container),
-//! `vertices.rs` (the split mesh's attributes), `geometry.rs` and `engine.rs` (one per mode).
+//! `vertices.rs` (the split mesh's attributes), `geometry.rs` and `engine.rs` (one per mode),
+//! `peak.rs` (the memory estimate checked before each object's buffers are made).
 
 mod builder;
 mod engine;
 mod geometry;
+mod peak;
 mod rig;
 mod vertices;
 
 pub use builder::glb_container;
 pub use engine::{EXTENSION, EXTENSION_VERSION, FALLBACK_SHELLS, ShellFur};
+pub use peak::glb_peak_bytes;
 
 use std::collections::BTreeMap;
 use std::path::Path;

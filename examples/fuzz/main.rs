@@ -12,7 +12,8 @@
 //! ```
 //!
 //! Prints one JSON line per target (`cases`, `ok`, `refused`, `failures` with the first few) and
-//! exits with 1 when anything failed. `scripts/fuzz.py` runs every target in its own process
+//! exits with 1 when anything failed. The `corpus` target (`corpus.rs`) corrupts real files.
+//! `scripts/fuzz.py` runs every target in its own process
 //! with a time and memory limit, so a hang or an abort is counted too.
 
 use std::cell::Cell;
@@ -28,6 +29,8 @@ use pelt::prt::bands::{BandParams, bake_transfer_auto};
 use pelt::prt::{Method, Phase, TransferParams, TransferVolume, bake_transfer, sh};
 use pelt::volume::{VolumeParams, bake_volume};
 use pelt::{FurMesh, MeshInput, PeltError};
+
+mod corpus;
 
 /// Bytes of randomness per case (more than any target reads).
 const CASE_BYTES: usize = 8192;
@@ -71,6 +74,7 @@ const TARGETS: &[(&str, Target)] = &[
     ("transfer", transfer_target),
     ("sh", sh_target),
     ("pipeline", pipeline_target),
+    ("corpus", corpus::corpus_target),
 ];
 
 fn main() {

@@ -1,0 +1,156 @@
+//! The memory estimates that the budget checks before a stage allocates (`src/memory.rs`) are
+//! upper bounds of the heap the stage really takes: each stage runs here under a counting
+//! allocator, and its measured peak must lie under the estimate, and not far under (an estimate
+//! many times too high refuses bakes that would fit).
+//!
+//! One test function, so that no other test's allocations fall into a measurement.
+
+use pelt::bench::{TrackingAllocator, peak_heap};
+use pelt::export::{
+    ExportInput, GltfMode, GltfOptions, TextureFormats, TransferTextures, encode_glb, glb_peak_bytes,
+    texture_set_peak_bytes, write_texture_set,
+};
+use pelt::hair::HairParams;
+use pelt::lapped::{PatchParams, build_patches};
+use pelt::mesh::shapes::torus;
+use pelt::prt::pack::{pack_f16, pack_u8};
+use pelt::prt::peak::transfer_peak_bytes;
+use pelt::prt::volume_input::VolumeInput;
+use pelt::prt::{TransferParams, bake_transfer};
+use pelt::volume::peak::grown_volume_peak_bytes;
+use pelt::volume::{HairVolume, VolumeParams, bake_volume};
+use pelt::{FurMesh, MeshInput, PeltError};
+
+#[global_allocator]
+static ALLOCATOR: TrackingAllocator = TrackingAllocator;
+
+/// How far above the measured peak an estimate may lie.
+const SLACK: f64 = 6.0;
+
+fn measured<T>(what: &str, estimate: f64, work: impl FnOnce() -> T) -> T {
+    let (out, peak) = peak_heap(work);
+    let peak = peak.expect("the tracking allocator is installed") as f64;
+    let ratio = estimate / peak;
+    println!("{what}: estimate {estimate:.0} B, measured peak {peak:.0} B, ratio {ratio:.2}");
+    assert!(
+        estimate >= peak,
+        "{what}: the estimate {estimate} B is under the measured peak {peak} B"
+    );
+    assert!(
+        ratio <= SLACK,
+        "{what}: the estimate {estimate} B is {ratio:.1}× the measured peak {peak} B"
+    );
+    out
+}
+
+#[test]
+fn every_estimate_bounds_the_measured_peak() {
+    TrackingAllocator::enable();
+    let hair = HairParams::default();
+    let params = VolumeParams {
+        resolution: 64,
+        layers: 16,
+        fin_size: [128, 32],
+        ..VolumeParams::default()
+    };
+    let volume = measured("bake_volume", grown_volume_peak_bytes(&params, &hair), || {
+        bake_volume(&hair, &params, None).unwrap()
+    });
+
+    let transfer_params = TransferParams {
+        order: 3,
+        ..TransferParams::default()
+    };
+    let input = VolumeInput::new(&volume, 0.25);
+    let transfer_volume = input.transfer_volume(&volume);
+    let estimate = transfer_peak_bytes(volume.layers, volume.resolution, &transfer_params, false, false);
+    let transfer = measured("bake_transfer", estimate, || {
+        bake_transfer(&transfer_volume, &transfer_params, None).unwrap()
+    });
+    let (f16, u8) = (pack_f16(&transfer).unwrap(), pack_u8(&transfer).unwrap());
+
+    let (positions, triangles) = torus(96, 48);
+    let mesh = FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap();
+    let patches = PatchParams {
+        tile_size: 0.5,
+        ..PatchParams::default()
+    };
+    let uvs = build_patches(&mesh, &patches).unwrap().uv;
+    let object = ExportInput {
+        name: "Torus",
+        mesh: &mesh,
+        corner_uvs: &uvs,
+        volume: &volume,
+        transfer: Some(TransferTextures {
+            order: 3,
+            f16: &f16,
+            u8: &u8,
+        }),
+        fur_depth: 0.1,
+        shells: None,
+        transform: Default::default(),
+        skin: None,
+        materials: None,
+        animations: &[],
+    };
+    let objects = [object];
+
+    let folder = std::env::temp_dir().join(format!("pelt-memory-estimates-{}", std::process::id()));
+    let formats = TextureFormats::default();
+    let estimate = texture_set_peak_bytes(&objects[0], formats).unwrap();
+    measured("write_texture_set", estimate, || {
+        write_texture_set(&objects, &folder, formats).unwrap()
+    });
+    std::fs::remove_dir_all(&folder).unwrap();
+
+    for mode in [GltfMode::Geometry, GltfMode::Engine] {
+        let options = GltfOptions {
+            mode,
+            ..GltfOptions::default()
+        };
+        let estimate = glb_peak_bytes(&objects, &options).unwrap();
+        measured(&format!("encode_glb {}", mode.name()), estimate, || {
+            encode_glb(&objects, &[], &options).unwrap()
+        });
+    }
+
+    // Above the limit, both exports refuse by name before writing or encoding anything.
+    let (layers, resolution) = (64, 512);
+    let voxels = layers * resolution * resolution;
+    let big = HairVolume {
+        resolution,
+        layers,
+        shells: vec![0; 4 * voxels],
+        coverage: vec![0.0; voxels],
+        tangents: vec![0; 4 * voxels],
+        lod: Vec::new(),
+        mips: Vec::new(),
+        ..volume.clone()
+    };
+    let large = ExportInput {
+        volume: &big,
+        transfer: None,
+        ..objects[0]
+    };
+    pelt::memory::set_limit(Some(64 << 20)).unwrap();
+    let refused = write_texture_set(&[large], &folder, formats).unwrap_err();
+    assert!(
+        matches!(&refused, PeltError::MemoryLimit { stage, .. } if stage == "write_texture_set"),
+        "{refused}"
+    );
+    assert!(refused.to_string().contains("`resolution` (512)"), "{refused}");
+    assert!(
+        !folder.exists(),
+        "a refused texture set left {}",
+        folder.display()
+    );
+    for mode in [GltfMode::Geometry, GltfMode::Engine] {
+        let options = GltfOptions {
+            mode,
+            ..GltfOptions::default()
+        };
+        let refused = encode_glb(&[large], &[], &options).unwrap_err().to_string();
+        assert!(refused.contains("export_gltf"), "{refused}");
+    }
+    pelt::memory::set_limit(None).unwrap();
+}
