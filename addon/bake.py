@@ -16,7 +16,7 @@ import pelt
 from . import bake_job, bridge, fur, fur_layout, preferences, topology, writer
 
 # Stages of a bake, in order (for the progress bar).
-STAGES = ("patches", "volume", "transfer")
+STAGES = ("patches", "volume", "guard_hairs", "transfer")
 # Seconds between progress updates of the modal operator.
 POLL_SECONDS = 0.1
 
@@ -65,6 +65,7 @@ def bake_options(obj) -> dict:
         "transfer": settings.lighting == "PRT",
         "order": None if settings.prt_auto_order else settings.prt_order,
         "tolerance": settings.prt_tolerance,
+        "guard_hairs": settings.guard_hairs,
     }
 
 

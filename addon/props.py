@@ -54,6 +54,14 @@ class PeltObjectSettings(bpy.types.PropertyGroup):
         soft_min=256,
         soft_max=65536,
     )
+    guard_hairs: bpy.props.BoolProperty(
+        name="Guard Hairs as Strands",
+        description=(
+            "Draw the guard hairs as a hair Curves object over the mesh and bake the undercoat alone "
+            "into the shells (sharper detail and a softer silhouette up close)"
+        ),
+        default=False,
+    )
     guard_fraction: bpy.props.FloatProperty(
         name="Guard Hairs",
         description="Share of the hairs that are long, thick guard hairs",

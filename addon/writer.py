@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Writes a bake (``pelt.FurAsset``) into Blender: UV map ``PeltUV`` and face attribute
-``pelt_patch`` on the mesh, the ``Pelt …`` images, and the fur material and modifier.
+``pelt_patch`` on the mesh, the ``Pelt …`` images, the fur material and modifier, and the guard
+hairs' Curves object (``guard_hairs``).
 
 Every datablock Pelt creates carries two custom properties, ``pelt_owner`` (the object's name) and
 ``pelt_role`` (what it is), and is found again by them, never by name: a user's own image called
@@ -18,7 +19,7 @@ from pathlib import Path
 import bpy
 import pelt
 
-from . import bridge
+from . import bridge, guard_hairs
 from .ownership import OWNER, ROLE, find_owned, tag
 
 # Image roles: (name stem, color data?).
@@ -86,7 +87,7 @@ class _Undo:
 
 
 def _remove(datablock) -> None:
-    for collection in (bpy.data.images, bpy.data.materials, bpy.data.node_groups):
+    for collection in (bpy.data.hair_curves, bpy.data.images, bpy.data.materials, bpy.data.node_groups):
         if datablock.name in collection and collection[datablock.name] == datablock:
             collection.remove(datablock)
             return
@@ -125,11 +126,15 @@ def write_asset(obj, asset: pelt.FurAsset, *, build_material=None) -> dict:
         written = write_images(obj, images, undo)
         if build_material is not None:
             undo.created.extend(build_material(obj, written, info, asset))
+        strands = guard_hairs.prepare(obj, asset.guard_hairs)
+        if strands is not None:
+            undo.created.append(strands)
         # Last: it checks the sizes before changing the mesh, and nothing after it can fail.
         bridge.write_patches(obj.data, asset.patches)
     except Exception:
         undo.restore()
         raise
+    guard_hairs.commit(obj, strands)
     obj.pelt.last_bake = json.dumps({"stages": asset.report, "layers": info["layers"], **_summary(info)})
     return {"images": sorted(written), "info": info}
 

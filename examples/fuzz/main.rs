@@ -522,6 +522,7 @@ fn volume_params(u: &mut Unstructured<'_>) -> Arb<VolumeParams> {
         trim: u.arbitrary()?,
         lod: u.arbitrary()?,
         mipmaps: u.arbitrary()?,
+        guard_hairs: u.arbitrary()?,
         ..VolumeParams::default()
     })
 }
@@ -654,6 +655,9 @@ fn pipeline_target(u: &mut Unstructured<'_>) -> Arb<Outcome> {
     Ok(judge(pipeline.bake(Arc::new(mesh), &params, None), |asset| {
         all_finite("uv", asset.patches.uv.iter().flatten().flatten())?;
         all_finite("coverage", &asset.volume.coverage)?;
+        if let Some(guard) = &asset.guard_hairs {
+            all_finite("guard hairs", guard.points.iter().flatten())?;
+        }
         match &asset.transfer {
             Some(t) => all_finite("coefficients", &t.transfer.coefficients),
             None => Ok(()),

@@ -251,11 +251,13 @@ def bake_volume(
     trim: bool = True,
     lod: bool = True,
     mipmaps: bool = True,
+    guard_hairs: bool = False,
     progress: Callable[[float], bool | None] | None = None,
 ) -> HairVolume:
     """Grow the hair of ``params`` and bake the hair volume (GIL released). ``coverage`` is
-    ``"exact"``, ``"approx"`` or ``"supersample:N"``; ``progress(fraction)`` returning ``False``
-    cancels with :class:`BakeCancelled`."""
+    ``"exact"``, ``"approx"`` or ``"supersample:N"``; ``guard_hairs=True`` samples the undercoat
+    alone (the guard hairs are drawn as strands, :attr:`FurAsset.guard_hairs`);
+    ``progress(fraction)`` returning ``False`` cancels with :class:`BakeCancelled`."""
 
 class AtlasLayout(TypedDict):
     layers: int
@@ -345,10 +347,20 @@ def sh_project_light(
     ``half_angle`` radians (0: directional)."""
 
 class StageReport(TypedDict):
-    stage: Literal["patches", "volume", "transfer"]
+    stage: Literal["patches", "volume", "guard_hairs", "transfer"]
     ran: bool
     seconds: float
     summary: str
+
+class GuardHairs(TypedDict):
+    """The overcoat's strands over the mesh, placed where the shells would show them (the
+    volume then holds the undercoat alone): every point of every strand, root first."""
+
+    positions: npt.NDArray[np.float32]  # (P, 3) object units
+    radii: npt.NDArray[np.float32]  # (P,) object units
+    counts: npt.NDArray[np.uint32]  # (S,) points per strand
+    root_colors: npt.NDArray[np.float32]  # (S, 3) linear
+    tip_colors: npt.NDArray[np.float32]  # (S, 3) linear
 
 class FurAsset:
     """The result of :meth:`Pipeline.bake`: every stage's output, shared with the pipeline's
@@ -363,6 +375,9 @@ class FurAsset:
     @property
     def transfer(self) -> TransferResult | None:
         """As :func:`bake_transfer` returns it, plus ``depth_in_tiles``; ``None`` without PRT."""
+    @property
+    def guard_hairs(self) -> GuardHairs | None:
+        """The guard hairs of a bake with ``guard_hairs=True``, else ``None``."""
     @property
     def report(self) -> list[StageReport]:
         """Per stage, in order: whether it ran or was reused, seconds, a summary line."""
@@ -405,12 +420,16 @@ class Pipeline:
         tolerance: float = 0.025,
         directions: int = 256,
         phase: Literal["isotropic", "kajiya-kay"] = "kajiya-kay",
+        guard_hairs: bool = False,
         progress: Callable[[str, float], bool | None] | None = None,
     ) -> FurAsset:
         """Bake ``mesh`` (GIL released): lapped patches with tiles ``tile_size`` object units wide,
         the hair volume of ``hair``, and (``transfer=True``) its PRT transfer for fur
         ``fur_depth`` object units deep (default: one tile). ``order=None`` picks the SH order by
-        band selection within ``tolerance``. Every parameter is checked before any stage runs.
+        band selection within ``tolerance``. ``guard_hairs=True`` draws the overcoat as explicit
+        strands (:attr:`FurAsset.guard_hairs`) and bakes the undercoat alone into the volume
+        (and the transfer); it needs a ``guard_fraction`` and an overcoat width above 0, and at
+        most 1,048,576 guard hairs over the mesh. Every parameter is checked before any stage runs.
         ``progress(stage, fraction)`` returning ``False`` cancels with :class:`BakeCancelled`;
         stages finished before the cancel stay cached. Raises :class:`MemoryLimitError` when
         :meth:`peak_bytes` is above :func:`memory_limit`."""
@@ -431,6 +450,7 @@ class Pipeline:
         tolerance: float = 0.025,
         directions: int = 256,
         phase: Literal["isotropic", "kajiya-kay"] = "kajiya-kay",
+        guard_hairs: bool = False,
     ) -> float:
         """Estimated peak memory in bytes of :meth:`bake` with these arguments (an upper bound;
         the mesh's own share, usually small, is not counted). Checks the arguments as

@@ -1,4 +1,4 @@
-//! Bench cases of strand growth.
+//! Bench cases of strand growth and placement.
 
 use super::{BenchOptions, CaseResult, time_fallible};
 use crate::error::Result;
@@ -20,4 +20,38 @@ pub(super) fn hair_grow(options: &BenchOptions) -> Result<Vec<CaseResult>> {
         params.density, params.segments, params.clump_count
     );
     Ok(vec![CaseResult::timed("hair.grow", size, timing)])
+}
+
+/// `guard.place`: the guard hairs (the overcoat's strands) placed over a 65,536-triangle sphere
+/// through its lapped patches, about 130,000 of them (the hybrid issue's 100k on 60k triangles);
+/// the patches are built outside the timing.
+pub(super) fn guard_place(options: &BenchOptions) -> Result<Vec<CaseResult>> {
+    let (segments, rings) = if options.quick { (64, 32) } else { (256, 128) };
+    let (positions, triangles) = crate::mesh::shapes::uv_sphere(segments, rings);
+    let mesh = crate::FurMesh::new(crate::MeshInput::new(&positions, &triangles))?;
+    let patches = crate::lapped::build_patches(
+        &mesh,
+        &crate::lapped::PatchParams {
+            tile_size: 0.2,
+            ..Default::default()
+        },
+    )?;
+    let hair = HairParams {
+        density: 4096,
+        guard_fraction: 0.1,
+        ..HairParams::default()
+    };
+    let mut placed = 0;
+    let timing = time_fallible(if options.quick { 3 } else { 7 }, || {
+        let guard = crate::guard::guard_hairs(&mesh, &patches, &hair, 0.05)?;
+        placed = guard.spans.len();
+        Ok(guard)
+    })?;
+    let size = format!(
+        "{} guard hairs x {} points over {} triangles",
+        placed,
+        hair.segments + 1,
+        mesh.face_count()
+    );
+    Ok(vec![CaseResult::timed("guard.place", size, timing)])
 }

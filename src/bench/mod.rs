@@ -139,6 +139,10 @@ const CASES: &[Case] = &[
         run: lapped::lapped_build,
     },
     Case {
+        name: "guard.place",
+        run: hair::guard_place,
+    },
+    Case {
         name: "volume.coverage",
         run: volume::coverage_approx,
     },

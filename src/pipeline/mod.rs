@@ -18,6 +18,7 @@ use crate::FurMesh;
 use crate::error::{Num, PeltError, Result};
 use crate::hair::HairParams;
 use crate::lapped::{self, PatchParams, Patches};
+use crate::placement::PlacedStrands;
 use crate::progress::ProgressCallback;
 use crate::prt::bands::{BandParams, BandReport, bake_transfer_auto};
 use crate::prt::pack::{PackedF16, PackedU8, pack_f16, pack_u8};
@@ -31,7 +32,7 @@ use key::{KeyHasher, patch_mesh_key};
 pub use crate::mesh::MAX_FUR_DEPTH;
 
 /// Stage names, in the order they run.
-pub const STAGES: [&str; 3] = ["patches", "volume", "transfer"];
+pub const STAGES: [&str; 4] = ["patches", "volume", "guard_hairs", "transfer"];
 
 /// Reports `(stage, finished fraction of that stage)`; returns `false` to cancel the bake.
 pub type StageCallback<'a> = &'a (dyn Fn(&str, f64) -> bool + Sync);
@@ -129,6 +130,9 @@ impl BakeParams {
             choice.params.validate()?;
             choice.bands.validate()?;
             self.check_transfer_volume()?;
+        }
+        if self.volume.guard_hairs {
+            crate::guard::validate(&self.hair, depth)?;
         }
         Ok(())
     }
@@ -248,8 +252,11 @@ pub struct FurAsset {
     pub mesh: Arc<FurMesh>,
     /// Lapped patches: per-corner UVs in tile units and patch ids.
     pub patches: Arc<Patches>,
-    /// The hair volume.
+    /// The hair volume (the undercoat alone with guard hairs).
     pub volume: Arc<HairVolume>,
+    /// The guard hairs over the mesh, when the volume was baked with
+    /// [`VolumeParams::guard_hairs`](crate::volume::VolumeParams::guard_hairs).
+    pub guard_hairs: Option<Arc<PlacedStrands>>,
     /// The transfer, when asked for.
     pub transfer: Option<Arc<TransferBake>>,
     /// The parameters of the bake.
@@ -268,6 +275,7 @@ struct Cached<T> {
 pub struct Pipeline {
     patches: Option<Cached<Patches>>,
     volume: Option<Cached<HairVolume>>,
+    guard_hairs: Option<Cached<PlacedStrands>>,
     transfer: Option<Cached<TransferBake>>,
 }
 
@@ -339,6 +347,35 @@ impl Pipeline {
             Ok((volume, summary))
         })?;
 
+        let guard_hairs = if params.volume.guard_hairs {
+            // Placement reads the patches, the hair, the depth, and the lengths and colors painted.
+            let guard_key = KeyHasher::new("guard_hairs")
+                .key(patch_key)
+                .params(&hair)
+                .params(&params.fur_depth())
+                .ints(mesh.length().unwrap_or_default().iter().map(|l| l.to_bits()))
+                .floats(mesh.color())
+                .finish();
+            Some(run_stage(
+                &mut self.guard_hairs,
+                guard_key,
+                "guard_hairs",
+                &mut report,
+                || {
+                    let placed = crate::guard::guard_hairs(&mesh, &patches, &hair, params.fur_depth())?;
+                    let summary = format!(
+                        "{} guard hairs, {} points",
+                        placed.spans.len(),
+                        placed.points.len()
+                    );
+                    Ok((placed, summary))
+                },
+            )?)
+        } else {
+            self.guard_hairs = None;
+            None
+        };
+
         let depth_in_tiles = params.fur_depth() / params.patches.tile_size;
         let transfer = match &params.transfer {
             None => {
@@ -383,6 +420,7 @@ impl Pipeline {
             mesh,
             patches,
             volume,
+            guard_hairs,
             transfer,
             params: params.clone(),
             report,

@@ -10,9 +10,10 @@ use super::lapped::PyPatches;
 use super::mesh::PyFurMesh;
 use super::progress::PyProgress;
 use super::prt::{parse_phase, transfer_dict};
-use super::volume::{PyHairParams, volume_dict};
+use super::volume::{PyHairParams, array, volume_dict};
 use crate::error::PeltError;
 use crate::pipeline::{BakeParams, FurAsset, Pipeline, StageCallback, TransferChoice};
+use crate::placement::StrandSpan;
 use crate::prt::TransferParams;
 use crate::volume::VolumeParams;
 use crate::volume::coverage::CoverageMode;
@@ -50,7 +51,7 @@ impl PyPipeline {
         mesh, *, tile_size=1.0, seed=1, down=None, hair=None, layers=16, resolution=128,
         coverage="exact", fin_size=(512, 128), fur_depth=None, transfer=true, order=None,
         tolerance=crate::prt::bands::DEFAULT_TOLERANCE, directions=256, phase="kajiya-kay",
-        progress=None
+        guard_hairs=false, progress=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn bake(
@@ -71,17 +72,13 @@ impl PyPipeline {
         tolerance: f64,
         directions: i128,
         phase: &str,
+        guard_hairs: bool,
         progress: Option<Bound<'_, PyAny>>,
     ) -> PyResult<PyFurAsset> {
-        let seed: u64 = super::ints::unsigned("seed", seed)?;
-        let layers: usize = super::ints::unsigned("layers", layers)?;
-        let resolution: usize = super::ints::unsigned("resolution", resolution)?;
-        let fin_size: (usize, usize) = super::ints::unsigned_pair("fin_size", fin_size)?;
-        let order: Option<usize> = super::ints::unsigned_opt("order", order)?;
-        let directions: usize = super::ints::unsigned("directions", directions)?;
+        #[rustfmt::skip]
         let params = bake_params(
             tile_size, seed, down, hair, layers, resolution, coverage, fin_size, fur_depth, transfer, order,
-            tolerance, directions, phase,
+            tolerance, directions, phase, guard_hairs,
         )?;
         let reporter = PyProgress::new(progress);
         let mesh = mesh.inner.clone();
@@ -100,7 +97,8 @@ impl PyPipeline {
     #[pyo3(signature = (
         *, tile_size=1.0, seed=1, down=None, hair=None, layers=16, resolution=128, coverage="exact",
         fin_size=(512, 128), fur_depth=None, transfer=true, order=None,
-        tolerance=crate::prt::bands::DEFAULT_TOLERANCE, directions=256, phase="kajiya-kay"
+        tolerance=crate::prt::bands::DEFAULT_TOLERANCE, directions=256, phase="kajiya-kay",
+        guard_hairs=false
     ))]
     #[allow(clippy::too_many_arguments)]
     fn peak_bytes(
@@ -118,16 +116,12 @@ impl PyPipeline {
         tolerance: f64,
         directions: i128,
         phase: &str,
+        guard_hairs: bool,
     ) -> PyResult<f64> {
-        let seed: u64 = super::ints::unsigned("seed", seed)?;
-        let layers: usize = super::ints::unsigned("layers", layers)?;
-        let resolution: usize = super::ints::unsigned("resolution", resolution)?;
-        let fin_size: (usize, usize) = super::ints::unsigned_pair("fin_size", fin_size)?;
-        let order: Option<usize> = super::ints::unsigned_opt("order", order)?;
-        let directions: usize = super::ints::unsigned("directions", directions)?;
+        #[rustfmt::skip]
         let params = bake_params(
             tile_size, seed, down, hair, layers, resolution, coverage, fin_size, fur_depth, transfer, order,
-            tolerance, directions, phase,
+            tolerance, directions, phase, guard_hairs,
         )?;
         params.validate_ranges()?;
         Ok(params.peak_bytes())
@@ -142,20 +136,28 @@ impl PyPipeline {
 #[allow(clippy::too_many_arguments)]
 fn bake_params(
     tile_size: f64,
-    seed: u64,
+    seed: i128,
     down: Option<(f32, f32, f32)>,
     hair: Option<PyRef<'_, PyHairParams>>,
-    layers: usize,
-    resolution: usize,
+    layers: i128,
+    resolution: i128,
     coverage: &str,
-    fin_size: (usize, usize),
+    fin_size: (i128, i128),
     fur_depth: Option<f64>,
     transfer: bool,
-    order: Option<usize>,
+    order: Option<i128>,
     tolerance: f64,
-    directions: usize,
+    directions: i128,
     phase: &str,
+    guard_hairs: bool,
 ) -> PyResult<BakeParams> {
+    // Any Python int is taken and narrowed by name (an unnamed OverflowError otherwise).
+    let seed: u64 = super::ints::unsigned("seed", seed)?;
+    let layers: usize = super::ints::unsigned("layers", layers)?;
+    let resolution: usize = super::ints::unsigned("resolution", resolution)?;
+    let fin_size: (usize, usize) = super::ints::unsigned_pair("fin_size", fin_size)?;
+    let order: Option<usize> = super::ints::unsigned_opt("order", order)?;
+    let directions: usize = super::ints::unsigned("directions", directions)?;
     let mut params = BakeParams {
         hair: hair.map(|h| h.inner.clone()).unwrap_or_default(),
         volume: VolumeParams {
@@ -163,6 +165,7 @@ fn bake_params(
             resolution,
             coverage: coverage.parse::<CoverageMode>()?,
             fin_size: [fin_size.0, fin_size.1],
+            guard_hairs,
             ..VolumeParams::default()
         },
         fur_depth,
@@ -238,6 +241,36 @@ impl PyFurAsset {
             sidecar,
         )?;
         d.set_item("depth_in_tiles", baked.depth_in_tiles)?;
+        Ok(Some(d))
+    }
+
+    /// The guard hairs (a bake with `guard_hairs=True`), else `None`: `positions` `(P, 3)` and
+    /// `radii` `(P,)` float32 of every strand point, object units, root first; `counts` `(S,)`
+    /// uint32, the points of each strand; `root_colors` and `tip_colors` `(S, 3)` float32, linear.
+    #[getter]
+    fn guard_hairs<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(placed) = &self.inner.guard_hairs else {
+            return Ok(None);
+        };
+        let (p, s) = (placed.points.len(), placed.spans.len());
+        let d = PyDict::new(py);
+        let xyz: Vec<f32> = placed.points.iter().flat_map(|q| [q[0], q[1], q[2]]).collect();
+        d.set_item("positions", array(py, xyz, &[p, 3])?)?;
+        d.set_item(
+            "radii",
+            array(py, placed.points.iter().map(|q| q[3]).collect(), &[p])?,
+        )?;
+        d.set_item(
+            "counts",
+            array(py, placed.spans.iter().map(|k| k.count).collect(), &[s])?,
+        )?;
+        let colors =
+            |f: fn(&StrandSpan) -> [f32; 3]| -> Vec<f32> { placed.spans.iter().flat_map(f).collect() };
+        d.set_item(
+            "root_colors",
+            array(py, colors(|k| k.root_color.into()), &[s, 3])?,
+        )?;
+        d.set_item("tip_colors", array(py, colors(|k| k.tip_color.into()), &[s, 3])?)?;
         Ok(Some(d))
     }
 

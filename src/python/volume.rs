@@ -166,7 +166,7 @@ impl PyHairParams {
 }
 
 /// `data` as a numpy array of `shape`, without copying the buffer.
-fn array<'py, T: numpy::Element>(
+pub(super) fn array<'py, T: numpy::Element>(
     py: Python<'py>,
     data: Vec<T>,
     shape: &[usize],
@@ -210,7 +210,8 @@ pub(super) fn volume_dict<'py>(py: Python<'py>, v: HairVolume) -> PyResult<Bound
 #[pyfunction(name = "bake_volume")]
 #[pyo3(signature = (
     params=None, layers=16, resolution=128, *, coverage="exact", vertical_filter=0.0,
-    fin_size=(512, 128), fin_slab=0.1, trim=true, lod=true, mipmaps=true, progress=None
+    fin_size=(512, 128), fin_slab=0.1, trim=true, lod=true, mipmaps=true, guard_hairs=false,
+    progress=None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn bake_volume_py<'py>(
@@ -225,6 +226,7 @@ pub(super) fn bake_volume_py<'py>(
     trim: bool,
     lod: bool,
     mipmaps: bool,
+    guard_hairs: bool,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let layers: usize = super::ints::unsigned("layers", layers)?;
@@ -241,6 +243,7 @@ pub(super) fn bake_volume_py<'py>(
         trim,
         lod,
         mipmaps,
+        guard_hairs,
     };
     let reporter = PyProgress::new(progress);
     let result = detached(py, || {

@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::error::{Num, PeltError, Result, check_range};
-use crate::hair::{HairParams, Strand, grow_strands};
+use crate::hair::{Coat, HairParams, Strand, grow_strands};
 use crate::progress::{Progress, ProgressCallback};
 use crate::threads::pool;
 
@@ -53,6 +53,9 @@ pub struct VolumeParams {
     pub lod: bool,
     /// Build the mipmaps of every layer; default true.
     pub mipmaps: bool,
+    /// The guard hairs (the overcoat) are drawn as explicit strands ([`crate::guard`]): sample
+    /// the undercoat alone, so that no hair is drawn twice; default false.
+    pub guard_hairs: bool,
 }
 
 impl Default for VolumeParams {
@@ -67,6 +70,7 @@ impl Default for VolumeParams {
             trim: true,
             lod: true,
             mipmaps: true,
+            guard_hairs: false,
         }
     }
 }
@@ -229,7 +233,9 @@ pub(crate) fn bake_validated(
     callback: Option<ProgressCallback<'_>>,
 ) -> Result<HairVolume> {
     let (res, requested) = (volume.resolution, volume.layers);
-    let table = StrandTable::new(strands);
+    // With guard hairs drawn as strands of their own, the shells hold the undercoat alone.
+    let only = volume.guard_hairs.then_some(Coat::Undercoat);
+    let table = StrandTable::new(strands, only);
     let tallest = table.tallest();
     let layers = if volume.trim {
         // Highest layer any sample of the filter can still find hair at.
@@ -288,7 +294,7 @@ pub(crate) fn bake_validated(
         lod,
         mips: stack.mips,
         stats: VolumeStats {
-            strands: strands.len(),
+            strands: table.len(),
             tallest,
             layers_requested: requested,
             layers,

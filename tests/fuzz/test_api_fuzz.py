@@ -223,16 +223,24 @@ def test_build_patches(scale, tile, seed, alignment, down, faces):
     directions=ints(16, 48),
     transfer=st.booleans(),
     seed=ints(0, 2**64 - 1),
+    guard=st.tuples(st.booleans(), loose(st.floats(0, 1))),
 )
-def test_pipeline(tile, depth, layers, resolution, order, directions, transfer, seed):
+def test_pipeline(tile, depth, layers, resolution, order, directions, transfer, seed, guard):
+    guard_hairs, guard_fraction = guard
+    try:
+        hair = pelt.HairParams(density=256, guard_fraction=guard_fraction)
+    except pelt.PeltError as error:
+        assert named(error), error
+        return
     kwargs = dict(tile_size=tile, fur_depth=depth, layers=layers, resolution=resolution, order=order,
-                  directions=directions, transfer=transfer, seed=seed, hair=pelt.HairParams(density=256),
-                  fin_size=(16, 8))  # fmt: skip
+                  directions=directions, transfer=transfer, seed=seed, hair=hair, fin_size=(16, 8),
+                  guard_hairs=guard_hairs)  # fmt: skip
     check(lambda: pelt.Pipeline.peak_bytes(**kwargs))
 
     def bake():
         asset = pelt.Pipeline().bake(octahedron(), **kwargs)
-        return {"uv": asset.patches.uv, "volume": asset.volume["coverage"], "transfer": asset.transfer}
+        return {"uv": asset.patches.uv, "volume": asset.volume["coverage"], "transfer": asset.transfer,
+                "guard_hairs": asset.guard_hairs}  # fmt: skip
 
     check(bake)
 

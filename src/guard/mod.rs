@@ -1,0 +1,103 @@
+//! Guard hairs as explicit strands over the shells.
+//!
+//! The hybrid paper (`hybrid-fur-volume-and-strands`, §1 and §3) gives the dense, thin
+//! undercoat to a volume and the coarse guard hairs to explicit tapered strands: shells alone
+//! look velvety up close and cut the silhouette hard. Pelt's guard hairs are the tile's overcoat
+//! strands ([`Coat::Overcoat`], a share `guard_fraction` of the `density`), placed over the mesh
+//! exactly where the shells would show them ([`crate::placement`]); a volume baked with
+//! [`VolumeParams::guard_hairs`](crate::volume::VolumeParams::guard_hairs) samples the
+//! undercoat alone, so every hair is drawn once, in the shells or as a strand, and the two
+//! together cover what the full coat covers.
+
+use crate::error::{Num, PeltError, Result};
+use crate::hair::{Coat, HairParams, grow_strands};
+use crate::lapped::Patches;
+use crate::memory;
+use crate::mesh::FurMesh;
+use crate::placement::{PlacedStrands, place_strands};
+
+/// Most guard strands one mesh may carry (the hybrid paper's mink pelt has about 20,000 hair
+/// strands; a game character a few thousand guard hairs).
+pub const MAX_GUARD_STRANDS: usize = 1 << 20;
+
+/// Bytes per placed point (xyz and radius) and per strand (span and colors).
+const POINT_BYTES: f64 = 16.0;
+const STRAND_BYTES: f64 = 32.0;
+
+/// The guard hairs of `hair` over `mesh`: its overcoat strands placed through `patches`,
+/// `fur_depth` object units tall at length multiplier 1, colored as the shells color them.
+/// Bald spots (length 0) carry none.
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] naming `fur_depth` (not positive and finite),
+/// `guard_fraction` (0: no hair would be a guard hair), `overcoat.width` (a base width of 0:
+/// a guard hair would not show), a field of `hair`, `patches` (not the mesh's), or
+/// `guard_fraction` again when the mesh would carry more than [`MAX_GUARD_STRANDS`];
+/// [`PeltError::MemoryLimit`] above the memory limit.
+pub fn guard_hairs(
+    mesh: &FurMesh,
+    patches: &Patches,
+    hair: &HairParams,
+    fur_depth: f64,
+) -> Result<PlacedStrands> {
+    validate(hair, fur_depth)?;
+    let strands: Vec<_> = grow_strands(hair)?
+        .into_iter()
+        .filter(|s| s.coat == Coat::Overcoat)
+        .collect();
+    place_strands(mesh, patches, &strands, fur_depth as f32, |count, points| {
+        if count > MAX_GUARD_STRANDS {
+            return Err(PeltError::parameter(
+                "guard_fraction",
+                format!(
+                    "the mesh would carry {count} guard hairs, at most {MAX_GUARD_STRANDS}: lower \
+                     `guard_fraction` ({}) or `density` ({}), or raise `tile_size`",
+                    Num(hair.guard_fraction),
+                    hair.density
+                ),
+            ));
+        }
+        let bytes = POINT_BYTES * points as f64 + STRAND_BYTES * count as f64;
+        memory::check("guard_hairs", bytes, || {
+            format!(
+                "`guard_fraction` ({}) or `density` ({}), or raise `tile_size`",
+                Num(hair.guard_fraction),
+                hair.density
+            )
+        })
+    })
+}
+
+/// Checks what guard hairs need beyond [`HairParams::validate`].
+///
+/// # Errors
+/// As [`guard_hairs`], before anything is grown.
+pub fn validate(hair: &HairParams, fur_depth: f64) -> Result<()> {
+    hair.validate()?;
+    if !(fur_depth.is_finite() && fur_depth > 0.0) {
+        return Err(PeltError::parameter(
+            "fur_depth",
+            format!("must be positive and finite, got {}", Num(fur_depth)),
+        ));
+    }
+    if hair.guard_fraction <= 0.0 {
+        return Err(PeltError::parameter(
+            "guard_fraction",
+            "is 0: no hair would be a guard hair (raise it, or bake without guard hairs)",
+        ));
+    }
+    if hair.overcoat.width[0] <= 0.0 {
+        return Err(PeltError::parameter(
+            "overcoat.width",
+            format!(
+                "must start above 0 for guard hairs (a hair of width 0 does not show), got [{}, {}]",
+                Num(hair.overcoat.width[0]),
+                Num(hair.overcoat.width[1])
+            ),
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests;

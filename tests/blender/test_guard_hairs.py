@@ -1,0 +1,147 @@
+"""Guard hairs as a hair Curves object in the real Blender: what the bake writes, what a re-bake
+replaces, that turning them off removes them, that a failed bake leaves them as they were, and
+that Cycles renders them over the shells."""
+
+import json
+import shutil
+from pathlib import Path
+
+import bpy
+import numpy as np
+import pelt
+import pytest
+from conftest import add_suzanne, datablock_snapshot, small_fur
+from test_fur_nodes import covered, render, staged_scene
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def guard_objects(obj) -> list:
+    owned = (o for o in bpy.data.objects if o.get("pelt_owner") == obj.name)
+    return [o for o in owned if o.get("pelt_role") == "guard_hairs"]
+
+
+def pelt_curves() -> list:
+    return [c for c in bpy.data.hair_curves if c.get("pelt_role") == "guard_hairs"]
+
+
+def furred(obj, **fur):
+    settings = small_fur(obj, **fur)
+    settings.lighting = "KAJIYA_KAY"
+    settings.guard_hairs = True
+    settings.guard_fraction = 0.1
+    return settings
+
+
+def test_bake_writes_the_guard_hairs_as_curves_on_the_mesh(addon):
+    obj = add_suzanne()
+    furred(obj, density=1500, tile_size=0.5)
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    [hair] = guard_objects(obj)
+    assert hair.type == "CURVES" and hair.parent == obj
+    assert hair.matrix_world == obj.matrix_world, "the strands are in the mesh's object space"
+    curves = hair.data
+    assert curves.surface == obj
+    # The same bake in the library gives the strands the object shows.
+    options = addon.bake.bake_options(obj)
+    mesh = addon.bridge.read_object(obj).fur_mesh()
+    guard = pelt.Pipeline().bake(mesh, **options).guard_hairs
+    assert len(curves.curves) == len(guard["counts"]) > 100
+    positions = np.empty(3 * len(curves.points), np.float32)
+    curves.position_data.foreach_get("vector", positions)
+    np.testing.assert_array_equal(positions.reshape(-1, 3), guard["positions"])
+    radii = np.empty(len(curves.points), np.float32)
+    curves.attributes["radius"].data.foreach_get("value", radii)
+    np.testing.assert_array_equal(radii, guard["radii"])
+    assert {"pelt_root_color", "pelt_tip_color"} <= set(curves.attributes.keys())
+    [material] = curves.materials
+    assert any(n.bl_idname == "ShaderNodeBsdfHairPrincipled" for n in material.node_tree.nodes)
+    stages = {s["stage"] for s in json.loads(obj.pelt.last_bake)["stages"]}
+    assert "guard_hairs" in stages
+
+
+def test_a_rebake_replaces_the_strands_and_turning_them_off_removes_them(addon):
+    obj = add_suzanne()
+    settings = furred(obj, density=1500, tile_size=0.5)
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    [hair] = guard_objects(obj)
+    first = len(hair.data.points)
+    settings.fur_depth = 2.0 * settings.fur_depth
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    assert guard_objects(obj) == [hair], "the same object, its strands replaced"
+    assert len(pelt_curves()) == 1, "the old strands are gone"
+    assert len(hair.data.points) == first
+    settings.guard_hairs = False
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    assert guard_objects(obj) == [] and pelt_curves() == []
+
+
+def test_a_failed_bake_leaves_the_guard_hairs_as_they_were(addon):
+    obj = add_suzanne()
+    settings = furred(obj, density=1500, tile_size=0.5)
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    before = datablock_snapshot()
+    settings.overcoat_width = (0.0, 0.004)  # a guard hair of width 0 does not show: refused
+    with pytest.raises(RuntimeError, match=r"`overcoat.width`: must start above 0 for guard hairs"):
+        bpy.ops.pelt.bake()
+    assert datablock_snapshot() == before
+    assert len(guard_objects(obj)) == 1
+
+
+def test_cycles_renders_the_guard_hairs_over_the_shells(addon, tmp_path):
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=32, ring_count=16, radius=1.0)
+    obj = bpy.context.active_object
+    bpy.ops.object.shade_smooth()
+    settings = furred(obj, density=800, tile_size=0.6, fur_depth=0.3)
+    settings.guard_fraction = 0.25
+    settings.overcoat_width = (0.02, 0.03)
+    settings.root_color = (0.05, 0.05, 0.05)
+    settings.tip_color = (0.9, 0.9, 0.9)
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    [hair] = guard_objects(obj)
+    scene = staged_scene("CYCLES", 96, 4)
+    hair.hide_render = True
+    shells = render(scene, tmp_path / "shells.png")
+    hair.hide_render = False
+    hybrid = render(scene, tmp_path / "hybrid.png")
+    # The guard hairs stand above the undercoat: more of the frame is covered, and inside the
+    # shells' silhouette they change the picture.
+    assert np.count_nonzero(covered(hybrid)) > np.count_nonzero(covered(shells))
+    inside = covered(shells)
+    changed = np.abs(hybrid[..., :3] - shells[..., :3]).max(axis=2) > 0.05
+    assert np.count_nonzero(changed & inside) > 0.02 * np.count_nonzero(inside)
+    out = REPO / "out"
+    out.mkdir(exist_ok=True)
+    shutil.copyfile(tmp_path / "hybrid.png", out / "guard_hairs_cycles.png")
+    shutil.copyfile(tmp_path / "shells.png", out / "guard_hairs_cycles_without.png")
+
+
+def test_the_library_returns_the_guard_hairs_and_an_undercoat_volume():
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8, radius=1.0)
+    mesh = bpy.context.active_object.data
+    positions = np.empty(3 * len(mesh.vertices), np.float32)
+    mesh.vertices.foreach_get("co", positions)
+    mesh.calc_loop_triangles()
+    triangles = np.empty(3 * len(mesh.loop_triangles), np.int32)
+    mesh.loop_triangles.foreach_get("vertices", triangles)
+    triangles = triangles.reshape(-1, 3).astype(np.uint32)
+    fur_mesh = pelt.FurMesh(positions.reshape(-1, 3), triangles)
+    hair = pelt.HairParams(density=600, guard_fraction=0.2)
+    options = {"tile_size": 0.5, "hair": hair, "layers": 8, "resolution": 32, "transfer": False}
+    plain = pelt.Pipeline().bake(fur_mesh, **options)
+    assert plain.guard_hairs is None
+    hybrid = pelt.Pipeline().bake(fur_mesh, guard_hairs=True, **options)
+    guard = hybrid.guard_hairs
+    counts = guard["counts"]
+    assert counts.dtype == np.uint32 and guard["positions"].shape == (int(counts.sum()), 3)
+    assert guard["radii"].shape == (int(counts.sum()),) and np.all(guard["radii"] > 0)
+    assert guard["root_colors"].shape == guard["tip_colors"].shape == (len(counts), 3)
+    assert np.isfinite(guard["positions"]).all()
+    # The shells hold the undercoat alone: a fifth of the hair fewer.
+    strands = plain.volume["stats"]["strands"], hybrid.volume["stats"]["strands"]
+    assert 0.7 * strands[0] < strands[1] < 0.9 * strands[0]
+    assert pelt.Pipeline.peak_bytes(guard_hairs=True, **options) > 0
+    with pytest.raises(pelt.InvalidParameterError, match="`guard_fraction`: is 0"):
+        pelt.Pipeline().bake(
+            fur_mesh, guard_hairs=True, **{**options, "hair": pelt.HairParams(guard_fraction=0.0)}
+        )
