@@ -10,18 +10,32 @@ it. The strands are prepared with the images (a failure leaves nothing) and put 
 Per point: ``position`` and ``radius``; per curve: ``pelt_root_color`` and ``pelt_tip_color``,
 which the material blends along the strand (Curves Info's intercept) into a Principled Hair
 BSDF's direct color.
+
+The strands follow the mesh's deformation (an armature, shape keys, modifiers): each curve keeps
+its root's triangle (its three vertices, weights and rest positions), and a Geometry Nodes
+modifier on the curves moves and turns every strand as that triangle moved and turned in the
+mesh's evaluated geometry. Blender's own Deform Curves on Surface node cannot serve: it needs the
+evaluated surface to keep the mesh's topology, and Pelt's fur modifier adds the shells and fins
+(after the skin, whose vertices keep their indices, so they can be sampled by index).
 """
 
 import bpy
 import numpy as np
 
+from . import bridge
 from .node_graph import NodeGraph
 from .ownership import find_owned, tag
 
 ROLE = "guard_hairs"
 MATERIAL_ROLE = "guard_hair_material"
+DEFORM_ROLE = "guard_hair_deform"
 ROOT_COLOR = "pelt_root_color"
 TIP_COLOR = "pelt_tip_color"
+DEFORM_MODIFIER = "Pelt Follow Surface"
+# Per curve: the root triangle's vertices, the root's weights there, and the corners at rest.
+ROOT_VERTICES = ("pelt_root_v0", "pelt_root_v1", "pelt_root_v2")
+ROOT_WEIGHTS = "pelt_root_weights"
+REST_CORNERS = ("pelt_rest_p0", "pelt_rest_p1", "pelt_rest_p2")
 
 
 def find(obj):
@@ -30,11 +44,13 @@ def find(obj):
 
 
 def prepare(obj, guard: dict | None):
-    """The new strands of ``obj`` as a Curves datablock, not yet shown (``None`` when the bake has
-    no guard hairs); ``commit`` puts them in place. Raises with nothing left behind."""
+    """The new strands of ``obj`` as a Curves datablock and the mesh's surface UVs, not yet shown
+    (``None`` when the bake has no guard hairs); ``commit`` puts them in place. Raises with
+    nothing left behind."""
     if guard is None or len(guard["counts"]) == 0:
         return None
     counts = np.asarray(guard["counts"], np.int64)
+    corners = root_corners(obj.data, guard["root_triangles"])
     curves = bpy.data.hair_curves.new(f"Pelt Guard Hairs {obj.name}")
     tag(curves, obj.name, ROLE)
     try:
@@ -47,6 +63,16 @@ def prepare(obj, guard: dict | None):
             rgb = np.asarray(guard[key], np.float32)
             rgba = np.concatenate([rgb, np.ones((len(rgb), 1), np.float32)], axis=1)
             curves.attributes.new(name, "FLOAT_COLOR", "CURVE").data.foreach_set("color", rgba.ravel())
+        for name, vertices in zip(ROOT_VERTICES, corners.T, strict=True):
+            curves.attributes.new(name, "INT", "CURVE").data.foreach_set("value", vertices)
+        weights = np.ascontiguousarray(guard["root_weights"], np.float32)
+        curves.attributes.new(ROOT_WEIGHTS, "FLOAT_VECTOR", "CURVE").data.foreach_set(
+            "vector", weights.ravel()
+        )
+        rest = _positions(obj.data)[corners]
+        for k, name in enumerate(REST_CORNERS):
+            attribute = curves.attributes.new(name, "FLOAT_VECTOR", "CURVE")
+            attribute.data.foreach_set("vector", np.ascontiguousarray(rest[:, k]).ravel())
         curves.materials.append(_material(obj))
         curves.surface = obj
     except BaseException:
@@ -55,10 +81,25 @@ def prepare(obj, guard: dict | None):
     return curves
 
 
+def root_corners(mesh, triangles) -> np.ndarray:
+    """``[S, 3]`` int32: the vertices of each root's loop triangle (the triangles Pelt read,
+    ``bridge.loop_triangles``), in the order of its weights."""
+    loops, _ = bridge.loop_triangles(mesh)
+    corner_vertex = np.empty(len(mesh.loops), np.int32)
+    mesh.loops.foreach_get("vertex_index", corner_vertex)
+    return np.ascontiguousarray(corner_vertex[loops[np.asarray(triangles, np.int64)]])
+
+
+def _positions(mesh) -> np.ndarray:
+    positions = np.empty(3 * len(mesh.vertices), np.float32)
+    mesh.vertices.foreach_get("co", positions)
+    return positions.reshape(-1, 3)
+
+
 def commit(obj, curves) -> None:
-    """Shows ``curves`` (from ``prepare``) as ``obj``'s guard hairs, replacing the strands of its
-    guard-hair object (which keeps its collections and visibility) or making one; ``None`` removes
-    the object. Nothing here can fail on valid datablocks, so the writer calls it last."""
+    """Shows the strands from ``prepare`` as ``obj``'s guard hairs, replacing those of its
+    guard-hair object (which keeps its collections and visibility) or making one; ``None``
+    removes the object. Nothing here can fail on valid datablocks, so the writer calls it last."""
     hair = find(obj)
     if curves is None:
         if hair is not None:
@@ -69,13 +110,75 @@ def commit(obj, curves) -> None:
         hair.data = curves
         if old is not None and old.users == 0:
             bpy.data.hair_curves.remove(old)
-        return
-    hair = bpy.data.objects.new(curves.name, curves)
-    tag(hair, obj.name, ROLE)
-    for collection in obj.users_collection:
-        collection.objects.link(hair)
-    hair.parent = obj
-    hair.matrix_parent_inverse.identity()
+    else:
+        hair = bpy.data.objects.new(curves.name, curves)
+        tag(hair, obj.name, ROLE)
+        for collection in obj.users_collection:
+            collection.objects.link(hair)
+        hair.parent = obj
+        hair.matrix_parent_inverse.identity()
+    modifier = hair.modifiers.get(DEFORM_MODIFIER) or hair.modifiers.new(DEFORM_MODIFIER, "NODES")
+    group = _follow_group(obj)
+    modifier.node_group = group
+    modifier[group.interface.items_tree["Surface"].identifier] = obj
+
+
+def _follow_group(obj):
+    """Pelt's node group of ``obj`` that moves and turns each strand as its root triangle moved
+    and turned from rest to the surface's evaluated skin (its first vertices, by index)."""
+    group = find_owned(bpy.data.node_groups, obj.name, DEFORM_ROLE)
+    if group is not None:
+        return group
+    group = bpy.data.node_groups.new(f"Pelt Follow Surface {obj.name}", "GeometryNodeTree")
+    tag(group, obj.name, DEFORM_ROLE)
+    group.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
+    group.interface.new_socket("Surface", in_out="INPUT", socket_type="NodeSocketObject")
+    group.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    g = NodeGraph(group)
+    inputs = g.node("NodeGroupInput").outputs
+    surface = g.node("GeometryNodeObjectInfo", {"Object": inputs["Surface"]}, transform_space="ORIGINAL")
+    position = g.node("GeometryNodeInputPosition").outputs[0]
+
+    def named(name, data_type):
+        return g.node("GeometryNodeInputNamedAttribute", {"Name": name}, data_type=data_type).outputs[0]
+
+    now = [
+        g.node(
+            "GeometryNodeSampleIndex",
+            {"Geometry": surface.outputs["Geometry"], "Value": position, "Index": named(v, "INT")},
+            data_type="FLOAT_VECTOR",
+            domain="POINT",
+        ).outputs[0]
+        for v in ROOT_VERTICES
+    ]
+    rest = [named(p, "FLOAT_VECTOR") for p in REST_CORNERS]
+    weights = g.node("ShaderNodeSeparateXYZ", {"Vector": named(ROOT_WEIGHTS, "FLOAT_VECTOR")}).outputs
+
+    def point(corners):
+        scaled = [g.vector_math("SCALE", c, scale=w) for c, w in zip(corners, weights, strict=True)]
+        return g.vector_math("ADD", g.vector_math("ADD", scaled[0], scaled[1]), scaled[2])
+
+    def frame(corners):
+        edge = g.vector_math("SUBTRACT", corners[1], corners[0])
+        normal = g.vector_math("CROSS_PRODUCT", edge, g.vector_math("SUBTRACT", corners[2], corners[0]))
+        return g.node("FunctionNodeAxesToRotation", {"Primary Axis": normal, "Secondary Axis": edge}).outputs[
+            0
+        ]
+
+    undo_rest = g.node("FunctionNodeInvertRotation", {"Rotation": frame(rest)}).outputs[0]
+    turn = g.node(
+        "FunctionNodeRotateRotation",
+        {"Rotation": undo_rest, "Rotate By": frame(now)},
+        rotation_space="GLOBAL",
+    ).outputs[0]
+    offset = g.vector_math("SUBTRACT", position, point(rest))
+    turned = g.node("FunctionNodeRotateVector", {"Vector": offset, "Rotation": turn}).outputs[0]
+    moved = g.node(
+        "GeometryNodeSetPosition",
+        {"Geometry": inputs["Geometry"], "Position": g.vector_math("ADD", point(now), turned)},
+    )
+    g.node("NodeGroupOutput", {"Geometry": moved.outputs[0]})
+    return group
 
 
 def _material(obj):

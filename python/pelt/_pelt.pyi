@@ -361,6 +361,8 @@ class GuardHairs(TypedDict):
     counts: npt.NDArray[np.uint32]  # (S,) points per strand
     root_colors: npt.NDArray[np.float32]  # (S, 3) linear
     tip_colors: npt.NDArray[np.float32]  # (S, 3) linear
+    root_triangles: npt.NDArray[np.uint32]  # (S,) the mesh triangle each root stands on
+    root_weights: npt.NDArray[np.float32]  # (S, 3) its barycentric weights there, by corner
 
 class FurAsset:
     """The result of :meth:`Pipeline.bake`: every stage's output, shared with the pipeline's

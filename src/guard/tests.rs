@@ -118,6 +118,14 @@ fn guard_hairs_stand_on_the_furred_surface_as_many_as_the_overcoat_gives() {
                 .iter()
                 .all(|p| p.iter().all(|v| v.is_finite()) && p[3] > 0.0)
         );
+        // The root's triangle and weights give its place back (what Blender attaches it by).
+        let corners = mesh.triangles()[span.triangle as usize].map(|v| mesh.positions()[v as usize]);
+        let w = span.weights;
+        assert!(w.iter().all(|&x| x >= -1e-5) && (w.iter().sum::<f32>() - 1.0).abs() < 1e-5);
+        for axis in 0..3 {
+            let at: f32 = (0..3).map(|k| w[k] * corners[k][axis]).sum();
+            assert!((at - root[axis]).abs() < 1e-5, "root {root:?} vs weights {w:?}");
+        }
     }
     // The shells hold the undercoat alone.
     assert_eq!(
@@ -125,7 +133,6 @@ fn guard_hairs_stand_on_the_furred_surface_as_many_as_the_overcoat_gives() {
         grow_strands(&hair).unwrap().len() - overcoat
     );
     assert!(asset.report.iter().any(|r| r.stage == "guard_hairs" && r.ran));
-    drop(mesh);
 }
 
 #[test]

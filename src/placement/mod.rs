@@ -39,7 +39,14 @@ pub struct StrandSpan {
     pub root_color: Vec3,
     /// Linear albedo at the tip.
     pub tip_color: Vec3,
+    /// The mesh triangle the root stands on ([`NO_TRIANGLE`] for strands given in object space).
+    pub triangle: u32,
+    /// The root's barycentric weights in that triangle, by corner.
+    pub weights: [f32; 3],
 }
+
+/// [`StrandSpan::triangle`] of a strand that stands on no triangle of a mesh.
+pub const NO_TRIANGLE: u32 = u32::MAX;
 
 /// Strands in object space: their points (xyz and radius) one strand after another, and where
 /// each strand's points are.

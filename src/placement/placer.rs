@@ -92,6 +92,8 @@ impl<'a> Placer<'a> {
             count: strand.points.len() as u32,
             root_color: Vec3::from(strand.root_color) * tint,
             tip_color: Vec3::from(strand.tip_color) * tint,
+            triangle: t as u32,
+            weights: root.to_array(),
         }
     }
 

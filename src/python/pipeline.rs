@@ -246,7 +246,8 @@ impl PyFurAsset {
 
     /// The guard hairs (a bake with `guard_hairs=True`), else `None`: `positions` `(P, 3)` and
     /// `radii` `(P,)` float32 of every strand point, object units, root first; `counts` `(S,)`
-    /// uint32, the points of each strand; `root_colors` and `tip_colors` `(S, 3)` float32, linear.
+    /// uint32, the points of each strand; `root_colors` and `tip_colors` `(S, 3)` float32, linear;
+    /// `root_triangles` `(S,)` uint32 and `root_weights` `(S, 3)` float32, where each root stands.
     #[getter]
     fn guard_hairs<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         let Some(placed) = &self.inner.guard_hairs else {
@@ -271,6 +272,9 @@ impl PyFurAsset {
             array(py, colors(|k| k.root_color.into()), &[s, 3])?,
         )?;
         d.set_item("tip_colors", array(py, colors(|k| k.tip_color.into()), &[s, 3])?)?;
+        let triangles = placed.spans.iter().map(|k| k.triangle).collect();
+        d.set_item("root_triangles", array(py, triangles, &[s])?)?;
+        d.set_item("root_weights", array(py, colors(|k| k.weights), &[s, 3])?)?;
         Ok(Some(d))
     }
 

@@ -112,6 +112,8 @@ impl FurGeometry {
                 count: s.points.len() as u32,
                 root_color: Vec3::from(s.root_color),
                 tip_color: Vec3::from(s.tip_color),
+                triangle: crate::placement::NO_TRIANGLE,
+                weights: [0.0; 3],
             });
             points.extend(s.points.iter().zip(&s.radii).map(|(p, &r)| [p[0], p[1], p[2], r]));
         }

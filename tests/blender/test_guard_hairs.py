@@ -145,3 +145,82 @@ def test_the_library_returns_the_guard_hairs_and_an_undercoat_volume():
         pelt.Pipeline().bake(
             fur_mesh, guard_hairs=True, **{**options, "hair": pelt.HairParams(guard_fraction=0.0)}
         )
+
+
+def test_the_guard_hairs_follow_the_deformed_surface(addon):
+    # A modifier that lifts the whole surface along its normals by 0.3: every root must land on
+    # the deformed sphere (radius 1.3), with its strand moved along.
+    obj, hair = furred_sphere()
+    rest = curve_points(hair)
+    roots = curve_roots(hair)
+    displace = obj.modifiers.new("Lift", "DISPLACE")
+    displace.strength = 0.3
+    displace.mid_level = 0.0
+    moved = curve_points(hair)
+    rest_radius = np.linalg.norm(rest[roots], axis=1)
+    moved_radius = np.linalg.norm(moved[roots], axis=1)
+    # Roots on the faceted sphere sit within 0.035 of radius 1; lifted by 0.3 along the normals.
+    assert np.all(np.abs(moved_radius - rest_radius - 0.3) < 0.03), (moved_radius - rest_radius).min()
+    # The whole strand moves with its root: its shape relative to the root is kept.
+    tips = np.r_[roots[1:], len(rest)] - 1
+    lengths_before = np.linalg.norm(rest[tips] - rest[roots], axis=1)
+    lengths_after = np.linalg.norm(moved[tips] - moved[roots], axis=1)
+    np.testing.assert_allclose(lengths_after, lengths_before, rtol=1e-3, atol=1e-5)
+    obj.modifiers.remove(displace)
+    np.testing.assert_allclose(curve_points(hair), rest, atol=1e-6)
+
+
+def furred_sphere():
+    """A unit sphere baked with guard hairs; the sphere and its guard-hair object."""
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=24, ring_count=12, radius=1.0)
+    obj = bpy.context.active_object
+    furred(obj, density=600, tile_size=0.6, fur_depth=0.2)
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    [hair] = guard_objects(obj)
+    return obj, hair
+
+
+def curve_points(hair) -> np.ndarray:
+    evaluated = hair.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+    points = np.empty(3 * len(evaluated.points), np.float32)
+    evaluated.position_data.foreach_get("vector", points)
+    return points.reshape(-1, 3)
+
+
+def curve_roots(hair) -> np.ndarray:
+    offsets = np.empty(len(hair.data.curves) + 1, np.int32)
+    hair.data.curve_offset_data.foreach_get("value", offsets)
+    return offsets[:-1]
+
+
+def test_the_guard_hairs_turn_with_an_armature(addon):
+    # The whole sphere bound to one bone turned 90° about x: every strand turns with it.
+    obj, hair = furred_sphere()
+    rest = curve_points(hair)
+    rig = one_bone_rig()
+    group = obj.vertex_groups.new(name="Root")
+    group.add(list(range(len(obj.data.vertices))), 1.0, "REPLACE")
+    modifier = obj.modifiers.new("Armature", "ARMATURE")
+    modifier.object = rig
+    bpy.context.view_layer.objects.active = obj
+    bpy.ops.object.modifier_move_to_index(modifier="Armature", index=0)
+    pose = rig.pose.bones["Root"]
+    pose.rotation_mode = "XYZ"
+    pose.rotation_euler = (np.pi / 2, 0.0, 0.0)
+    bpy.context.view_layer.update()
+    turned = curve_points(hair)
+    # The bone's x axis is the world's: a quarter turn about x takes (x, y, z) to (x, -z, y).
+    expected = rest @ np.array([[1, 0, 0], [0, 0, 1], [0, -1, 0]], np.float32)
+    np.testing.assert_allclose(turned, expected, atol=2e-3)
+
+
+def one_bone_rig():
+    """An armature of one bone, ``Root``, from the origin up +z."""
+    armature = bpy.data.armatures.new("Rig")
+    rig = bpy.data.objects.new("Rig", armature)
+    bpy.context.scene.collection.objects.link(rig)
+    bpy.context.view_layer.objects.active = rig
+    bpy.ops.object.mode_set(mode="EDIT")
+    armature.edit_bones.new("Root").tail = (0.0, 0.0, 1.0)
+    bpy.ops.object.mode_set(mode="OBJECT")
+    return rig
