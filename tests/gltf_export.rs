@@ -24,6 +24,7 @@ struct Object {
     name: &'static str,
     mesh: FurMesh,
     uvs: Vec<[[f32; 2]; 3]>,
+    patches: pelt::lapped::Patches,
 }
 
 impl Object {
@@ -55,8 +56,13 @@ impl Object {
             tile_size: 0.5,
             ..PatchParams::default()
         };
-        let uvs = build_patches(&mesh, &params).unwrap().uv;
-        Object { name, mesh, uvs }
+        let patches = build_patches(&mesh, &params).unwrap();
+        Object {
+            name,
+            mesh,
+            uvs: patches.uv.clone(),
+            patches,
+        }
     }
 }
 
@@ -67,18 +73,24 @@ struct Bake {
     order: usize,
 }
 
+/// A small volume of `hair` (the undercoat alone with `guard_hairs`).
+fn small_volume(hair: &HairParams, guard_hairs: bool) -> HairVolume {
+    let params = VolumeParams {
+        resolution: 32,
+        layers: 8,
+        fin_size: [64, 16],
+        guard_hairs,
+        ..VolumeParams::default()
+    };
+    bake_volume(hair, &params, None).unwrap()
+}
+
 fn bake() -> Bake {
     let hair = HairParams {
         density: 800,
         ..HairParams::default()
     };
-    let params = VolumeParams {
-        resolution: 32,
-        layers: 8,
-        fin_size: [64, 16],
-        ..VolumeParams::default()
-    };
-    let volume = bake_volume(&hair, &params, None).unwrap();
+    let volume = small_volume(&hair, false);
     let input = VolumeInput::new(&volume, 0.25);
     let order = 3;
     let transfer = bake_transfer(
@@ -115,6 +127,7 @@ fn input<'a>(object: &'a Object, bake: &'a Bake) -> ExportInput<'a> {
         skin: None,
         materials: None,
         animations: &[],
+        guard_hairs: None,
     }
 }
 
@@ -448,6 +461,7 @@ fn a_30k_triangle_skinned_character_with_32_shells_exports() {
         }),
         materials: None,
         animations: &[],
+        guard_hairs: None,
     };
     let path = out_dir().join("big_character_engine.glb");
     let options = GltfOptions {
@@ -458,4 +472,64 @@ fn a_30k_triangle_skinned_character_with_32_shells_exports() {
     let document = glb_json(&path);
     let fur = &document["meshes"][0]["primitives"][0]["extensions"]["PELT_shell_fur"];
     assert_eq!(fur["stack"]["shells"], 32);
+}
+
+/// Suzanne with guard hairs (the overcoat as strands, the shells baked from the undercoat) in
+/// both modes: lines described by the extension for engines, crossed ribbons as geometry; the
+/// validator checks both files.
+#[test]
+fn guard_hairs_export_as_lines_for_engines_and_ribbons_as_geometry() {
+    let monkey = suzanne();
+    let object = Object::new("Guarded", &monkey.positions, &monkey.triangles, |_| false);
+    let hair = HairParams {
+        density: 800,
+        guard_fraction: 0.1,
+        ..HairParams::default()
+    };
+    let volume = small_volume(&hair, true);
+    let guard = pelt::guard::guard_hairs(&object.mesh, &object.patches, &hair, FUR_DEPTH).unwrap();
+    assert!(guard.spans.len() > 100);
+    let bake = bake();
+    let input = ExportInput {
+        volume: &volume,
+        transfer: None,
+        guard_hairs: Some(&guard),
+        ..input(&object, &bake)
+    };
+    let dir = out_dir();
+    for mode in [GltfMode::Engine, GltfMode::Geometry] {
+        let path = dir.join(format!("guard_hairs_{}.glb", mode.name()));
+        let options = GltfOptions {
+            mode,
+            ..GltfOptions::default()
+        };
+        save_glb(&path, &[input], &[], &options).unwrap();
+        let json = glb_json(&path);
+        let primitives = json["meshes"][0]["primitives"].as_array().unwrap();
+        let accessor_count = |p: &serde_json::Value, attribute: &str| {
+            let index = p["attributes"][attribute].as_u64().unwrap() as usize;
+            json["accessors"][index]["count"].as_u64().unwrap() as usize
+        };
+        match mode {
+            GltfMode::Engine => {
+                let fur = &primitives[0]["extensions"]["PELT_shell_fur"];
+                let reference = &fur["guardHairs"];
+                assert_eq!(reference["strands"], guard.spans.len());
+                assert_eq!(reference["radius"], "_PELT_RADIUS");
+                let lines = &primitives[reference["primitive"].as_u64().unwrap() as usize];
+                assert_eq!(lines["mode"], 1, "LINES");
+                assert_eq!(accessor_count(lines, "POSITION"), guard.points.len());
+                assert_eq!(accessor_count(lines, "_PELT_RADIUS"), guard.points.len());
+                let segments = guard.points.len() - guard.spans.len();
+                let indices = lines["indices"].as_u64().unwrap() as usize;
+                assert_eq!(json["accessors"][indices]["count"], 2 * segments);
+            }
+            GltfMode::Geometry => {
+                let ribbons = primitives.last().unwrap();
+                assert_eq!(ribbons["mode"].as_u64().unwrap_or(4), 4, "TRIANGLES");
+                assert_eq!(accessor_count(ribbons, "POSITION"), 4 * guard.points.len());
+                assert!(ribbons["attributes"]["COLOR_0"].is_u64());
+            }
+        }
+    }
 }

@@ -75,7 +75,8 @@ fn every_estimate_bounds_the_measured_peak() {
         tile_size: 0.5,
         ..PatchParams::default()
     };
-    let uvs = build_patches(&mesh, &patches).unwrap().uv;
+    let patches = build_patches(&mesh, &patches).unwrap();
+    let uvs = patches.uv.clone();
     let object = ExportInput {
         name: "Torus",
         mesh: &mesh,
@@ -92,6 +93,7 @@ fn every_estimate_bounds_the_measured_peak() {
         skin: None,
         materials: None,
         animations: &[],
+        guard_hairs: None,
     };
     let objects = [object];
 
@@ -112,6 +114,31 @@ fn every_estimate_bounds_the_measured_peak() {
         measured(&format!("encode_glb {}", mode.name()), estimate, || {
             encode_glb(&objects, &[], &options).unwrap()
         });
+    }
+
+    // With guard hairs: lines (engine) or four ribbon vertices a point (geometry).
+    let sparse = HairParams {
+        density: 1000,
+        guard_fraction: 0.1,
+        ..HairParams::default()
+    };
+    let guard = pelt::guard::guard_hairs(&mesh, &patches, &sparse, 0.1).unwrap();
+    assert!(guard.spans.len() > 1000);
+    let guarded = [ExportInput {
+        guard_hairs: Some(&guard),
+        ..objects[0]
+    }];
+    for mode in [GltfMode::Geometry, GltfMode::Engine] {
+        let options = GltfOptions {
+            mode,
+            ..GltfOptions::default()
+        };
+        let estimate = glb_peak_bytes(&guarded, &options).unwrap();
+        measured(
+            &format!("encode_glb {} with guard hairs", mode.name()),
+            estimate,
+            || encode_glb(&guarded, &[], &options).unwrap(),
+        );
     }
 
     // Above the limit, both exports refuse by name before writing or encoding anything.

@@ -76,6 +76,7 @@ pub(super) fn export_gltf(options: &BenchOptions) -> Result<Vec<CaseResult>> {
         skin: None,
         materials: None,
         animations: &[],
+        guard_hairs: None,
     };
     let reps = if options.quick { 3 } else { 7 };
     let mut results = Vec::new();
@@ -205,6 +206,7 @@ fn skinned(
         }),
         materials: None,
         animations: &[],
+        guard_hairs: None,
     };
     let skeletons = std::slice::from_ref(&skeleton);
     let mut results = Vec::new();

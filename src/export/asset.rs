@@ -36,8 +36,8 @@ impl Default for AssetOptions {
 }
 
 impl<'a> ExportInput<'a> {
-    /// The export input of a pipeline bake: its mesh, patch UVs, volume, transfer (when baked)
-    /// and fur depth, with every layer above the skin as a shell.
+    /// The export input of a pipeline bake: its mesh, patch UVs, volume, transfer (when baked),
+    /// fur depth and guard hairs (when baked), with every layer above the skin as a shell.
     pub fn from_asset(name: &'a str, asset: &'a FurAsset) -> Self {
         ExportInput {
             name,
@@ -55,6 +55,7 @@ impl<'a> ExportInput<'a> {
             skin: None,
             materials: None,
             animations: &[],
+            guard_hairs: asset.guard_hairs.as_deref(),
         }
     }
 }

@@ -8,6 +8,7 @@
 use crate::FurMesh;
 use crate::error::{PeltError, Result};
 use crate::mesh::uv_split::validate_uvs;
+use crate::placement::PlacedStrands;
 use crate::prt::pack::{PackedF16, PackedU8, texture_count};
 use crate::prt::sh::MAX_ORDER;
 use crate::volume::HairVolume;
@@ -58,6 +59,8 @@ pub struct ExportInput<'a> {
     /// The object's own materials, kept on its bald faces ([`super::materials`]); `None`: every
     /// face is Pelt's skin.
     pub materials: Option<MaterialSlots<'a>>,
+    /// The guard hairs over the mesh ([`crate::guard`]), drawn as strands beside the shells.
+    pub guard_hairs: Option<&'a PlacedStrands>,
 }
 
 /// Most characters of an object name.

@@ -7,10 +7,12 @@ import shutil
 from pathlib import Path
 
 import bpy
+import jsonschema
 import numpy as np
 import pelt
 import pytest
 from conftest import add_suzanne, datablock_snapshot, small_fur
+from test_export_gltf import read_glb
 from test_fur_nodes import covered, render, staged_scene
 
 REPO = Path(__file__).resolve().parents[2]
@@ -141,6 +143,7 @@ def test_the_library_returns_the_guard_hairs_and_an_undercoat_volume():
     strands = plain.volume["stats"]["strands"], hybrid.volume["stats"]["strands"]
     assert 0.7 * strands[0] < strands[1] < 0.9 * strands[0]
     assert pelt.Pipeline.peak_bytes(guard_hairs=True, **options) > 0
+    export_both_modes(hybrid, guard)
     with pytest.raises(pelt.InvalidParameterError, match="`guard_fraction`: is 0"):
         pelt.Pipeline().bake(
             fur_mesh, guard_hairs=True, **{**options, "hair": pelt.HairParams(guard_fraction=0.0)}
@@ -224,3 +227,27 @@ def one_bone_rig():
     armature.edit_bones.new("Root").tail = (0.0, 0.0, 1.0)
     bpy.ops.object.mode_set(mode="OBJECT")
     return rig
+
+
+def export_both_modes(asset, guard):
+    """The engine file's extension conforms to the published schema and names the strands'
+    lines; the geometry file's ribbons import into Blender."""
+    out = REPO / "out"
+    out.mkdir(exist_ok=True)
+    engine, geometry = out / "guard_hairs_engine.glb", out / "guard_hairs_geometry.glb"
+    pelt.export_gltf(asset, engine, name="Guarded")
+    document, _ = read_glb(engine)
+    primitives = document["meshes"][0]["primitives"]
+    fur = primitives[0]["extensions"]["PELT_shell_fur"]
+    schema = json.loads((REPO / "docs" / "schema" / "PELT_shell_fur.schema.json").read_text())
+    jsonschema.validate(fur, schema, cls=jsonschema.Draft202012Validator)
+    lines = primitives[fur["guardHairs"]["primitive"]]
+    assert lines["mode"] == 1 and document["accessors"][lines["attributes"]["POSITION"]]["count"] == len(
+        guard["positions"]
+    )
+    pelt.export_gltf(asset, geometry, name="Guarded", mode="geometry")
+    before = set(bpy.data.meshes)
+    assert bpy.ops.import_scene.gltf(filepath=str(geometry)) == {"FINISHED"}
+    [mesh] = [m for m in bpy.data.meshes if m not in before]
+    # The skin's, the shells' and the fins' vertices, and four a point for the crossed ribbons.
+    assert len(mesh.vertices) > 4 * len(guard["positions"])

@@ -21,6 +21,7 @@ use super::super::description::StackDescription;
 use super::super::input::ExportInput;
 use super::super::stack_png::{StackImage, encode_all};
 use super::builder::{GlbBuilder, SamplerKind};
+use super::guard::GuardHairRef;
 use super::peak::{ObjectSizes, check_object};
 use super::rig::skin_attributes;
 use super::vertices::SplitVertices;
@@ -51,6 +52,9 @@ pub struct ShellFur {
     /// Indices (in the same mesh) of the primitives that stand in for the fur where the
     /// extension is not supported; a runtime that draws the fur does not draw them.
     pub fallback: Vec<u32>,
+    /// The guard hairs' `LINES` primitive, when the bake has guard hairs.
+    #[serde(rename = "guardHairs", default, skip_serializing_if = "Option::is_none")]
+    pub guard_hairs: Option<GuardHairRef>,
 }
 
 /// The layers the fallback shells show: `FALLBACK_SHELLS` evenly spaced (fewer on a short stack).
@@ -188,14 +192,27 @@ pub(super) fn add_object(
         }
     }
 
+    let fallback = (1..primitives.len() as u32).collect();
+    primitives.extend(own);
+    let guard_hairs = match super::guard::primitive_of(builder, input, weights, GltfMode::Engine)? {
+        Some(lines) => {
+            primitives.push(lines);
+            Some(GuardHairRef {
+                primitive: primitives.len() as u32 - 1,
+                strands: input.guard_hairs.map_or(0, |g| g.spans.len() as u32),
+                radius: super::guard::RADIUS_ATTRIBUTE.into(),
+            })
+        }
+        None => None,
+    };
     let fur = ShellFur {
         version: EXTENSION_VERSION,
         stack: StackDescription::new(input, v.split.uv_scale)?,
         attributes: EngineAttributes::names(),
         textures: engine,
-        fallback: (1..primitives.len() as u32).collect(),
+        fallback,
+        guard_hairs,
     };
-    primitives.extend(own);
     let value = serde_json::to_value(&fur).map_err(|e| PeltError::Internal(format!("{EXTENSION}: {e}")))?;
     let mut others = serde_json::Map::new();
     others.insert(EXTENSION.into(), value);

@@ -114,6 +114,12 @@ pub(super) fn add_object(
         let fin = fin_primitive(builder, input, &v, fin_png, weights)?;
         primitives.extend(fin);
     }
+    primitives.extend(super::guard::primitive_of(
+        builder,
+        input,
+        weights,
+        GltfMode::Geometry,
+    )?);
 
     let description = StackDescription::new(input, v.split.uv_scale)?;
     Ok(builder.root.push(json::Mesh {

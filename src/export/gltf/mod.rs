@@ -9,17 +9,20 @@
 //!
 //! Files: `builder.rs` (buffer views, accessors, images, samplers, the GLB container),
 //! `vertices.rs` (the split mesh's attributes), `geometry.rs` and `engine.rs` (one per mode),
-//! `peak.rs` (the memory estimate checked before each object's buffers are made).
+//! `guard.rs` (the guard hairs: lines for engines, crossed ribbons as geometry), `peak.rs` (the
+//! memory estimate checked before each object's buffers are made).
 
 mod builder;
 mod engine;
 mod geometry;
+mod guard;
 mod peak;
 mod rig;
 mod vertices;
 
 pub use builder::glb_container;
 pub use engine::{EXTENSION, EXTENSION_VERSION, FALLBACK_SHELLS, ShellFur};
+pub use guard::{GuardHairRef, RADIUS_ATTRIBUTE};
 pub use peak::glb_peak_bytes;
 
 use std::collections::BTreeMap;

@@ -6,10 +6,11 @@
 //! With `S` split vertices, `T` triangles, `E` edges, `N` shells and `P` workers: the buffer holds
 //! the attributes (`48` bytes per vertex, `24` more when skinned, `48` more of engine attributes),
 //! the index lists, `12·S` per shell (geometry) or per fallback shell (engine), four vertices and
-//! six indices per fin, and the PNGs; the PNGs are held twice (the buffer and the table that
-//! stores each content once) and a growing buffer briefly three times (its old and new
-//! allocation, and the file `finish` assembles). Working copies: the lifted shells and the
-//! encoders' images (`P` at a time).
+//! six indices per fin, the guard hairs (lines, or four ribbon vertices a point), and the PNGs;
+//! the PNGs are held twice (the buffer and the table that stores each content once) and a
+//! growing buffer briefly three times (its old and new allocation, and the file `finish`
+//! assembles). Working copies: the lifted shells, the guard hairs' arrays and the encoders'
+//! images (`P` at a time).
 
 use super::super::input::ExportInput;
 use super::{GltfMode, GltfOptions};
@@ -49,6 +50,9 @@ fn object_bytes(input: &ExportInput<'_>, mode: GltfMode, sizes: &ObjectSizes) ->
     let vertex = 48.0 + skin;
     // The skin's and the own materials' index lists together hold every triangle once.
     let indices = 12.0 * t;
+    let (points, strands) = input
+        .guard_hairs
+        .map_or((0.0, 0.0), |g| (g.points.len() as f64, g.spans.len() as f64));
     match mode {
         GltfMode::Geometry => {
             let shells = input.shell_count() as f64;
@@ -58,8 +62,10 @@ fn object_bytes(input: &ExportInput<'_>, mode: GltfMode, sizes: &ObjectSizes) ->
             } else {
                 0.0
             };
-            let buffer = s * vertex + 2.0 * indices + 12.0 * s * shells + fins + 2.0 * images;
-            let working = 12.0 * s * shells + fins + workers * 3.0 * 4.0 * layer.max(fin);
+            // Two crossed ribbons: four vertices a point, twelve indices a segment.
+            let guard = 4.0 * points * (40.0 + skin) + 48.0 * (points - strands);
+            let buffer = s * vertex + 2.0 * indices + 12.0 * s * shells + fins + guard + 2.0 * images;
+            let working = 12.0 * s * shells + fins + guard + workers * 3.0 * 4.0 * layer.max(fin);
             (buffer, working)
         }
         GltfMode::Engine => {
@@ -67,8 +73,10 @@ fn object_bytes(input: &ExportInput<'_>, mode: GltfMode, sizes: &ObjectSizes) ->
             let transfer = input.transfer.map_or(0, |t| t.u8.textures) as f64;
             let images =
                 (1.0 + fallback) * png_bytes(layer) + (2.0 + transfer) * png_bytes(atlas) + png_bytes(fin);
-            let buffer = s * (vertex + 48.0) + 2.0 * indices + 12.0 * s * fallback + 2.0 * images;
-            let working = 12.0 * s * fallback + workers * 3.0 * 4.0 * atlas.max(fin);
+            // Lines: position, color and radius a point, two indices a segment.
+            let guard = points * (32.0 + skin) + 8.0 * (points - strands);
+            let buffer = s * (vertex + 48.0) + 2.0 * indices + 12.0 * s * fallback + guard + 2.0 * images;
+            let working = 12.0 * s * fallback + guard + workers * 3.0 * 4.0 * atlas.max(fin);
             (buffer, working)
         }
     }

@@ -103,6 +103,7 @@ impl Fixture {
             skin: None,
             materials: None,
             animations: &[],
+            guard_hairs: None,
         }
     }
 }
