@@ -150,6 +150,49 @@ fn bake_writes_what_the_manifest_lists_identically_for_any_thread_count() {
 }
 
 #[test]
+fn guard_hairs_bake_into_the_engine_file_and_export_again() {
+    let dir = out_dir("guard");
+    assert_ok(&bake(
+        &dir,
+        2,
+        &[
+            "--guard-hairs",
+            "--tile-size",
+            "1.0",
+            "--formats",
+            "png",
+            "--mode",
+            "engine",
+        ],
+    ));
+    let read = |dir: &Path| {
+        let bytes = std::fs::read(dir.join("suzanne_engine.glb")).unwrap();
+        let length = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+        serde_json::from_slice::<serde_json::Value>(&bytes[20..20 + length]).unwrap()
+    };
+    let json = read(&dir);
+    let fur = &json["meshes"][0]["primitives"][0]["extensions"]["PELT_shell_fur"];
+    assert!(fur["guardHairs"]["strands"].as_u64().unwrap() > 10, "{fur}");
+    // bake.json keeps the choice: `export` writes the same file again.
+    let again = out_dir("guard-export");
+    assert_ok(&pelt(
+        &[
+            "export",
+            dir.to_str().unwrap(),
+            "--out",
+            again.to_str().unwrap(),
+            "--formats",
+            "png",
+        ],
+        2,
+    ));
+    assert_eq!(read(&again)["meshes"], json["meshes"]);
+    for dir in [dir, again] {
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+}
+
+#[test]
 fn bad_input_exits_with_a_message_and_no_panic() {
     let dir = out_dir("bad");
     std::fs::create_dir_all(&dir).unwrap();

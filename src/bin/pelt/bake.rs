@@ -59,6 +59,11 @@ pub struct BakeArgs {
     /// Leave the fins out of the geometry glTF.
     #[arg(long)]
     pub no_fins: bool,
+    /// Draw the guard hairs as strands (glTF lines for engines, ribbons as geometry) and bake the
+    /// undercoat alone into the shells.
+    #[arg(long)]
+    #[serde(default)]
+    pub guard_hairs: bool,
 }
 
 /// `x,y,z` as three finite floats.
@@ -100,6 +105,7 @@ fn bake_params(args: &BakeArgs) -> Result<BakeParams, String> {
     if let Some(tile) = args.tile_size {
         params.patches.tile_size = tile;
     }
+    params.volume.guard_hairs = args.guard_hairs;
     params.transfer = (!args.no_transfer).then(|| {
         let mut choice = TransferChoice::default();
         if let Some(order) = args.order {
