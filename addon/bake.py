@@ -66,6 +66,7 @@ def bake_options(obj) -> dict:
         "order": None if settings.prt_auto_order else settings.prt_order,
         "tolerance": settings.prt_tolerance,
         "guard_hairs": settings.guard_hairs,
+        "guard_share": settings.guard_share,
     }
 
 

@@ -126,11 +126,15 @@ class VIEW3D_PT_pelt_hair(_SubPanel, bpy.types.Panel):
 
     def draw_settings(self, layout, settings):
         layout.menu("PELT_MT_presets", icon="PRESET")
-        for name in ("density", "guard_fraction", "guard_hairs", "undercoat_length", "undercoat_width",
-                     "overcoat_length", "overcoat_width", "taper", "curl", "helix_radius", "helix_frequency",
-                     "slant", "length_jitter", "clump_strength", "clump_count", "root_color", "tip_color",
+        for name in ("density", "guard_fraction", "undercoat_length", "undercoat_width", "overcoat_length",
+                     "overcoat_width", "taper", "curl", "helix_radius", "helix_frequency", "slant",
+                     "length_jitter", "clump_strength", "clump_count", "root_color", "tip_color",
                      "color_jitter", "seed"):  # fmt: skip
             layout.prop(settings, name)
+        layout.prop(settings, "guard_hairs")
+        row = layout.row()
+        row.active = settings.guard_hairs
+        row.prop(settings, "guard_share")
 
 
 class VIEW3D_PT_pelt_shells(_SubPanel, bpy.types.Panel):

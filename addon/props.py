@@ -62,6 +62,17 @@ class PeltObjectSettings(bpy.types.PropertyGroup):
         ),
         default=False,
     )
+    guard_share: bpy.props.FloatProperty(
+        name="Strand Share",
+        description=(
+            "Share of the guard hairs drawn as strands; the rest stay in the shells (a few thousand "
+            "strands read as guard hairs; hundreds of thousands slow Blender down)"
+        ),
+        default=0.1,
+        min=0.001,
+        max=1.0,
+        subtype="FACTOR",
+    )
     guard_fraction: bpy.props.FloatProperty(
         name="Guard Hairs",
         description="Share of the hairs that are long, thick guard hairs",

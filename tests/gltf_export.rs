@@ -487,7 +487,7 @@ fn guard_hairs_export_as_lines_for_engines_and_ribbons_as_geometry() {
         ..HairParams::default()
     };
     let volume = small_volume(&hair, true);
-    let guard = pelt::guard::guard_hairs(&object.mesh, &object.patches, &hair, FUR_DEPTH).unwrap();
+    let guard = pelt::guard::guard_hairs(&object.mesh, &object.patches, &hair, FUR_DEPTH, 1.0).unwrap();
     assert!(guard.spans.len() > 100);
     let bake = bake();
     let input = ExportInput {

@@ -122,7 +122,7 @@ fn every_estimate_bounds_the_measured_peak() {
         guard_fraction: 0.1,
         ..HairParams::default()
     };
-    let guard = pelt::guard::guard_hairs(&mesh, &patches, &sparse, 0.1).unwrap();
+    let guard = pelt::guard::guard_hairs(&mesh, &patches, &sparse, 0.1, 1.0).unwrap();
     assert!(guard.spans.len() > 1000);
     let guarded = [ExportInput {
         guard_hairs: Some(&guard),

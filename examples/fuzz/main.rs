@@ -523,6 +523,7 @@ fn volume_params(u: &mut Unstructured<'_>) -> Arb<VolumeParams> {
         lod: u.arbitrary()?,
         mipmaps: u.arbitrary()?,
         guard_hairs: u.arbitrary()?,
+        guard_share: float(u, 0.0, 1.0)?,
         ..VolumeParams::default()
     })
 }

@@ -252,11 +252,12 @@ def bake_volume(
     lod: bool = True,
     mipmaps: bool = True,
     guard_hairs: bool = False,
+    guard_share: float = 1.0,
     progress: Callable[[float], bool | None] | None = None,
 ) -> HairVolume:
     """Grow the hair of ``params`` and bake the hair volume (GIL released). ``coverage`` is
-    ``"exact"``, ``"approx"`` or ``"supersample:N"``; ``guard_hairs=True`` samples the undercoat
-    alone (the guard hairs are drawn as strands, :attr:`FurAsset.guard_hairs`);
+    ``"exact"``, ``"approx"`` or ``"supersample:N"``; ``guard_hairs=True`` leaves out the
+    ``guard_share`` of the overcoat that is drawn as strands (:attr:`FurAsset.guard_hairs`);
     ``progress(fraction)`` returning ``False`` cancels with :class:`BakeCancelled`."""
 
 class AtlasLayout(TypedDict):
@@ -423,16 +424,18 @@ class Pipeline:
         directions: int = 256,
         phase: Literal["isotropic", "kajiya-kay"] = "kajiya-kay",
         guard_hairs: bool = False,
+        guard_share: float = 1.0,
         progress: Callable[[str, float], bool | None] | None = None,
     ) -> FurAsset:
         """Bake ``mesh`` (GIL released): lapped patches with tiles ``tile_size`` object units wide,
         the hair volume of ``hair``, and (``transfer=True``) its PRT transfer for fur
         ``fur_depth`` object units deep (default: one tile). ``order=None`` picks the SH order by
-        band selection within ``tolerance``. ``guard_hairs=True`` draws the overcoat as explicit
-        strands (:attr:`FurAsset.guard_hairs`) and bakes the undercoat alone into the volume
-        (and the transfer); it needs a ``guard_fraction`` and an overcoat width above 0, and at
-        most 1,048,576 guard hairs over the mesh. Every parameter is checked before any stage runs.
-        ``progress(stage, fraction)`` returning ``False`` cancels with :class:`BakeCancelled`;
+        band selection within ``tolerance``. ``guard_hairs=True`` draws a ``guard_share`` (in
+        ``(0, 1]``) of the overcoat as explicit strands (:attr:`FurAsset.guard_hairs`) and bakes
+        the rest of the coat into the volume (and the transfer); it needs a ``guard_fraction``
+        and an overcoat width above 0, and at most 1,048,576 guard hairs over the mesh. Every
+        parameter is checked before any stage runs. ``progress(stage, fraction)`` returning
+        ``False`` cancels with :class:`BakeCancelled`;
         stages finished before the cancel stay cached. Raises :class:`MemoryLimitError` when
         :meth:`peak_bytes` is above :func:`memory_limit`."""
     @staticmethod
@@ -453,6 +456,7 @@ class Pipeline:
         directions: int = 256,
         phase: Literal["isotropic", "kajiya-kay"] = "kajiya-kay",
         guard_hairs: bool = False,
+        guard_share: float = 1.0,
     ) -> float:
         """Estimated peak memory in bytes of :meth:`bake` with these arguments (an upper bound;
         the mesh's own share, usually small, is not counted). Checks the arguments as

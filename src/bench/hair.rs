@@ -43,7 +43,7 @@ pub(super) fn guard_place(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     };
     let mut placed = 0;
     let timing = time_fallible(if options.quick { 3 } else { 7 }, || {
-        let guard = crate::guard::guard_hairs(&mesh, &patches, &hair, 0.05)?;
+        let guard = crate::guard::guard_hairs(&mesh, &patches, &hair, 0.05, 1.0)?;
         placed = guard.spans.len();
         Ok(guard)
     })?;

@@ -9,8 +9,8 @@
 //! undercoat alone, so every hair is drawn once, in the shells or as a strand, and the two
 //! together cover what the full coat covers.
 
-use crate::error::{Num, PeltError, Result};
-use crate::hair::{Coat, HairParams, grow_strands};
+use crate::error::{Num, PeltError, Result, check_range};
+use crate::hair::{Coat, HairParams, Strand, grow_strands};
 use crate::lapped::Patches;
 use crate::memory;
 use crate::mesh::FurMesh;
@@ -20,30 +20,59 @@ use crate::placement::{PlacedStrands, place_strands};
 /// strands; a game character a few thousand guard hairs).
 pub const MAX_GUARD_STRANDS: usize = 1 << 20;
 
+/// Random stream of the choice of which overcoat strands are drawn as strands.
+const SHARE_STREAM: u64 = 0x0067_7561_7264;
+
+/// Per strand of the tile (`grow_strands`' output), whether it is drawn as a guard hair when a
+/// `share` of the overcoat is: the `round(share · n)` of the `n` overcoat strands with the lowest
+/// draws of their own random stream, so the share holds in every tile exactly and a smaller
+/// share draws a subset of a larger one's. The volume leaves out exactly these
+/// ([`crate::volume::VolumeParams::guard_share`]).
+pub fn drawn_as_strands(strands: &[Strand], share: f64) -> Vec<bool> {
+    let mut overcoat: Vec<(f64, usize)> = strands
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.coat == Coat::Overcoat)
+        .map(|(i, _)| (crate::rng::Rng::stream(0, SHARE_STREAM, i as u64).next_f64(), i))
+        .collect();
+    let count = (share.clamp(0.0, 1.0) * overcoat.len() as f64).round() as usize;
+    overcoat.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let mut drawn = vec![false; strands.len()];
+    for &(_, i) in &overcoat[..count] {
+        drawn[i] = true;
+    }
+    drawn
+}
+
 /// Bytes per placed point (xyz and radius) and per strand (span and colors).
 const POINT_BYTES: f64 = 16.0;
 const STRAND_BYTES: f64 = 32.0;
 
-/// The guard hairs of `hair` over `mesh`: its overcoat strands placed through `patches`,
-/// `fur_depth` object units tall at length multiplier 1, colored as the shells color them.
-/// Bald spots (length 0) carry none.
+/// The guard hairs of `hair` over `mesh`: the `share` of its overcoat strands that
+/// [`drawn_as_strand`] picks, placed through `patches`, `fur_depth` object units tall at length
+/// multiplier 1, colored as the shells color them. Bald spots (length 0) carry none.
 ///
 /// # Errors
 /// [`PeltError::InvalidParameter`] naming `fur_depth` (not positive and finite),
-/// `guard_fraction` (0: no hair would be a guard hair), `overcoat.width` (a base width of 0:
-/// a guard hair would not show), a field of `hair`, `patches` (not the mesh's), or
-/// `guard_fraction` again when the mesh would carry more than [`MAX_GUARD_STRANDS`];
+/// `guard_fraction` (0: no hair would be a guard hair), `guard_share` (outside `(0, 1]`),
+/// `overcoat.width` (a base width of 0: a guard hair would not show), a field of `hair`,
+/// `patches` (not the mesh's), or `guard_fraction` again when the mesh would carry more than
+/// [`MAX_GUARD_STRANDS`];
 /// [`PeltError::MemoryLimit`] above the memory limit.
 pub fn guard_hairs(
     mesh: &FurMesh,
     patches: &Patches,
     hair: &HairParams,
     fur_depth: f64,
+    share: f64,
 ) -> Result<PlacedStrands> {
-    validate(hair, fur_depth)?;
-    let strands: Vec<_> = grow_strands(hair)?
+    validate(hair, fur_depth, share)?;
+    let grown = grow_strands(hair)?;
+    let drawn = drawn_as_strands(&grown, share);
+    let strands: Vec<_> = grown
         .into_iter()
-        .filter(|s| s.coat == Coat::Overcoat)
+        .zip(drawn)
+        .filter_map(|(s, d)| d.then_some(s))
         .collect();
     place_strands(mesh, patches, &strands, fur_depth as f32, |count, points| {
         if count > MAX_GUARD_STRANDS {
@@ -51,7 +80,9 @@ pub fn guard_hairs(
                 "guard_fraction",
                 format!(
                     "the mesh would carry {count} guard hairs, at most {MAX_GUARD_STRANDS}: lower \
-                     `guard_fraction` ({}) or `density` ({}), or raise `tile_size`",
+                     `guard_share` ({}), `guard_fraction` ({}) or `density` ({}), or raise \
+                     `tile_size`",
+                    Num(share),
                     Num(hair.guard_fraction),
                     hair.density
                 ),
@@ -68,12 +99,28 @@ pub fn guard_hairs(
     })
 }
 
+/// `Ok` when `share` (of the overcoat drawn as strands) lies in `(0, 1]`.
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] naming `guard_share`.
+pub fn check_share(share: f64) -> Result<()> {
+    if share > 0.0 {
+        check_range("guard_share", share, 0.0, 1.0)
+    } else {
+        Err(PeltError::parameter(
+            "guard_share",
+            format!("must be in (0, 1], got {}", Num(share)),
+        ))
+    }
+}
+
 /// Checks what guard hairs need beyond [`HairParams::validate`].
 ///
 /// # Errors
 /// As [`guard_hairs`], before anything is grown.
-pub fn validate(hair: &HairParams, fur_depth: f64) -> Result<()> {
+pub fn validate(hair: &HairParams, fur_depth: f64, share: f64) -> Result<()> {
     hair.validate()?;
+    check_share(share)?;
     if !(fur_depth.is_finite() && fur_depth > 0.0) {
         return Err(PeltError::parameter(
             "fur_depth",

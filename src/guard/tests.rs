@@ -4,7 +4,7 @@ use super::*;
 use crate::hair::grow_strands;
 use crate::mesh::shapes::uv_sphere;
 use crate::pipeline::{BakeParams, Pipeline};
-use crate::volume::{VolumeParams, bake_strands, bake_volume};
+use crate::volume::{HairVolume, VolumeParams, bake_strands, bake_volume};
 use crate::{FurMesh, MeshInput};
 
 const TILE: f64 = 0.5;
@@ -38,38 +38,48 @@ fn sphere(hair: &HairParams) -> (Arc<FurMesh>, crate::pipeline::FurAsset) {
     (mesh, asset)
 }
 
-#[test]
-fn the_undercoat_volume_and_the_guard_hairs_share_out_the_coat_without_loss() {
-    // Coverage is a sum over strands: the undercoat's and the overcoat's add up to the coat's.
-    let hair = hair(0.2);
+/// The coat of `hair` baked whole, and with a `share` of its guard hairs left to strands (no
+/// trim, so the two have the same layers); the parameters of both.
+fn whole_and_split(hair: &HairParams, share: f64) -> (VolumeParams, HairVolume, HairVolume) {
     let params = VolumeParams {
         resolution: 32,
         layers: 8,
         trim: false,
         ..VolumeParams::default()
     };
-    let all = bake_volume(&hair, &params, None).unwrap();
-    let under = bake_volume(
-        &hair,
-        &VolumeParams {
-            guard_hairs: true,
-            ..params.clone()
-        },
-        None,
-    )
-    .unwrap();
+    let all = bake_volume(hair, &params, None).unwrap();
+    let split = VolumeParams {
+        guard_hairs: true,
+        guard_share: share,
+        ..params.clone()
+    };
+    let split = bake_volume(hair, &split, None).unwrap();
+    (params, all, split)
+}
+
+/// The strands and coverage of `shells` and `strands` together are those of `all`: coverage is
+/// a sum over strands.
+fn assert_adds_up(all: &HairVolume, shells: &HairVolume, strands: &HairVolume) {
+    assert_eq!(shells.stats.strands + strands.stats.strands, all.stats.strands);
+    let worst = (0..all.coverage.len())
+        .map(|i| (all.coverage[i] - shells.coverage[i] - strands.coverage[i]).abs())
+        .fold(0.0f32, f32::max);
+    assert!(worst < 1e-4, "coverage differs by {worst}");
+}
+
+#[test]
+fn the_undercoat_volume_and_the_guard_hairs_share_out_the_coat_without_loss() {
+    // Coverage is a sum over strands: the undercoat's and the overcoat's add up to the coat's.
+    let hair = hair(0.2);
+    let (params, all, under) = whole_and_split(&hair, 1.0);
     let overcoat: Vec<_> = grow_strands(&hair)
         .unwrap()
         .into_iter()
         .filter(|s| s.coat == Coat::Overcoat)
         .collect();
     let over = bake_strands(&overcoat, &params, None).unwrap();
-    assert_eq!(under.stats.strands + over.stats.strands, all.stats.strands);
     assert!(over.stats.strands > 0 && under.stats.strands > over.stats.strands);
-    let worst = (0..all.coverage.len())
-        .map(|i| (all.coverage[i] - under.coverage[i] - over.coverage[i]).abs())
-        .fold(0.0f32, f32::max);
-    assert!(worst < 1e-4, "coverage differs by {worst}");
+    assert_adds_up(&all, &under, &over);
 }
 
 #[test]
@@ -219,7 +229,9 @@ fn more_guard_hairs_than_the_limit_are_refused_before_they_are_placed() {
         guard_fraction: 1.0,
         ..HairParams::default()
     };
-    let error = guard_hairs(&mesh, &patches, &dense, 0.1).unwrap_err().to_string();
+    let error = guard_hairs(&mesh, &patches, &dense, 0.1, 1.0)
+        .unwrap_err()
+        .to_string();
     assert!(
         error.contains("`guard_fraction`") && error.contains(&format!("at most {MAX_GUARD_STRANDS}")),
         "{error}"
@@ -240,7 +252,7 @@ fn guard_hairs_scale_with_the_mesh_from_1e_minus_20_to_1e20() {
             ..Default::default()
         };
         let patches = crate::lapped::build_patches(&mesh, &params).unwrap();
-        guard_hairs(&mesh, &patches, &hair, 0.2 * f64::from(scale)).unwrap()
+        guard_hairs(&mesh, &patches, &hair, 0.2 * f64::from(scale), 1.0).unwrap()
     };
     let unit = place(1.0);
     assert!(!unit.spans.is_empty());
@@ -251,5 +263,45 @@ fn guard_hairs_scale_with_the_mesh_from_1e_minus_20_to_1e20() {
         for (a, b) in unit.points.iter().zip(&scaled.points) {
             assert_eq!(a.map(|v| v * scale), *b, "at 2^{exponent}");
         }
+    }
+}
+
+#[test]
+fn a_share_of_the_guard_hairs_draws_that_share_and_leaves_the_rest_in_the_shells() {
+    let hair = hair(0.3);
+    let (params, all, mixed) = whole_and_split(&hair, 0.5);
+    let grown = grow_strands(&hair).unwrap();
+    let mask = drawn_as_strands(&grown, 0.5);
+    let drawn: Vec<_> = grown
+        .iter()
+        .zip(&mask)
+        .filter(|(_, d)| **d)
+        .map(|(s, _)| s.clone())
+        .collect();
+    let overcoat = grown.iter().filter(|s| s.coat == Coat::Overcoat).count();
+    assert_eq!(drawn.len(), (overcoat as f64 / 2.0).round() as usize);
+    assert!(drawn.iter().all(|s| s.coat == Coat::Overcoat));
+    // A smaller share draws a subset of a larger one's.
+    let fewer = drawn_as_strands(&grown, 0.2);
+    assert!(fewer.iter().zip(&mask).all(|(&f, &m)| !f || m));
+    let strands = bake_strands(&drawn, &params, None).unwrap();
+    assert_adds_up(&all, &mixed, &strands);
+    // Over a mesh, half the share places about half the guard hairs.
+    let (positions, triangles) = uv_sphere(16, 8);
+    let mesh = FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap();
+    let patches = crate::lapped::build_patches(&mesh, &Default::default()).unwrap();
+    let count = |share| {
+        guard_hairs(&mesh, &patches, &hair, 0.1, share)
+            .unwrap()
+            .spans
+            .len() as f64
+    };
+    let ratio = count(0.5) / count(1.0);
+    assert!((0.45..0.55).contains(&ratio), "{ratio}");
+    for bad in [0.0, -1.0, 1.5, f64::NAN] {
+        let error = guard_hairs(&mesh, &patches, &hair, 0.1, bad)
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("`guard_share`"), "{error}");
     }
 }

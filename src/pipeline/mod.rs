@@ -132,7 +132,7 @@ impl BakeParams {
             self.check_transfer_volume()?;
         }
         if self.volume.guard_hairs {
-            crate::guard::validate(&self.hair, depth)?;
+            crate::guard::validate(&self.hair, depth, self.volume.guard_share)?;
         }
         Ok(())
     }
@@ -353,6 +353,7 @@ impl Pipeline {
                 .key(patch_key)
                 .params(&hair)
                 .params(&params.fur_depth())
+                .params(&params.volume.guard_share)
                 .ints(mesh.length().unwrap_or_default().iter().map(|l| l.to_bits()))
                 .floats(mesh.color())
                 .finish();
@@ -362,7 +363,9 @@ impl Pipeline {
                 "guard_hairs",
                 &mut report,
                 || {
-                    let placed = crate::guard::guard_hairs(&mesh, &patches, &hair, params.fur_depth())?;
+                    let share = params.volume.guard_share;
+                    let placed =
+                        crate::guard::guard_hairs(&mesh, &patches, &hair, params.fur_depth(), share)?;
                     let summary = format!(
                         "{} guard hairs, {} points",
                         placed.spans.len(),

@@ -51,7 +51,7 @@ impl PyPipeline {
         mesh, *, tile_size=1.0, seed=1, down=None, hair=None, layers=16, resolution=128,
         coverage="exact", fin_size=(512, 128), fur_depth=None, transfer=true, order=None,
         tolerance=crate::prt::bands::DEFAULT_TOLERANCE, directions=256, phase="kajiya-kay",
-        guard_hairs=false, progress=None
+        guard_hairs=false, guard_share=1.0, progress=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn bake(
@@ -73,12 +73,13 @@ impl PyPipeline {
         directions: i128,
         phase: &str,
         guard_hairs: bool,
+        guard_share: f64,
         progress: Option<Bound<'_, PyAny>>,
     ) -> PyResult<PyFurAsset> {
         #[rustfmt::skip]
         let params = bake_params(
             tile_size, seed, down, hair, layers, resolution, coverage, fin_size, fur_depth, transfer, order,
-            tolerance, directions, phase, guard_hairs,
+            tolerance, directions, phase, guard_hairs, guard_share,
         )?;
         let reporter = PyProgress::new(progress);
         let mesh = mesh.inner.clone();
@@ -98,7 +99,7 @@ impl PyPipeline {
         *, tile_size=1.0, seed=1, down=None, hair=None, layers=16, resolution=128, coverage="exact",
         fin_size=(512, 128), fur_depth=None, transfer=true, order=None,
         tolerance=crate::prt::bands::DEFAULT_TOLERANCE, directions=256, phase="kajiya-kay",
-        guard_hairs=false
+        guard_hairs=false, guard_share=1.0
     ))]
     #[allow(clippy::too_many_arguments)]
     fn peak_bytes(
@@ -117,11 +118,12 @@ impl PyPipeline {
         directions: i128,
         phase: &str,
         guard_hairs: bool,
+        guard_share: f64,
     ) -> PyResult<f64> {
         #[rustfmt::skip]
         let params = bake_params(
             tile_size, seed, down, hair, layers, resolution, coverage, fin_size, fur_depth, transfer, order,
-            tolerance, directions, phase, guard_hairs,
+            tolerance, directions, phase, guard_hairs, guard_share,
         )?;
         params.validate_ranges()?;
         Ok(params.peak_bytes())
@@ -150,6 +152,7 @@ fn bake_params(
     directions: i128,
     phase: &str,
     guard_hairs: bool,
+    guard_share: f64,
 ) -> PyResult<BakeParams> {
     // Any Python int is taken and narrowed by name (an unnamed OverflowError otherwise).
     let seed: u64 = super::ints::unsigned("seed", seed)?;
@@ -166,6 +169,7 @@ fn bake_params(
             coverage: coverage.parse::<CoverageMode>()?,
             fin_size: [fin_size.0, fin_size.1],
             guard_hairs,
+            guard_share,
             ..VolumeParams::default()
         },
         fur_depth,

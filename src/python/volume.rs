@@ -211,7 +211,7 @@ pub(super) fn volume_dict<'py>(py: Python<'py>, v: HairVolume) -> PyResult<Bound
 #[pyo3(signature = (
     params=None, layers=16, resolution=128, *, coverage="exact", vertical_filter=0.0,
     fin_size=(512, 128), fin_slab=0.1, trim=true, lod=true, mipmaps=true, guard_hairs=false,
-    progress=None
+    guard_share=1.0, progress=None
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn bake_volume_py<'py>(
@@ -227,6 +227,7 @@ pub(super) fn bake_volume_py<'py>(
     lod: bool,
     mipmaps: bool,
     guard_hairs: bool,
+    guard_share: f64,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let layers: usize = super::ints::unsigned("layers", layers)?;
@@ -244,6 +245,7 @@ pub(super) fn bake_volume_py<'py>(
         lod,
         mipmaps,
         guard_hairs,
+        guard_share,
     };
     let reporter = PyProgress::new(progress);
     let result = detached(py, || {

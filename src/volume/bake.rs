@@ -10,7 +10,8 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::error::{Num, PeltError, Result, check_range};
-use crate::hair::{Coat, HairParams, Strand, grow_strands};
+use crate::guard::drawn_as_strands;
+use crate::hair::{HairParams, Strand, grow_strands};
 use crate::progress::{Progress, ProgressCallback};
 use crate::threads::pool;
 
@@ -56,6 +57,9 @@ pub struct VolumeParams {
     /// The guard hairs (the overcoat) are drawn as explicit strands ([`crate::guard`]): sample
     /// the undercoat alone, so that no hair is drawn twice; default false.
     pub guard_hairs: bool,
+    /// With `guard_hairs`, the share of the overcoat drawn as strands, `(0, 1]`; the rest stays
+    /// in the shells ([`crate::guard::drawn_as_strands`] picks which); default 1.
+    pub guard_share: f64,
 }
 
 impl Default for VolumeParams {
@@ -71,6 +75,7 @@ impl Default for VolumeParams {
             lod: true,
             mipmaps: true,
             guard_hairs: false,
+            guard_share: 1.0,
         }
     }
 }
@@ -86,6 +91,7 @@ impl VolumeParams {
         check_range("vertical_filter", self.vertical_filter, 0.0, MAX_VERTICAL_FILTER)?;
         check_range("fin_size[0]", self.fin_size[0] as f64, 1.0, MAX_FIN_SIZE as f64)?;
         check_range("fin_size[1]", self.fin_size[1] as f64, 1.0, MAX_FIN_SIZE as f64)?;
+        crate::guard::check_share(self.guard_share)?;
         if !(self.fin_slab > 0.0 && self.fin_slab <= 1.0) {
             return Err(PeltError::parameter(
                 "fin_slab",
@@ -233,9 +239,13 @@ pub(crate) fn bake_validated(
     callback: Option<ProgressCallback<'_>>,
 ) -> Result<HairVolume> {
     let (res, requested) = (volume.resolution, volume.layers);
-    // With guard hairs drawn as strands of their own, the shells hold the undercoat alone.
-    let only = volume.guard_hairs.then_some(Coat::Undercoat);
-    let table = StrandTable::new(strands, only);
+    // With guard hairs drawn as strands of their own, the shells hold the rest of the coat.
+    let drawn = if volume.guard_hairs {
+        drawn_as_strands(strands, volume.guard_share)
+    } else {
+        Vec::new()
+    };
+    let table = StrandTable::new(strands, |i, _| !drawn.get(i).copied().unwrap_or(false));
     let tallest = table.tallest();
     let layers = if volume.trim {
         // Highest layer any sample of the filter can still find hair at.

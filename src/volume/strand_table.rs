@@ -8,7 +8,7 @@
 
 use rayon::prelude::*;
 
-use crate::hair::{Coat, Strand};
+use crate::hair::Strand;
 
 /// A strand's cut through a horizontal plane.
 #[derive(Debug, Clone, Copy)]
@@ -38,10 +38,10 @@ pub struct StrandTable {
 }
 
 impl StrandTable {
-    /// Builds the table of the strands of coat `only` (all when `None`); strands with a different
+    /// Builds the table of the strands that `keep(index, strand)` keeps; strands with a different
     /// point count from the first one, fewer than two points or a height that is not positive
     /// and finite are left out (they cross no layer).
-    pub fn new(strands: &[Strand], only: Option<Coat>) -> Self {
+    pub fn new(strands: &[Strand], keep: impl Fn(usize, &Strand) -> bool + Sync) -> Self {
         let stride = strands.first().map_or(2, |s| s.points.len().max(2));
         // Rows of 1/256 of the tile: finer than any shell texture's cache-relevant span. The key
         // is computed once per strand, not per comparison (two `fmod`s each).
@@ -51,7 +51,7 @@ impl StrandTable {
             .par_iter()
             .enumerate()
             .filter(|(_, s)| s.points.len() == stride && s.radii.len() == stride)
-            .filter(|(_, s)| only.is_none_or(|coat| s.coat == coat))
+            .filter(|(i, s)| keep(*i, s))
             .map(|(i, s)| {
                 let r = s.root;
                 let row = (r[1].rem_euclid(1.0) * 256.0) as u32;

@@ -73,6 +73,10 @@ def test_a_rebake_replaces_the_strands_and_turning_them_off_removes_them(addon):
     assert guard_objects(obj) == [hair], "the same object, its strands replaced"
     assert len(pelt_curves()) == 1, "the old strands are gone"
     assert len(hair.data.points) == first
+    # Half the strand share draws about half the strands; the rest stay in the shells.
+    settings.guard_share = settings.guard_share / 2
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    assert 0.35 * first < len(hair.data.points) < 0.65 * first
     settings.guard_hairs = False
     assert bpy.ops.pelt.bake() == {"FINISHED"}
     assert guard_objects(obj) == [] and pelt_curves() == []
@@ -96,6 +100,7 @@ def test_cycles_renders_the_guard_hairs_over_the_shells(addon, tmp_path):
     bpy.ops.object.shade_smooth()
     settings = furred(obj, density=800, tile_size=0.6, fur_depth=0.3)
     settings.guard_fraction = 0.25
+    settings.guard_share = 1.0
     settings.overcoat_width = (0.02, 0.03)
     settings.root_color = (0.05, 0.05, 0.05)
     settings.tip_color = (0.9, 0.9, 0.9)

@@ -223,10 +223,10 @@ def test_build_patches(scale, tile, seed, alignment, down, faces):
     directions=ints(16, 48),
     transfer=st.booleans(),
     seed=ints(0, 2**64 - 1),
-    guard=st.tuples(st.booleans(), loose(st.floats(0, 1))),
+    guard=st.tuples(st.booleans(), loose(st.floats(0, 1)), loose(st.floats(0.01, 1))),
 )
 def test_pipeline(tile, depth, layers, resolution, order, directions, transfer, seed, guard):
-    guard_hairs, guard_fraction = guard
+    guard_hairs, guard_fraction, guard_share = guard
     try:
         hair = pelt.HairParams(density=256, guard_fraction=guard_fraction)
     except pelt.PeltError as error:
@@ -234,7 +234,7 @@ def test_pipeline(tile, depth, layers, resolution, order, directions, transfer, 
         return
     kwargs = dict(tile_size=tile, fur_depth=depth, layers=layers, resolution=resolution, order=order,
                   directions=directions, transfer=transfer, seed=seed, hair=hair, fin_size=(16, 8),
-                  guard_hairs=guard_hairs)  # fmt: skip
+                  guard_hairs=guard_hairs, guard_share=guard_share)  # fmt: skip
     check(lambda: pelt.Pipeline.peak_bytes(**kwargs))
 
     def bake():

@@ -64,6 +64,11 @@ pub struct BakeArgs {
     #[arg(long)]
     #[serde(default)]
     pub guard_hairs: bool,
+    /// With --guard-hairs, the share of the guard hairs drawn as strands, (0, 1]; the rest stay
+    /// in the shells.
+    #[arg(long, value_name = "SHARE")]
+    #[serde(default)]
+    pub guard_share: Option<f64>,
 }
 
 /// `x,y,z` as three finite floats.
@@ -106,6 +111,9 @@ fn bake_params(args: &BakeArgs) -> Result<BakeParams, String> {
         params.patches.tile_size = tile;
     }
     params.volume.guard_hairs = args.guard_hairs;
+    if let Some(share) = args.guard_share {
+        params.volume.guard_share = share;
+    }
     params.transfer = (!args.no_transfer).then(|| {
         let mut choice = TransferChoice::default();
         if let Some(order) = args.order {
