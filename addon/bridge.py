@@ -69,7 +69,7 @@ def _point_attribute(mesh, name: str) -> np.ndarray | None:
     return _read(attribute.data, prop, vertex_count, columns, np.float32)
 
 
-def _corner_vertices(mesh) -> np.ndarray:
+def corner_vertices(mesh) -> np.ndarray:
     """The vertex of every corner (loop), uint32. The ``.corner_vert`` attribute is Blender's own
     storage (since 3.6) and reads in one copy; ``loops`` converts item by item (100× slower)."""
     corner_vert = mesh.attributes.get(".corner_vert")
@@ -100,7 +100,7 @@ def read_mesh(mesh) -> MeshArrays:
     """Reads positions, loop triangles, vertex normals and the Pelt point attributes of ``mesh``."""
     vertex_count = len(mesh.vertices)
     loops, polygons = loop_triangles(mesh)
-    triangles = _corner_vertices(mesh)[loops]
+    triangles = corner_vertices(mesh)[loops]
     # A script can leave a corner naming a vertex that does not exist. Blender would read past the
     # end of its arrays computing normals for such a mesh, so skip them and let pelt name the index.
     indices_valid = len(triangles) == 0 or int(triangles.max()) < vertex_count

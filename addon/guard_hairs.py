@@ -44,9 +44,8 @@ def find(obj):
 
 
 def prepare(obj, guard: dict | None):
-    """The new strands of ``obj`` as a Curves datablock and the mesh's surface UVs, not yet shown
-    (``None`` when the bake has no guard hairs); ``commit`` puts them in place. Raises with
-    nothing left behind."""
+    """The new strands of ``obj`` as a Curves datablock, not yet shown (``None`` when the bake has
+    no guard hairs); ``commit`` puts them in place. Raises with nothing left behind."""
     if guard is None or len(guard["counts"]) == 0:
         return None
     counts = np.asarray(guard["counts"], np.int64)
@@ -69,7 +68,7 @@ def prepare(obj, guard: dict | None):
         curves.attributes.new(ROOT_WEIGHTS, "FLOAT_VECTOR", "CURVE").data.foreach_set(
             "vector", weights.ravel()
         )
-        rest = _positions(obj.data)[corners]
+        rest = bridge.read_positions(obj.data)[corners]
         for k, name in enumerate(REST_CORNERS):
             attribute = curves.attributes.new(name, "FLOAT_VECTOR", "CURVE")
             attribute.data.foreach_set("vector", np.ascontiguousarray(rest[:, k]).ravel())
@@ -85,15 +84,8 @@ def root_corners(mesh, triangles) -> np.ndarray:
     """``[S, 3]`` int32: the vertices of each root's loop triangle (the triangles Pelt read,
     ``bridge.loop_triangles``), in the order of its weights."""
     loops, _ = bridge.loop_triangles(mesh)
-    corner_vertex = np.empty(len(mesh.loops), np.int32)
-    mesh.loops.foreach_get("vertex_index", corner_vertex)
-    return np.ascontiguousarray(corner_vertex[loops[np.asarray(triangles, np.int64)]])
-
-
-def _positions(mesh) -> np.ndarray:
-    positions = np.empty(3 * len(mesh.vertices), np.float32)
-    mesh.vertices.foreach_get("co", positions)
-    return positions.reshape(-1, 3)
+    corners = bridge.corner_vertices(mesh)[loops[np.asarray(triangles, np.int64)]]
+    return np.ascontiguousarray(corners.view(np.int32))
 
 
 def commit(obj, curves) -> None:

@@ -57,8 +57,8 @@ class PeltObjectSettings(bpy.types.PropertyGroup):
     guard_hairs: bpy.props.BoolProperty(
         name="Guard Hairs as Strands",
         description=(
-            "Draw the guard hairs as a hair Curves object over the mesh and bake the undercoat alone "
-            "into the shells (sharper detail and a softer silhouette up close)"
+            "Draw a share of the guard hairs as a hair Curves object over the mesh and bake the rest "
+            "of the coat into the shells (sharper detail and a softer silhouette up close)"
         ),
         default=False,
     )

@@ -354,8 +354,9 @@ class StageReport(TypedDict):
     summary: str
 
 class GuardHairs(TypedDict):
-    """The overcoat's strands over the mesh, placed where the shells would show them (the
-    volume then holds the undercoat alone): every point of every strand, root first."""
+    """A ``guard_share`` of the overcoat's strands over the mesh, placed where the shells would
+    show them (the volume then holds the rest of the coat): every point of every strand, root
+    first."""
 
     positions: npt.NDArray[np.float32]  # (P, 3) object units
     radii: npt.NDArray[np.float32]  # (P,) object units

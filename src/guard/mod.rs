@@ -5,9 +5,9 @@
 //! look velvety up close and cut the silhouette hard. Pelt's guard hairs are the tile's overcoat
 //! strands ([`Coat::Overcoat`], a share `guard_fraction` of the `density`), placed over the mesh
 //! exactly where the shells would show them ([`crate::placement`]); a volume baked with
-//! [`VolumeParams::guard_hairs`](crate::volume::VolumeParams::guard_hairs) samples the
-//! undercoat alone, so every hair is drawn once, in the shells or as a strand, and the two
-//! together cover what the full coat covers.
+//! [`VolumeParams::guard_hairs`](crate::volume::VolumeParams::guard_hairs) leaves out the
+//! `guard_share` of the overcoat drawn as strands, so every hair is drawn once, in the shells or
+//! as a strand, and the two together cover what the full coat covers.
 
 use crate::error::{Num, PeltError, Result, check_range};
 use crate::hair::{Coat, HairParams, Strand, grow_strands};
@@ -44,12 +44,12 @@ pub fn drawn_as_strands(strands: &[Strand], share: f64) -> Vec<bool> {
     drawn
 }
 
-/// Bytes per placed point (xyz and radius) and per strand (span and colors).
-const POINT_BYTES: f64 = 16.0;
-const STRAND_BYTES: f64 = 32.0;
+/// Bytes per placed point (xyz and radius) and per strand (its span).
+const POINT_BYTES: f64 = std::mem::size_of::<[f32; 4]>() as f64;
+const STRAND_BYTES: f64 = std::mem::size_of::<crate::placement::StrandSpan>() as f64;
 
 /// The guard hairs of `hair` over `mesh`: the `share` of its overcoat strands that
-/// [`drawn_as_strand`] picks, placed through `patches`, `fur_depth` object units tall at length
+/// [`drawn_as_strands`] picks, placed through `patches`, `fur_depth` object units tall at length
 /// multiplier 1, colored as the shells color them. Bald spots (length 0) carry none.
 ///
 /// # Errors
@@ -91,7 +91,8 @@ pub fn guard_hairs(
         let bytes = POINT_BYTES * points as f64 + STRAND_BYTES * count as f64;
         memory::check("guard_hairs", bytes, || {
             format!(
-                "`guard_fraction` ({}) or `density` ({}), or raise `tile_size`",
+                "`guard_share` ({}), `guard_fraction` ({}) or `density` ({}), or raise `tile_size`",
+                Num(share),
                 Num(hair.guard_fraction),
                 hair.density
             )

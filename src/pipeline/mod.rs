@@ -252,7 +252,7 @@ pub struct FurAsset {
     pub mesh: Arc<FurMesh>,
     /// Lapped patches: per-corner UVs in tile units and patch ids.
     pub patches: Arc<Patches>,
-    /// The hair volume (the undercoat alone with guard hairs).
+    /// The hair volume (without the guard hairs drawn as strands, when there are some).
     pub volume: Arc<HairVolume>,
     /// The guard hairs over the mesh, when the volume was baked with
     /// [`VolumeParams::guard_hairs`](crate::volume::VolumeParams::guard_hairs).

@@ -54,8 +54,8 @@ pub struct VolumeParams {
     pub lod: bool,
     /// Build the mipmaps of every layer; default true.
     pub mipmaps: bool,
-    /// The guard hairs (the overcoat) are drawn as explicit strands ([`crate::guard`]): sample
-    /// the undercoat alone, so that no hair is drawn twice; default false.
+    /// Guard hairs (a `guard_share` of the overcoat) are drawn as explicit strands
+    /// ([`crate::guard`]): leave them out, so that no hair is drawn twice; default false.
     pub guard_hairs: bool,
     /// With `guard_hairs`, the share of the overcoat drawn as strands, `(0, 1]`; the rest stays
     /// in the shells ([`crate::guard::drawn_as_strands`] picks which); default 1.

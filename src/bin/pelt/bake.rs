@@ -59,8 +59,8 @@ pub struct BakeArgs {
     /// Leave the fins out of the geometry glTF.
     #[arg(long)]
     pub no_fins: bool,
-    /// Draw the guard hairs as strands (glTF lines for engines, ribbons as geometry) and bake the
-    /// undercoat alone into the shells.
+    /// Draw guard hairs as strands (glTF lines for engines, ribbons as geometry), a
+    /// --guard-share of them, and bake the rest of the coat into the shells.
     #[arg(long)]
     #[serde(default)]
     pub guard_hairs: bool,

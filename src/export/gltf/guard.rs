@@ -13,9 +13,9 @@
 
 use gltf_json as json;
 use json::mesh::Semantic;
-use json::validation::Checked;
 use serde::{Deserialize, Serialize};
 
+use super::Attribute;
 use super::builder::GlbBuilder;
 use super::rig::skin_attributes;
 use crate::error::{PeltError, Result};
@@ -107,18 +107,20 @@ fn checked<'a>(input: &ExportInput<'a>) -> Result<Option<(&'a PlacedStrands, Vec
     Ok(Some((guard, strand, along)))
 }
 
+/// `JOINTS_0`/`WEIGHTS_0` of `count` vertices, vertex `i` on point `vertex_point(i)`, which
+/// belongs to strand `strand[point]`; none without `weights`.
 fn skin_of(
     builder: &mut GlbBuilder,
     input: &ExportInput<'_>,
     guard: &PlacedStrands,
+    strand: &[usize],
     weights: Option<&VertexWeights>,
     vertex_point: impl Fn(usize) -> usize,
     count: usize,
-) -> Vec<(Semantic, json::Index<json::Accessor>)> {
+) -> Vec<Attribute> {
     let Some(w) = weights else {
         return Vec::new();
     };
-    let (strand, _) = point_strands(guard);
     let roots: Vec<usize> = guard.spans.iter().map(|s| root_vertex(input, s)).collect();
     skin_attributes(builder, w, count, |i| roots[strand[vertex_point(i)]]).to_vec()
 }
@@ -135,26 +137,6 @@ fn hair_material(builder: &mut GlbBuilder, name: String) -> json::Index<json::Ma
         },
         ..json::Material::default()
     })
-}
-
-fn primitive(
-    attributes: Vec<(Semantic, json::Index<json::Accessor>)>,
-    indices: json::Index<json::Accessor>,
-    material: json::Index<json::Material>,
-    mode: json::mesh::Mode,
-) -> json::mesh::Primitive {
-    json::mesh::Primitive {
-        attributes: attributes
-            .into_iter()
-            .map(|(s, a)| (Checked::Valid(s), a))
-            .collect(),
-        extensions: None,
-        extras: None,
-        indices: Some(indices),
-        material: Some(material),
-        mode: Checked::Valid(mode),
-        targets: None,
-    }
 }
 
 /// The guard hairs' primitive: `LINES` for `engine` mode, crossed ribbons for `geometry` mode;
@@ -174,10 +156,18 @@ pub(super) fn primitive_of(
         super::GltfMode::Geometry => ribbons(builder, guard, &colors)?,
     };
     let count = per_point * guard.points.len();
-    attributes.extend(skin_of(builder, input, guard, weights, |i| i / per_point, count));
+    attributes.extend(skin_of(
+        builder,
+        input,
+        guard,
+        &strand,
+        weights,
+        |i| i / per_point,
+        count,
+    ));
     let indices = builder.indices(&indices);
     let material = hair_material(builder, format!("{} guard hairs", input.name));
-    Ok(Some(primitive(attributes, indices, material, kind)))
+    Ok(Some(super::mesh_primitive(attributes, indices, material, kind)))
 }
 
 /// A vertex's attributes, the indices, vertices per strand point and the primitive's mode.

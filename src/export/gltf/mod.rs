@@ -268,26 +268,35 @@ impl Primitive {
         extra: &[Attribute],
     ) -> json::mesh::Primitive {
         use json::mesh::Semantic;
-        let mut attributes = BTreeMap::new();
-        for (semantic, accessor) in [
+        let attributes = [
             (Semantic::Positions, self.position),
             (Semantic::Normals, self.normal),
             (Semantic::TexCoords(0), self.uv),
         ]
         .into_iter()
-        .chain(extra.iter().cloned())
-        {
-            attributes.insert(Checked::Valid(semantic), accessor);
-        }
-        json::mesh::Primitive {
-            attributes,
-            extensions: None,
-            extras: None,
-            indices: Some(indices),
-            material: Some(material),
-            mode: Checked::Valid(json::mesh::Mode::Triangles),
-            targets: None,
-        }
+        .chain(extra.iter().cloned());
+        mesh_primitive(attributes, indices, material, json::mesh::Mode::Triangles)
+    }
+}
+
+/// A primitive of `attributes`, drawn as `mode` through `indices` with `material`.
+fn mesh_primitive(
+    attributes: impl IntoIterator<Item = Attribute>,
+    indices: json::Index<json::Accessor>,
+    material: json::Index<json::Material>,
+    mode: json::mesh::Mode,
+) -> json::mesh::Primitive {
+    json::mesh::Primitive {
+        attributes: attributes
+            .into_iter()
+            .map(|(semantic, accessor)| (Checked::Valid(semantic), accessor))
+            .collect::<BTreeMap<_, _>>(),
+        extensions: None,
+        extras: None,
+        indices: Some(indices),
+        material: Some(material),
+        mode: Checked::Valid(mode),
+        targets: None,
     }
 }
 
