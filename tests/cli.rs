@@ -151,7 +151,9 @@ fn bake_writes_what_the_manifest_lists_identically_for_any_thread_count() {
 
 #[test]
 fn guard_hairs_bake_into_the_engine_file_and_export_again() {
-    let dir = out_dir("guard");
+    // In a folder of its own: the staging folders beside these outputs must not show up beside
+    // those of the test that checks for strays, which runs at the same time.
+    let dir = out_dir("guard/baked");
     assert_ok(&bake(
         &dir,
         2,
@@ -174,7 +176,7 @@ fn guard_hairs_bake_into_the_engine_file_and_export_again() {
     let fur = &json["meshes"][0]["primitives"][0]["extensions"]["PELT_shell_fur"];
     assert!(fur["guardHairs"]["strands"].as_u64().unwrap() > 10, "{fur}");
     // bake.json keeps the choice: `export` writes the same file again.
-    let again = out_dir("guard-export");
+    let again = out_dir("guard/exported");
     assert_ok(&pelt(
         &[
             "export",
