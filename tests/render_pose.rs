@@ -12,7 +12,7 @@ use glam::{DMat4, Mat3, Vec3};
 use pelt::render::{Camera, FurScene, Lighting, RenderSettings, RgbaImage};
 use pelt::{FurMesh, MeshInput, PeltError};
 
-use common::torus::{FurredTorus, covered};
+use common::torus::{FurredTorus, covered, differing};
 use common::{column_major, look_at_rows, perspective_rows};
 
 const SIZE: u32 = 128;
@@ -59,17 +59,6 @@ fn render_with(
         .renderer
         .render(scene, camera, lighting, settings)
         .unwrap()
-}
-
-/// Share of pixels whose channels differ by more than `tolerance` levels.
-fn differing(a: &RgbaImage, b: &RgbaImage, tolerance: u8) -> f64 {
-    let count = a
-        .pixels
-        .chunks_exact(4)
-        .zip(b.pixels.chunks_exact(4))
-        .filter(|(p, q)| p.iter().zip(*q).any(|(x, y)| x.abs_diff(*y) > tolerance))
-        .count();
-    count as f64 / f64::from(SIZE * SIZE)
 }
 
 /// The torus with a comb along its ring (a shear of 0.6), so that the comb's turn is seen.

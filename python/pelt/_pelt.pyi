@@ -502,7 +502,8 @@ class FrameInfo(TypedDict):
 
 class Preview:
     """The real-time preview of one baked asset: a wgpu device (hardware first, or Mesa's CPU
-    adapter) with the asset's mesh, patches, hair volume and transfer uploaded once."""
+    adapter) with the asset's mesh, patches, hair volume, transfer and guard hairs (drawn as
+    strands over the shells) uploaded once."""
 
     def __init__(self, asset: FurAsset, *, adapter: Literal["auto", "cpu", "gpu"] = "auto") -> None:
         """Open a device (``"auto"``: a GPU when there is one, else the CPU adapter; ``"cpu"``,

@@ -23,6 +23,8 @@ mod prt;
 mod reference;
 #[cfg(feature = "render")]
 mod render;
+#[cfg(all(feature = "render", feature = "metrics"))]
+mod strands;
 mod volume;
 
 /// One line of the benchmark table.
@@ -178,6 +180,11 @@ const CASES: &[Case] = &[
     Case {
         name: "render",
         run: render::render_frame,
+    },
+    #[cfg(all(feature = "render", feature = "metrics"))]
+    Case {
+        name: "render.frame.hybrid",
+        run: strands::strand_cases,
     },
     #[cfg(all(feature = "render", feature = "metrics"))]
     Case {

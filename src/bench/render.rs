@@ -44,11 +44,11 @@ pub(super) fn adapter() -> Option<String> {
 }
 
 /// Shells drawn (the volume has one layer more, the skin).
-const SHELLS: usize = 32;
+pub(super) const SHELLS: usize = 32;
 /// Fur depth, object units (Suzanne is about 2.7 units wide).
-const FUR_DEPTH: f32 = 0.04;
+pub(super) const FUR_DEPTH: f32 = 0.04;
 /// World units per tile of the hair texture.
-const TILE: f64 = 0.25;
+pub(super) const TILE: f64 = 0.25;
 
 fn column_major(rows: [[f64; 4]; 4]) -> [f32; 16] {
     std::array::from_fn(|i| rows[i % 4][i / 4] as f32)
@@ -56,7 +56,7 @@ fn column_major(rows: [[f64; 4]; 4]) -> [f32; 16] {
 
 /// A camera `distance` units in front of Suzanne (she faces −y), a little above and to the side,
 /// 40° vertical field of view, `width × height` pixels.
-fn camera(distance: f64, width: u32, height: u32) -> Camera {
+pub(super) fn camera(distance: f64, width: u32, height: u32) -> Camera {
     let eye = [0.35 * distance, -distance, 0.25 * distance];
     let norm = |v: [f64; 3]| {
         let l = dot(v, v).sqrt();

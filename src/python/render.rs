@@ -210,10 +210,7 @@ impl PyPreview {
         let asset = asset.inner.clone();
         detached(py, move || {
             let renderer = Renderer::new(choice)?;
-            let mut scene = FurScene::new(&renderer, &asset.mesh, &asset.patches.uv, &asset.volume)?;
-            if let Some(transfer) = &asset.transfer {
-                scene.set_transfer(&renderer, &transfer.packed_f16)?;
-            }
+            let scene = FurScene::from_asset(&renderer, &asset)?;
             Ok(PyPreview {
                 renderer,
                 scene: Mutex::new(scene),

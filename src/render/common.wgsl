@@ -25,6 +25,12 @@ struct Frame {
     // PRT: x coefficients n², y transfer textures, z array layers per transfer texture,
     // w layers of the volume (the fins' table of layer means).
     prt: vec4<u32>,
+    // Guard strands: x, y the target's size in pixels, z the LOD's narrowest strand in pixels
+    // (0: no LOD), w the smallest share of strands the LOD keeps.
+    strand: vec4<f32>,
+    // x: height bands n (strand draws n + 1), y: segments per strand, z: 1 when one band holds
+    // the whole strand (the marched shells).
+    strand_counts: vec4<u32>,
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;

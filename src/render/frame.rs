@@ -14,6 +14,7 @@ use super::prt_rotate::RotationUniforms;
 use super::readback::read_texels;
 use super::scene::FurScene;
 use super::settings::RenderSettings;
+use super::strands::{self, Bands};
 use super::{Renderer, fins, geometry_lod, scoped, shells, skin};
 use crate::error::{PeltError, Result};
 
@@ -261,6 +262,16 @@ impl Renderer {
             .mesh_levels
             .get(checked.info.mesh_level as usize)
             .ok_or_else(|| PeltError::Render("the geometric level drawn is missing".into()))?;
+        let method = self.shell_method(settings.shell_method);
+        let bands = Bands::new(settings, checked.info.shells, method);
+        let strand_scene = scene.strands.as_ref().filter(|_| settings.guard_hairs);
+        let strand_segments = strand_scene.map_or(0, |s| {
+            let ppu = lod::nearest_pixels_per_unit(camera, scene.extent.center, scene.extent.radius);
+            let fur_pixels = ppu.map_or(f64::INFINITY, |ppu| {
+                f64::from(settings.fur_depth) * scene.extent.max_length * ppu
+            });
+            strands::segments_drawn(s.segments, fur_pixels)
+        });
         let uniforms = FrameUniforms::new(
             &checked.camera,
             &checked.light,
@@ -272,6 +283,20 @@ impl Renderer {
                 layer_spacing: scene.layer_spacing,
                 prt: transfer.map_or([0; 3], |t| [(t.order * t.order) as u32, t.textures, t.stride]),
                 fin_spacing: level.fin_spacing,
+                strand: (
+                    [
+                        camera.width as f32,
+                        camera.height as f32,
+                        settings.strand_pixels,
+                        strands::MIN_KEPT,
+                    ],
+                    [
+                        bands.count,
+                        strand_segments,
+                        u32::from(bands.whole),
+                        u32::from(bands.stochastic),
+                    ],
+                ),
             },
         );
         // A panic elsewhere cannot leave the cached targets half-made, so a poisoned lock is fine.
@@ -359,15 +384,23 @@ impl Renderer {
                 }
                 skin::draw(&mut pass, pipelines, scene, level, checked.model);
                 fins::draw(&mut pass, pipelines, scene, fin_indices.len() as u32);
-                shells::draw(
-                    &mut pass,
-                    pipelines,
-                    scene,
-                    level,
-                    checked.model,
-                    checked.info.shells,
-                    self.shell_method(settings.shell_method),
-                );
+                let shells_drawn = checked.info.shells;
+                if strand_scene.is_none() {
+                    shells::draw(
+                        &mut pass,
+                        pipelines,
+                        scene,
+                        level,
+                        checked.model,
+                        0..shells_drawn,
+                        method,
+                    );
+                }
+                for k in (0..bands.draws()).filter(|_| strand_scene.is_some()) {
+                    strands::draw(&mut pass, pipelines, scene, &bands, k, strand_segments);
+                    let shells = bands.shell_start(k)..bands.shell_start(k + 1).min(shells_drawn);
+                    shells::draw(&mut pass, pipelines, scene, level, checked.model, shells, method);
+                }
             }
             self.queue.submit([encoder.finish()]);
             Ok::<_, PeltError>(())

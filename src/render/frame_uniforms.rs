@@ -24,6 +24,8 @@ pub(super) struct FrameUniforms {
     counts: [u32; 4],
     lod: [u32; 4],
     prt: [u32; 4],
+    strand: [f32; 4],
+    strand_counts: [u32; 4],
 }
 
 /// The scene's side of the frame.
@@ -40,6 +42,8 @@ pub(super) struct SceneFrame<'a> {
     pub prt: [u32; 3],
     /// The drawn geometric level's fin spacing over the full mesh's ([`super::scene_levels::MeshLevel`]).
     pub fin_spacing: f32,
+    /// The guard strands' row of the uniforms: `strand` and `strand_counts` of `Frame`.
+    pub strand: ([f32; 4], [u32; 4]),
 }
 
 impl FrameUniforms {
@@ -70,6 +74,8 @@ impl FrameUniforms {
             counts: [info.shells, scene.layers, u32::from(settings.lod), 0],
             lod: [levels.bases[k], coarse, 1 << info.level, 0],
             prt: [scene.prt[0], scene.prt[1], scene.prt[2], scene.layers],
+            strand: scene.strand.0,
+            strand_counts: scene.strand.1,
         }
     }
 }

@@ -9,7 +9,9 @@
 //! uploaded once; [`Renderer::render`] draws the opaque skin, the fins near the silhouette and the
 //! shells (one instanced draw) offscreen and returns an [`RgbaImage`] ([`Renderer::render_linear`]
 //! a [`LinearImage`]); [`Renderer::render_to_texture`] draws the same passes into a caller's
-//! texture, and [`WindowSurface`] into a window (`pelt view`). Lighting is Kajiya–Kay or precomputed radiance transfer (prt-shell-fur
+//! texture, and [`WindowSurface`] into a window (`pelt view`). Guard hairs
+//! ([`FurScene::set_guard_hairs`]) are drawn as strands among the shells (hybrid paper §3;
+//! `guard_strands.rs`, `strands.rs`, [`StrandOrder`]). Lighting is Kajiya–Kay or precomputed radiance transfer (prt-shell-fur
 //! §2.4). The smoke pass proves the device works end to end.
 //!
 //! Files: `camera.rs`, `lighting.rs`, `settings.rs` (the per-frame inputs, validated);
@@ -33,6 +35,7 @@ mod fins;
 mod frame;
 mod frame_uniforms;
 mod geometry_lod;
+mod guard_strands;
 mod image;
 mod level_hosts;
 mod lighting;
@@ -48,6 +51,7 @@ mod settings;
 mod shells;
 mod skin;
 mod smoke;
+mod strands;
 mod surface_mesh;
 mod texture_target;
 mod textures;
@@ -64,7 +68,10 @@ pub use image::{LinearImage, RgbaImage};
 pub use lighting::{KajiyaKay, LightModel, Lighting, MAX_LIGHT_RADIUS, MAX_POWER, MAX_RADIANCE, Prt};
 pub use lod::FrameInfo;
 pub use scene::{FurScene, UploadStats};
-pub use settings::{MAX_FUR_DEPTH, MAX_SHELLS_PER_PIXEL, RenderSettings, ShellMethod};
+pub use settings::{
+    MAX_FUR_DEPTH, MAX_SHELLS_PER_PIXEL, MAX_STRAND_BANDS, MAX_STRAND_PIXELS, RenderSettings, ShellMethod,
+    StrandOrder,
+};
 pub use smoke::SMOKE_COLOR;
 pub use window::{DisplayHandle, PresentedFrame, WindowSurface};
 
@@ -140,6 +147,9 @@ fn required_limits(adapter: &wgpu::Limits) -> wgpu::Limits {
         max_texture_array_layers: adapter.max_texture_array_layers,
         max_storage_buffer_binding_size: adapter.max_storage_buffer_binding_size,
         max_buffer_size: adapter.max_buffer_size,
+        // PRT's strand pass reads six storage buffers in its vertex stage (the downlevel
+        // default is four; WebGPU and every desktop API allow eight).
+        max_storage_buffers_per_shader_stage: adapter.max_storage_buffers_per_shader_stage.min(8),
         ..wgpu::Limits::downlevel_defaults().using_resolution(adapter.clone())
     }
 }

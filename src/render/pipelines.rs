@@ -5,6 +5,8 @@
 //! pipeline recipe. Each pass file (`skin.rs`, `fins.rs`, `shells.rs`) states only what is its
 //! own: shader per lighting model, culling, depth writes and blending (Lengyel et al. 2001, §2.3).
 //!
+//! The strand pass adds group 2 (the guard strands and their points).
+//!
 //! Pipelines exist per lighting model and target format and are built on first use.
 
 use std::num::NonZeroU64;
@@ -12,7 +14,7 @@ use std::sync::OnceLock;
 
 use super::frame_uniforms::FrameUniforms;
 use super::prt_rotate::RotatePipeline;
-use super::{fins, marched, shells, skin};
+use super::{fins, marched, shells, skin, strands};
 use crate::error::{PeltError, Result};
 
 /// Depth target.
@@ -128,6 +130,9 @@ pub(super) struct PassPipelines {
     pub fins: wgpu::RenderPipeline,
     pub shells: wgpu::RenderPipeline,
     pub marched: wgpu::RenderPipeline,
+    /// The guard strands writing depth, and without ([`super::StrandOrder::Sorted`]).
+    pub strands: wgpu::RenderPipeline,
+    pub strands_sorted: wgpu::RenderPipeline,
 }
 
 /// What PRT adds: its bind group layout (group 1), the pipeline layout with it, and the
@@ -135,6 +140,8 @@ pub(super) struct PassPipelines {
 pub(super) struct PrtShared {
     pub group_layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
+    /// With the guard strands' group 2.
+    strand_layout: wgpu::PipelineLayout,
     pub rotate: RotatePipeline,
 }
 
@@ -142,6 +149,10 @@ pub(super) struct PrtShared {
 pub(super) struct FurPipelines {
     pub bind_group_layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
+    /// Group 2 of the strand pass: the guard strands and their points.
+    pub strand_group_layout: wgpu::BindGroupLayout,
+    /// Groups 0 and 2 (group 1 is PRT's).
+    strand_layout: wgpu::PipelineLayout,
     /// Repeating trilinear sampler: the shell tile wraps across each patch.
     pub tile_sampler: wgpu::Sampler,
     /// Repeats along the fin (u), clamps across (v: skin to top of the fur).
@@ -254,9 +265,23 @@ impl FurPipelines {
                 bind_group_layouts: &[Some(&bind_group_layout)],
                 immediate_size: 0,
             });
+            let strand_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("guard strands"),
+                entries: &[
+                    storage_entry(0, wgpu::ShaderStages::VERTEX),
+                    storage_entry(1, wgpu::ShaderStages::VERTEX),
+                ],
+            });
+            let strand_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("guard strands"),
+                bind_group_layouts: &[Some(&bind_group_layout), None, Some(&strand_group_layout)],
+                immediate_size: 0,
+            });
             Ok(FurPipelines {
                 bind_group_layout,
                 pipeline_layout,
+                strand_group_layout,
+                strand_layout,
                 tile_sampler: sampler(device, "tile", wgpu::AddressMode::Repeat),
                 fin_sampler: sampler(device, "fin", wgpu::AddressMode::ClampToEdge),
                 prt: OnceLock::new(),
@@ -294,9 +319,19 @@ impl FurPipelines {
                 bind_group_layouts: &[Some(&self.bind_group_layout), Some(&group_layout)],
                 immediate_size: 0,
             });
+            let strand_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("prt strands"),
+                bind_group_layouts: &[
+                    Some(&self.bind_group_layout),
+                    Some(&group_layout),
+                    Some(&self.strand_group_layout),
+                ],
+                immediate_size: 0,
+            });
             Ok(PrtShared {
                 group_layout,
                 pipeline_layout,
+                strand_layout,
                 rotate: RotatePipeline::new(device)?,
             })
         })?;
@@ -313,9 +348,12 @@ impl FurPipelines {
         if let Some(p) = slot.get() {
             return Ok(p);
         }
-        let layout = match model {
-            Model::KajiyaKay => &self.pipeline_layout,
-            Model::Prt => &self.prt(device)?.pipeline_layout,
+        let (layout, strand_layout) = match model {
+            Model::KajiyaKay => (&self.pipeline_layout, &self.strand_layout),
+            Model::Prt => {
+                let prt = self.prt(device)?;
+                (&prt.pipeline_layout, &prt.strand_layout)
+            }
         };
         let format = target.format();
         let built = validated(device, "the fur pipelines", || {
@@ -324,6 +362,8 @@ impl FurPipelines {
                 fins: pipeline(device, layout, &fins::state(model), format),
                 shells: pipeline(device, layout, &shells::state(model), format),
                 marched: pipeline(device, layout, &marched::state(model), format),
+                strands: pipeline(device, strand_layout, &strands::state(model, false), format),
+                strands_sorted: pipeline(device, strand_layout, &strands::state(model, true), format),
             })
         })?;
         Ok(slot.get_or_init(|| built))

@@ -148,6 +148,20 @@ pub struct FurScene {
     uploads: UploadStats,
     /// The rest shape, to pose the scene.
     deformer: Deformer,
+    /// The skin's rest vertices and the full mesh's triangles over them, which the guard
+    /// strands are tied to.
+    rest_surface: (Vec<super::surface_mesh::SurfaceVertex>, Vec<u32>),
+    /// The guard strands, when set.
+    pub(super) strands: Option<SceneStrands>,
+}
+
+/// A scene's guard strands on the GPU.
+pub(super) struct SceneStrands {
+    /// Group 2 of the strand pass.
+    pub bind_group: wgpu::BindGroup,
+    /// Segments drawn per strand.
+    pub segments: u32,
+    pub count: usize,
 }
 
 /// A scene's PRT state: the transfer textures and what the rotation pass and the PRT passes
@@ -345,6 +359,7 @@ impl FurScene {
             pose_bytes: 0,
         };
         let deformer = Deformer::new(mesh, &surface);
+        let rest_surface = (surface.vertices.clone(), surface.indices.clone());
         let fin_ends = fins.source.chunks_exact(4).map(|c| [c[0], c[1]]).collect();
         let extent = extent(mesh.positions(), &lengths);
         Ok(FurScene {
@@ -374,7 +389,25 @@ impl FurScene {
             transfer: None,
             uploads,
             deformer,
+            rest_surface,
+            strands: None,
         })
+    }
+
+    /// Uploads a baked asset: its mesh with the patches' UVs and its volume, and its transfer and
+    /// guard hairs when it has them.
+    ///
+    /// # Errors
+    /// As [`FurScene::new`], [`FurScene::set_transfer`] and [`FurScene::set_guard_hairs`].
+    pub fn from_asset(renderer: &Renderer, asset: &crate::pipeline::FurAsset) -> Result<Self> {
+        let mut scene = FurScene::new(renderer, &asset.mesh, &asset.patches.uv, &asset.volume)?;
+        if let Some(transfer) = &asset.transfer {
+            scene.set_transfer(renderer, &transfer.packed_f16)?;
+        }
+        if let Some(guard_hairs) = &asset.guard_hairs {
+            scene.set_guard_hairs(renderer, guard_hairs)?;
+        }
+        Ok(scene)
     }
 
     /// Uploads PRT transfer textures ([`crate::prt::pack::pack_f16`] of a transfer baked from
@@ -486,6 +519,96 @@ impl FurScene {
         self.transfer = Some(scene_transfer);
         self.uploads.transfer_bytes += bytes;
         Ok(())
+    }
+
+    /// Sets the guard hairs drawn as strands over the shells ([`crate::guard::guard_hairs`] of
+    /// this scene's mesh), replacing any earlier ones; an empty set removes them, so the frame
+    /// is the shells alone. Each strand is tied to its root triangle and follows
+    /// [`FurScene::deform`]; its points are taken as placed over the rest shape, its colors as
+    /// baked (a repaint does not reach them).
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming `renderer` (not the one that uploaded the scene),
+    /// `guard_hairs` (too many strands or points for the device or [`crate::guard::MAX_GUARD_STRANDS`]),
+    /// `guard_hairs.spans[i]` or `guard_hairs.points[i]` (see `guard_strands::prepare`);
+    /// [`PeltError::MemoryLimit`] above the memory limit; [`PeltError::Render`] when the device
+    /// fails. The scene is unchanged then.
+    pub fn set_guard_hairs(
+        &mut self,
+        renderer: &Renderer,
+        guard_hairs: &crate::placement::PlacedStrands,
+    ) -> Result<()> {
+        if renderer.id != self.renderer_id {
+            return Err(PeltError::parameter(
+                "renderer",
+                "is not the Renderer that uploaded this scene",
+            ));
+        }
+        if guard_hairs.spans.is_empty() {
+            self.strands = None;
+            return Ok(());
+        }
+        // The strand records and points, twice over while they are made and sent.
+        let bytes = 2.0 * (64.0 * guard_hairs.spans.len() as f64 + 16.0 * guard_hairs.points.len() as f64);
+        crate::memory::check("guard strand upload", bytes, || "`guard_share`".into())?;
+        let (vertices, indices) = &self.rest_surface;
+        let lengths = expand(&self.attributes.1, &self.surface_source);
+        let prepared = super::guard_strands::prepare(guard_hairs, vertices, indices, &lengths)?;
+        let device = &renderer.device;
+        let limit = device.limits().max_storage_buffer_binding_size;
+        let draw_vertices = 6 * u64::from(prepared.segments) * prepared.strands.len() as u64;
+        let biggest =
+            size_of_val(prepared.points.as_slice()).max(size_of_val(prepared.strands.as_slice())) as u64;
+        if biggest > limit || draw_vertices > u64::from(u32::MAX) {
+            return Err(PeltError::parameter(
+                "guard_hairs",
+                format!(
+                    "{} strands of {} points need a {biggest}-byte buffer and {draw_vertices} vertices, the device allows {limit} bytes and 2^32 vertices",
+                    prepared.strands.len(),
+                    prepared.segments + 1
+                ),
+            ));
+        }
+        let layout = &renderer.fur_pipelines()?.strand_group_layout;
+        let scene_strands = scoped(device, "uploading the guard strands", || {
+            let storage = |label: &str, contents: &[u8]| {
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents,
+                    usage: wgpu::BufferUsages::STORAGE,
+                })
+            };
+            let strands = storage("guard strands", bytemuck::cast_slice(&prepared.strands));
+            let points = storage("guard strand points", bytemuck::cast_slice(&prepared.points));
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("guard strands"),
+                layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: strands.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: points.as_entire_binding(),
+                    },
+                ],
+            });
+            SceneStrands {
+                bind_group,
+                segments: prepared.segments,
+                count: prepared.strands.len(),
+            }
+        })?;
+        self.uploads.geometry_bytes +=
+            (size_of_val(prepared.strands.as_slice()) + size_of_val(prepared.points.as_slice())) as u64;
+        self.strands = Some(scene_strands);
+        Ok(())
+    }
+
+    /// Guard strands the scene draws ([`FurScene::set_guard_hairs`]).
+    pub fn guard_strand_count(&self) -> usize {
+        self.strands.as_ref().map_or(0, |s| s.count)
     }
 
     /// The SH order of the scene's transfer, if it has one.

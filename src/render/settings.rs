@@ -45,6 +45,35 @@ impl ShellMethod {
     }
 }
 
+/// How the guard strands are composited among the shells: the shells are composited inner to
+/// outer (the order Lengyel et al. 2001, §2.3 relies on), and a strand fragment belongs among
+/// them by its height. A strand thinner than a pixel covers only part of one, which makes it
+/// translucent. `docs/accuracy.md` compares the orders against [`StrandOrder::Sorted`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum StrandOrder {
+    /// Stochastic transparency (Enderton et al. 2010): a fragment of a strand that covers a
+    /// share `c` of its pixel is drawn opaque with probability `c` (a hash of the pixel and
+    /// the strand), so every strand fragment is opaque and one draw under the shells, writing
+    /// depth, puts it in its place: right on average, noisy where strands are thin.
+    #[default]
+    Stochastic,
+    /// One draw under the shells, writing depth, the coverage blended as opacity: where a
+    /// strand is translucent, the shells behind it are lost and the skin shows through.
+    Depth,
+    /// `n` height bands (`[1, MAX_STRAND_BANDS]`) interleaved with the shells, the coverage
+    /// blended, depth written: band `k` is drawn before shell `round(k S / n)` and the last
+    /// after every shell, `n + 1` draws.
+    Banded(u32),
+    /// A band between every two shells, the coverage blended, no depth written: every strand
+    /// fragment lands exactly in the shells' order, a draw per shell. The reference the others
+    /// are measured against; the marched shells cannot interleave and draw the strands under
+    /// them in one band.
+    Sorted,
+}
+
+/// Most [`StrandOrder::Banded`] bands.
+pub const MAX_STRAND_BANDS: u32 = 256;
+
 /// What to draw and how.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RenderSettings {
@@ -92,7 +121,21 @@ pub struct RenderSettings {
     /// Background, linear straight RGBA, each `[0, 1]`; the default is transparent black, so
     /// alpha shows coverage.
     pub background: [f32; 4],
+    /// Draw the scene's guard hairs ([`super::FurScene::set_guard_hairs`]) as strands over the
+    /// shells (hybrid-fur-volume-and-strands §3); without them, or with none set, the frame is
+    /// the shells alone.
+    pub guard_hairs: bool,
+    /// How the strands and shells are composited.
+    pub strand_order: StrandOrder,
+    /// Strand level of detail: a strand thinner than this many pixels is drawn this wide with
+    /// its share of the strands kept (the others dropped, chosen by a per-strand random rank), so
+    /// the coverage stays; `[0, MAX_STRAND_PIXELS]`, 0 keeps every strand (a thin one then
+    /// drawn a pixel wide, its opacity its coverage).
+    pub strand_pixels: f32,
 }
+
+/// Largest [`RenderSettings::strand_pixels`].
+pub const MAX_STRAND_PIXELS: f32 = 64.0;
 
 impl Default for RenderSettings {
     fn default() -> Self {
@@ -109,6 +152,9 @@ impl Default for RenderSettings {
             fin_opacity: 1.0,
             alpha_test: 1.0 / 255.0,
             background: [0.0; 4],
+            guard_hairs: true,
+            strand_order: StrandOrder::Depth,
+            strand_pixels: 1.0,
         }
     }
 }
@@ -132,6 +178,15 @@ impl RenderSettings {
         check("settings.fin_opacity", self.fin_opacity, 1.0)?;
         check("settings.alpha_test", self.alpha_test, 1.0)?;
         check("settings.mesh_error", self.mesh_error, MAX_MESH_ERROR)?;
+        check("settings.strand_pixels", self.strand_pixels, MAX_STRAND_PIXELS)?;
+        if let StrandOrder::Banded(n) = self.strand_order
+            && !(1..=MAX_STRAND_BANDS).contains(&n)
+        {
+            return Err(PeltError::parameter(
+                "settings.strand_order",
+                format!("Banded must have [1, {MAX_STRAND_BANDS}] bands, got {n}"),
+            ));
+        }
         for (i, &c) in self.background.iter().enumerate() {
             check(&format!("settings.background[{i}]"), c, 1.0)?;
         }

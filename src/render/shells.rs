@@ -3,6 +3,8 @@
 //! `length × (normal + comb shear)` is computed in the vertex shader (§2.4). Depth is tested and
 //! written behind an alpha test, so empty texels write no depth.
 
+use std::ops::Range;
+
 use super::pipelines::{Model, PassPipelines, PassState, VertexInput};
 use super::scene::FurScene;
 use super::scene_levels::MeshLevel;
@@ -41,27 +43,27 @@ pub(super) fn state(model: Model) -> PassState<'static> {
     }
 }
 
-/// Draws `count` shells of geometric level `level`: instanced, a copy of the mesh per shell, or
-/// marched ([`super::marched`]), their hull once; `method` is resolved
-/// ([`ShellMethod::resolve`]), an `Auto` left over draws instanced.
+/// Draws shell instances `shells` (0 the innermost) of geometric level `level`: instanced, a
+/// copy of the mesh per shell, or marched ([`super::marched`]), their hull once with the range
+/// that starts at 0; `method` is resolved ([`ShellMethod::resolve`]), an `Auto` left over draws
+/// instanced.
 pub(super) fn draw(
     pass: &mut wgpu::RenderPass<'_>,
     pipelines: &PassPipelines,
     scene: &FurScene,
     level: &MeshLevel,
     model: Model,
-    count: u32,
+    shells: Range<u32>,
     method: ShellMethod,
 ) {
-    if count == 0 {
+    if shells.is_empty() {
         return;
     }
     let (pipeline, instances) = match method {
-        ShellMethod::Instanced | ShellMethod::Auto => (&pipelines.shells, count),
-        ShellMethod::Marched => (&pipelines.marched, 1),
+        ShellMethod::Instanced | ShellMethod::Auto => (&pipelines.shells, shells),
+        ShellMethod::Marched if shells.start == 0 => (&pipelines.marched, 0..1),
+        ShellMethod::Marched => return,
     };
     pass.set_pipeline(pipeline);
-    scene
-        .surface
-        .draw(pass, model, level.indices.clone(), 0..instances);
+    scene.surface.draw(pass, model, level.indices.clone(), instances);
 }

@@ -48,3 +48,14 @@ impl FurredTorus {
 pub fn covered(image: &RgbaImage) -> usize {
     image.pixels.chunks_exact(4).filter(|p| p[3] > 0).count()
 }
+
+/// Share of pixels whose channels differ by more than `tolerance` levels.
+pub fn differing(a: &RgbaImage, b: &RgbaImage, tolerance: u8) -> f64 {
+    let count = a
+        .pixels
+        .chunks_exact(4)
+        .zip(b.pixels.chunks_exact(4))
+        .filter(|(p, q)| p.iter().zip(*q).any(|(x, y)| x.abs_diff(*y) > tolerance))
+        .count();
+    count as f64 / (a.pixels.len() / 4) as f64
+}

@@ -129,13 +129,7 @@ impl App {
         )
         .map_err(|e| e.to_string())?;
         let asset = &self.options.asset;
-        let mut scene = FurScene::new(&renderer, &asset.mesh, &asset.patches.uv, &asset.volume)
-            .map_err(|e| e.to_string())?;
-        if let Some(transfer) = &asset.transfer {
-            scene
-                .set_transfer(&renderer, &transfer.packed_f16)
-                .map_err(|e| e.to_string())?;
-        }
+        let scene = FurScene::from_asset(&renderer, asset).map_err(|e| e.to_string())?;
         let fur_depth = asset.params.fur_depth();
         let tallest = asset
             .mesh

@@ -1,0 +1,6 @@
+// Guard hairs under Kajiya-Kay lighting: the shells' hair terms with the strand's own tangent,
+// Banks-darkened by the height it stands at, as the shell texel there would be.
+
+fn shade_strand(v: StrandOut, tangent: vec3<f32>, height: f32) -> vec4<f32> {
+    return shade(v.color.rgb, v.color.a, tangent, v.normal, view_vector(v.position), height);
+}

@@ -1,0 +1,208 @@
+// Pass (d), the guard hairs (hybrid-fur-volume-and-strands §3): every strand a tapered ribbon
+// facing the eye, its corners pulled from storage (no vertex buffers and no geometry shader,
+// which Metal and WebGPU lack): vertex `6 (strand · segments + segment) + corner`. Each strand's
+// points stand in the frame of the surface at its root (`guard_strands.rs`), rebuilt here from
+// the skin's vertices, so a pose carries them. Instance `k` is height band `k` of the frame's
+// strand order (`strands.rs`): the fragments outside it are dropped, so each band lands among
+// the shells where it stands. The model's file (`strand_kk.wgsl`, `strand_prt.wgsl`) shades.
+
+struct GuardStrand {
+    // The root triangle's skin vertices; the strand's first point.
+    corners: vec4<u32>,
+    // The root's barycentric weights; the length multiplier there.
+    shape: vec4<f32>,
+    // Linear albedo at the root; the strand's LOD rank in [0, 1).
+    root_color: vec4<f32>,
+    // Linear albedo at the tip; the strand's point count.
+    tip_color: vec4<f32>,
+};
+
+@group(2) @binding(0) var<storage, read> guard_strands: array<GuardStrand>;
+// Per point: its place in the root frame (t, b, n), object units, and its radius.
+@group(2) @binding(1) var<storage, read> guard_points: array<vec4<f32>>;
+
+struct StrandOut {
+    @builtin(position) clip: vec4<f32>,
+    // Premultiplied albedo, coverage.
+    @location(0) color: vec4<f32>,
+    // Where the strand runs; the fragment's height (share of the fur depth).
+    @location(1) tangent_height: vec4<f32>,
+    @location(2) normal: vec3<f32>,
+    @location(3) position: vec3<f32>,
+    // The band's heights, [low, high).
+    @location(4) @interpolate(flat) band: vec2<f32>,
+    // The root triangle's skin vertices and the root's weights (PRT's lighting there).
+    @location(5) @interpolate(flat) corners: vec3<u32>,
+    @location(6) @interpolate(flat) weights: vec3<f32>,
+    // The strand, which seeds its stochastic coverage.
+    @location(7) @interpolate(flat) strand: u32,
+};
+
+// The unit vector perpendicular to `n` that `guard_strands.rs` picks where ∂P/∂u gives none.
+fn perpendicular(n: vec3<f32>) -> vec3<f32> {
+    let axis = select(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(1.0, 0.0, 0.0), abs(n.x) < 0.9);
+    return normalize(cross(n, axis));
+}
+
+struct RootFrame {
+    origin: vec3<f32>,
+    t: vec3<f32>,
+    b: vec3<f32>,
+    n: vec3<f32>,
+};
+
+// The frame of the (posed) surface at the strand's root, as `guard_strands::root_frame`.
+fn root_frame(s: GuardStrand) -> RootFrame {
+    let c = s.corners;
+    let w = s.shape.xyz;
+    let origin = w.x * skin_vec3(c.x, 0u) + w.y * skin_vec3(c.y, 0u) + w.z * skin_vec3(c.z, 0u);
+    let n = unit_or(w.x * skin_vec3(c.x, 3u) + w.y * skin_vec3(c.y, 3u) + w.z * skin_vec3(c.z, 3u),
+                    vec3<f32>(0.0, 0.0, 1.0));
+    let d = w.x * skin_vec3(c.x, 6u) + w.y * skin_vec3(c.y, 6u) + w.z * skin_vec3(c.z, 6u);
+    let t = unit_or(d - n * dot(n, d), perpendicular(n));
+    return RootFrame(origin, t, cross(n, t), n);
+}
+
+// Point `k` of strand `s`: object position and radius.
+fn strand_point(f: RootFrame, s: GuardStrand, k: u32) -> vec4<f32> {
+    let p = guard_points[s.corners.w + k];
+    return vec4<f32>(f.origin + p.x * f.t + p.y * f.b + p.z * f.n, p.w);
+}
+
+// Height of point `k` as a share of the fur depth at the root.
+fn strand_height(s: GuardStrand, k: u32) -> f32 {
+    return guard_points[s.corners.w + k].z / max(frame.fur.x * s.shape.w, 1e-20);
+}
+
+const FAR_HEIGHT: f32 = 3.0e38;
+
+// Height share of shell instance `i`.
+fn shell_height(i: u32) -> f32 {
+    return f32(shell_layers(i).height) * frame.fur.y;
+}
+
+// Band `k`'s heights: drawn before shell c_k = round(k S / n) of the S drawn, it holds the
+// fragments from the shell below c_k to the shell below c_(k+1); band n, after every shell, the
+// rest.
+fn band_range(k: u32) -> vec2<f32> {
+    let n = frame.strand_counts.x;
+    let shells = frame.counts.x;
+    if (frame.strand_counts.z == 1u || shells == 0u) {
+        return vec2<f32>(-FAR_HEIGHT, FAR_HEIGHT);
+    }
+    let start = (k * shells * 2u + n) / (2u * n);
+    let end = ((k + 1u) * shells * 2u + n) / (2u * n);
+    let low = select(shell_height(start - 1u), -FAR_HEIGHT, start == 0u);
+    let below_end = select(shell_height(end - 1u), -FAR_HEIGHT, end == 0u);
+    let high = select(below_end, FAR_HEIGHT, k >= n);
+    return vec2<f32>(low, high);
+}
+
+// Pixels across `radius` at `p`, seen along `side`.
+fn pixels_across(p: vec3<f32>, side: vec3<f32>, radius: f32) -> f32 {
+    let a = clip_position(p);
+    let b = clip_position(p + side * radius);
+    let d = (b.xy / b.w - a.xy / a.w) * frame.strand.xy * 0.5;
+    return length(d);
+}
+
+// Point index of drawn point `j` of `drawn` segments over a strand of `count` points: every
+// k-th point, the root and the tip always.
+fn drawn_point(j: u32, drawn: u32, count: u32) -> u32 {
+    return (j * (count - 1u) + drawn / 2u) / drawn;
+}
+
+@vertex
+fn vs_main(@builtin(vertex_index) vertex: u32, @builtin(instance_index) band: u32) -> StrandOut {
+    var out: StrandOut;
+    out.clip = CULLED;
+    let segments = max(frame.strand_counts.y, 1u);
+    let strand = vertex / (6u * segments);
+    let segment = vertex / 6u - strand * segments;
+    let corner = vertex % 6u;
+    let s = guard_strands[strand];
+    let count = u32(s.tip_color.w);
+    let drawn = min(segments, count - 1u);
+    if (segment >= drawn) {
+        return out;
+    }
+    // Strand LOD, first, so that a dropped strand costs little: a strand thinner than
+    // `frame.strand.z` pixels (measured across the view at its root) is kept with probability
+    // its width / that, drawn that wide: fewer, wider strands with the same coverage.
+    var widen = 1.0;
+    if (frame.strand.z > 0.0) {
+        let c = s.corners;
+        let w = s.shape.xyz;
+        let root = w.x * skin_vec3(c.x, 0u) + w.y * skin_vec3(c.y, 0u) + w.z * skin_vec3(c.z, 0u);
+        let across = 2.0 * pixels_across(root, perpendicular(view_vector(root)),
+                                         guard_points[c.w].w);
+        let keep = clamp(across / frame.strand.z, frame.strand.w, 1.0);
+        if (s.root_color.w >= keep) {
+            return out;
+        }
+        widen = 1.0 / keep;
+    }
+    let range = band_range(band);
+    let h0 = strand_height(s, drawn_point(segment, drawn, count));
+    let h1 = strand_height(s, drawn_point(segment + 1u, drawn, count));
+    if (max(h0, h1) < range.x || min(h0, h1) >= range.y) {
+        return out;
+    }
+    let f = root_frame(s);
+    // Two triangles per segment: (0 -, 0 +, 1 -), (1 -, 0 +, 1 +).
+    let upper = corner == 2u || corner == 3u || corner == 5u;
+    let side_sign = select(-1.0, 1.0, corner == 1u || corner == 4u || corner == 5u);
+    let j = segment + select(0u, 1u, upper);
+    let k = drawn_point(j, drawn, count);
+    let p = strand_point(f, s, k);
+    let before = strand_point(f, s, drawn_point(max(j, 1u) - 1u, drawn, count)).xyz;
+    let after = strand_point(f, s, drawn_point(min(j + 1u, drawn), drawn, count)).xyz;
+    let tangent = unit_or(after - before, f.n);
+    let view = view_vector(p.xyz);
+    let side = unit_or(cross(tangent, view), f.t);
+    // A ribbon under a pixel wide is drawn a pixel wide, its opacity its coverage.
+    let radius = p.w * widen;
+    let half_pixels = pixels_across(p.xyz, side, radius);
+    let coverage = clamp(2.0 * half_pixels, 0.0, 1.0);
+    let drawn_radius = radius * max(1.0, 0.5 / max(half_pixels, 1e-6));
+    let position = p.xyz + side * (side_sign * drawn_radius);
+    let along = f32(k) / f32(count - 1u);
+    let albedo = mix(s.root_color.rgb, s.tip_color.rgb, along);
+    out.clip = clip_position(position);
+    out.color = vec4<f32>(albedo * coverage, coverage);
+    out.tangent_height = vec4<f32>(tangent, strand_height(s, k));
+    out.normal = f.n;
+    out.position = position;
+    out.band = range;
+    out.corners = s.corners.xyz;
+    out.weights = s.shape.xyz;
+    out.strand = strand;
+    return out;
+}
+
+// A hash of a pixel and a strand, uniform in [0, 1) (the PCG output function).
+fn coverage_draw(pixel: vec2<u32>, strand: u32) -> f32 {
+    var h = pixel.x * 747796405u + pixel.y * 2891336453u + strand * 277803737u + 2654435769u;
+    h = ((h >> ((h >> 28u) + 4u)) ^ h) * 277803737u;
+    h = (h >> 22u) ^ h;
+    return f32(h >> 8u) * (1.0 / 16777216.0);
+}
+
+@fragment
+fn fs_main(v: StrandOut) -> @location(0) vec4<f32> {
+    let height = v.tangent_height.w;
+    if (height < v.band.x || height >= v.band.y) {
+        discard;
+    }
+    var s = v;
+    // Stochastic transparency: the coverage kept as the chance the fragment is drawn at all,
+    // opaque, so the depth buffer orders it exactly.
+    if (frame.strand_counts.w == 1u) {
+        let c = v.color.a;
+        if (coverage_draw(vec2<u32>(v.clip.xy), v.strand) >= c) {
+            discard;
+        }
+        s.color = vec4<f32>(v.color.rgb / max(c, 1e-6), 1.0);
+    }
+    return shade_strand(s, unit_or(v.tangent_height.xyz, v.normal), clamp(height, 0.0, 1.0));
+}
