@@ -46,6 +46,8 @@ struct Config {
     lod: bool,
     /// PRT at this order, or Kajiya–Kay.
     prt_order: Option<usize>,
+    /// Hybrid: this share of the overcoat drawn as guard strands, the rest in the shells.
+    guard_share: Option<f64>,
 }
 
 const DEFAULT: Config = Config {
@@ -55,18 +57,27 @@ const DEFAULT: Config = Config {
     method: ShellMethod::Instanced,
     lod: false,
     prt_order: None,
+    guard_share: None,
 };
 
-/// The configurations drawn: the defaults and marched shells in `--quick`; every shell count, fins
-/// off, LOD (Kajiya–Kay and PRT) and PRT at order 4 (instanced and marched) for every object; PRT
-/// at every order from 2 to 8 on the study object (the short-furred sphere) only, since each order
-/// is a transfer bake and PRT frames are the slowest on a CPU adapter.
+/// The configurations drawn: the defaults, marched shells and the hybrid (the overcoat as guard
+/// strands over an undercoat volume) in `--quick`; the hybrid marched and at the add-on's share
+/// of 0.1, every shell count, fins off, LOD (Kajiya–Kay and PRT) and PRT at order 4 (instanced
+/// and marched) for every object; PRT at every order from 2 to 8 on the study object (the
+/// short-furred sphere) only, since each order is a transfer bake and PRT frames are the
+/// slowest on a CPU adapter.
 fn configs(quick: bool, study: bool) -> Vec<Config> {
     let mut list = vec![
         DEFAULT,
         Config {
             name: "marched",
             method: ShellMethod::Marched,
+            ..DEFAULT
+        },
+        // The hybrid paper's split at the library's default: the whole overcoat as strands.
+        Config {
+            name: "hybrid",
+            guard_share: Some(1.0),
             ..DEFAULT
         },
     ];
@@ -91,6 +102,18 @@ fn configs(quick: bool, study: bool) -> Vec<Config> {
             ..DEFAULT
         });
     }
+    list.push(Config {
+        name: "hybrid.marched",
+        method: ShellMethod::Marched,
+        guard_share: Some(1.0),
+        ..DEFAULT
+    });
+    // The add-on's default: a tenth of the overcoat as strands.
+    list.push(Config {
+        name: "hybrid0.1",
+        guard_share: Some(0.1),
+        ..DEFAULT
+    });
     list.push(Config {
         name: "nofins",
         fins: false,
@@ -246,6 +269,7 @@ fn object_cases(
     // `render.*` cases.
     let reps = 1;
     let mut transfer_order = None;
+    let mut hybrid: Option<(f64, FurScene)> = None;
     for config in configs(options.quick, study) {
         let runs = |scene: &CanonicalScene| {
             runs_group(&format!("{group}.{}.{}", light_name(scene), config.name), prefix)
@@ -275,6 +299,19 @@ fn object_cases(
             }
             transfer_order = Some(order);
         }
+        if let Some(share) = config.guard_share
+            && hybrid.as_ref().is_none_or(|h| h.0 != share)
+        {
+            let mut guarded = params.clone();
+            guarded.volume.guard_hairs = true;
+            guarded.volume.guard_share = share;
+            let baked = pipeline.bake(first.mesh.clone(), &guarded, None)?;
+            hybrid = Some((share, FurScene::from_asset(renderer, &baked)?));
+        }
+        let drawn = match (&hybrid, config.guard_share) {
+            (Some((_, scene)), Some(_)) => scene,
+            _ => &fur,
+        };
         let settings = preview_settings(&config, params.fur_depth() as f32);
         let started = std::time::Instant::now();
         for ((scene, reference), volume) in scenes.iter().zip(&references).zip(&volumes) {
@@ -284,11 +321,11 @@ fn object_cases(
             let name = format!("{group}.{}.{}", light_name(scene), config.name);
             let lighting = preview_lighting(&scene.lights, config.prt_order.is_some());
             let timing = time_fallible(reps, || {
-                renderer.render_linear(&fur, &scene.camera, &lighting, &settings)
+                renderer.render_linear(drawn, &scene.camera, &lighting, &settings)
             })?;
             let preview = premultiplied(
                 &renderer
-                    .render_linear(&fur, &scene.camera, &lighting, &settings)?
+                    .render_linear(drawn, &scene.camera, &lighting, &settings)?
                     .pixels,
             );
             let errors = compare(
@@ -309,7 +346,7 @@ fn object_cases(
                 })
                 .transpose()?;
             let dolly = if config.lod && scene.lights == scenes[0].lights {
-                Some(dolly(renderer, &fur, scene, &lighting, &settings)?)
+                Some(dolly(renderer, drawn, scene, &lighting, &settings)?)
             } else {
                 None
             };
@@ -369,6 +406,7 @@ fn case(
                 .alpha_profile
                 .clone()
                 .map(|bins| bins.into_iter().map(|b| b.is_finite().then_some(b)).collect()),
+            detail_ratio: errors.detail_ratio,
             dolly_jump: dolly.map(|d| d.0),
             dolly_drift: dolly.map(|d| d.1),
             volume_error: None,

@@ -65,6 +65,8 @@ pub struct ImageFigures {
     /// The silhouette's mean coverage per tenth of a fur depth from the skin's outline, the
     /// preview's then the reference's; `None` where a bin has no pixel.
     pub alpha_profile: [Vec<Option<f64>>; 2],
+    /// Fine detail (luminance above about 0.1 cycle per pixel), preview over reference.
+    pub detail_ratio: f64,
     /// LOD cases: the largest frame-to-frame change of mean luminance along a dolly out to 30×.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dolly_jump: Option<f64>,

@@ -28,8 +28,8 @@ struct Frame {
     // Guard strands: x, y the target's size in pixels, z the LOD's narrowest strand in pixels
     // (0: no LOD), w the smallest share of strands the LOD keeps.
     strand: vec4<f32>,
-    // x: height bands n (strand draws n + 1), y: segments per strand, z: 1 when one band holds
-    // the whole strand (the marched shells).
+    // x: height bands n (strand draws n + 1), y: segments drawn per strand, z: flags (1: one
+    // band holds every fragment, 2: stochastic coverage).
     strand_counts: vec4<u32>,
 };
 

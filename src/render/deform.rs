@@ -65,6 +65,11 @@ impl Deformer {
         }
     }
 
+    /// The skin's GPU vertices of the current pose (the rest shape's before any).
+    pub fn current(&self) -> &[SurfaceVertex] {
+        &self.surface
+    }
+
     /// The skin's GPU vertices at `positions` (one row per mesh vertex) with unit `normals`
     /// given or computed from the posed triangles, and those normals (for the fins' planes,
     /// `fin_pose.rs`).

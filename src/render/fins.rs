@@ -28,6 +28,7 @@ pub(super) fn state(model: Model) -> PassState<'static> {
             Model::Prt => PRT,
         },
         input: VertexInput::Fins,
+        topology: wgpu::PrimitiveTopology::TriangleList,
         cull_mode: None,
         depth_write: false,
         blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),

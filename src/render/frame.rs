@@ -265,12 +265,15 @@ impl Renderer {
         let method = self.shell_method(settings.shell_method);
         let bands = Bands::new(settings, checked.info.shells, method);
         let strand_scene = scene.strands.as_ref().filter(|_| settings.guard_hairs);
-        let strand_segments = strand_scene.map_or(0, |s| {
-            let ppu = lod::nearest_pixels_per_unit(camera, scene.extent.center, scene.extent.radius);
+        let ppu = lod::nearest_pixels_per_unit(camera, scene.extent.center, scene.extent.radius);
+        let strand_draw = strand_scene.map_or((0, 0), |s| {
             let fur_pixels = ppu.map_or(f64::INFINITY, |ppu| {
                 f64::from(settings.fur_depth) * scene.extent.max_length * ppu
             });
-            strands::segments_drawn(s.segments, fur_pixels)
+            (
+                strands::kept_strands(&s.ranks, s.root_radius, ppu, settings.strand_pixels),
+                strands::segments_drawn(s.segments, fur_pixels),
+            )
         });
         let uniforms = FrameUniforms::new(
             &checked.camera,
@@ -292,9 +295,9 @@ impl Renderer {
                     ],
                     [
                         bands.count,
-                        strand_segments,
-                        u32::from(bands.whole),
-                        u32::from(bands.stochastic),
+                        strand_draw.1,
+                        u32::from(bands.whole) | (u32::from(bands.stochastic) << 1),
+                        0,
                     ],
                 ),
             },
@@ -397,7 +400,7 @@ impl Renderer {
                     );
                 }
                 for k in (0..bands.draws()).filter(|_| strand_scene.is_some()) {
-                    strands::draw(&mut pass, pipelines, scene, &bands, k, strand_segments);
+                    strands::draw(&mut pass, pipelines, scene, &bands, k, strand_draw);
                     let shells = bands.shell_start(k)..bands.shell_start(k + 1).min(shells_drawn);
                     shells::draw(&mut pass, pipelines, scene, level, checked.model, shells, method);
                 }

@@ -1,8 +1,9 @@
 //! The guard hairs as the strand pass reads them (hybrid-fur-volume-and-strands §3): each strand
 //! tied to its root triangle's skin vertices, its points kept in the frame the surface has at
-//! the root (origin, the tangent along `∂P/∂u`, the bitangent, the normal), so that a pose, which
-//! rewrites only the skin's vertices, carries the strands rigidly with the surface under them.
-//! The shader (`strands.wgsl`, `root_frame`) rebuilds the same frame from the posed vertices.
+//! the root (origin, the tangent along `∂P/∂u`, the bitangent, the normal), so that a pose
+//! carries the strands rigidly with the surface under them: [`root_frames`] makes the frames
+//! anew from the posed skin vertices (once per strand on the CPU, where the vertex shader would
+//! make them once per corner).
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -41,6 +42,11 @@ pub(super) struct GuardStrands {
     /// Segments of the longest strand (every strand is drawn with this many, the shorter ones'
     /// extra segments dropped by the vertex shader).
     pub segments: u32,
+    /// The strands' LOD ranks, ascending: the strands are stored in this order, so those the
+    /// strand LOD keeps are a prefix (`strands::kept_strands`).
+    pub ranks: Vec<f32>,
+    /// The thickest root's radius, object units.
+    pub root_radius: f32,
 }
 
 /// The unit vector perpendicular to `n` that `strands.wgsl`'s `perpendicular` picks.
@@ -49,8 +55,7 @@ fn perpendicular(n: Vec3) -> Vec3 {
     n.cross(axis).normalize()
 }
 
-/// The frame `(origin, t, b, n)` at barycentric `w` of the skin vertices `ids`, as
-/// `strands.wgsl`'s `root_frame` builds it from the same floats.
+/// The frame `(origin, t, b, n)` at barycentric `w` of the skin vertices `ids`.
 pub(super) fn root_frame(vertices: &[SurfaceVertex], ids: [u32; 3], w: [f32; 3]) -> [Vec3; 4] {
     let sum = |f: fn(&SurfaceVertex) -> [f32; 3]| {
         (0..3).fold(Vec3::ZERO, |acc, k| {
@@ -64,6 +69,22 @@ pub(super) fn root_frame(vertices: &[SurfaceVertex], ids: [u32; 3], w: [f32; 3])
         .try_normalize()
         .unwrap_or_else(|| perpendicular(n));
     [origin, t, n.cross(t), n]
+}
+
+/// Each strand's root frame over the skin `vertices` as `GuardFrame` in `strands.wgsl` reads it:
+/// origin, tangent and normal (the bitangent is their cross product), `w` 0.
+pub(super) fn root_frames(vertices: &[SurfaceVertex], strands: &[GpuStrand]) -> Vec<[[f32; 4]; 3]> {
+    pool().install(|| {
+        strands
+            .par_iter()
+            .map(|s| {
+                let ids = [s.corners[0], s.corners[1], s.corners[2]];
+                let w = [s.shape[0], s.shape[1], s.shape[2]];
+                let [origin, t, _, n] = root_frame(vertices, ids, w);
+                [origin.extend(0.0), t.extend(0.0), n.extend(0.0)].map(|v| v.to_array())
+            })
+            .collect()
+    })
 }
 
 /// Checks `strands` against a scene of `triangles` triangles and puts them in their root frames
@@ -164,19 +185,28 @@ pub(super) fn prepare(
             })
             .unzip::<_, _, Vec<_>, Vec<_>>()
     });
+    // Rank order (ties by placement order): the LOD keeps a prefix.
+    let mut order: Vec<usize> = (0..strands.len()).collect();
+    order.sort_by(|&a, &b| {
+        strands[a].root_color[3]
+            .total_cmp(&strands[b].root_color[3])
+            .then(a.cmp(&b))
+    });
     let mut first = 0u32;
-    let strands = strands
-        .into_iter()
-        .zip(&points)
-        .map(|(mut s, p)| {
-            s.corners[3] = first;
-            first += p.len() as u32;
-            s
-        })
-        .collect();
+    let mut sorted = Vec::with_capacity(strands.len());
+    let mut sorted_points = Vec::with_capacity(placed.points.len());
+    for &i in &order {
+        let mut s = strands[i];
+        s.corners[3] = first;
+        first += points[i].len() as u32;
+        sorted_points.extend_from_slice(&points[i]);
+        sorted.push(s);
+    }
     Ok(GuardStrands {
-        strands,
-        points: points.concat(),
+        ranks: sorted.iter().map(|s| s.root_color[3]).collect(),
+        root_radius: points.iter().fold(0.0f32, |m, p| m.max(p[0][3])),
+        strands: sorted,
+        points: sorted_points,
         segments,
     })
 }
@@ -220,6 +250,7 @@ mod tests {
         assert!((g.strands[0].shape[3] - 1.5).abs() < 1e-6, "length at the root");
         let rank = g.strands[0].root_color[3];
         assert!((0.0..1.0).contains(&rank));
+        assert_eq!((g.ranks.as_slice(), g.root_radius), ([rank].as_slice(), 0.01));
     }
 
     #[test]

@@ -147,7 +147,7 @@ fn required_limits(adapter: &wgpu::Limits) -> wgpu::Limits {
         max_texture_array_layers: adapter.max_texture_array_layers,
         max_storage_buffer_binding_size: adapter.max_storage_buffer_binding_size,
         max_buffer_size: adapter.max_buffer_size,
-        // PRT's strand pass reads six storage buffers in its vertex stage (the downlevel
+        // PRT's strand pass reads seven storage buffers in its vertex stage (the downlevel
         // default is four; WebGPU and every desktop API allow eight).
         max_storage_buffers_per_shader_stage: adapter.max_storage_buffers_per_shader_stage.min(8),
         ..wgpu::Limits::downlevel_defaults().using_resolution(adapter.clone())

@@ -5,7 +5,7 @@
 //! pipeline recipe. Each pass file (`skin.rs`, `fins.rs`, `shells.rs`) states only what is its
 //! own: shader per lighting model, culling, depth writes and blending (Lengyel et al. 2001, §2.3).
 //!
-//! The strand pass adds group 2 (the guard strands and their points).
+//! The strand pass adds group 2 (the guard strands, their points and root frames).
 //!
 //! Pipelines exist per lighting model and target format and are built on first use.
 
@@ -119,6 +119,7 @@ pub(super) struct PassState<'a> {
     pub label: &'a str,
     pub source: &'a str,
     pub input: VertexInput,
+    pub topology: wgpu::PrimitiveTopology,
     pub cull_mode: Option<wgpu::Face>,
     pub depth_write: bool,
     pub blend: Option<wgpu::BlendState>,
@@ -149,7 +150,7 @@ pub(super) struct PrtShared {
 pub(super) struct FurPipelines {
     pub bind_group_layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
-    /// Group 2 of the strand pass: the guard strands and their points.
+    /// Group 2 of the strand pass: the guard strands, their points and their root frames.
     pub strand_group_layout: wgpu::BindGroupLayout,
     /// Groups 0 and 2 (group 1 is PRT's).
     strand_layout: wgpu::PipelineLayout,
@@ -270,6 +271,7 @@ impl FurPipelines {
                 entries: &[
                     storage_entry(0, wgpu::ShaderStages::VERTEX),
                     storage_entry(1, wgpu::ShaderStages::VERTEX),
+                    storage_entry(2, wgpu::ShaderStages::VERTEX),
                 ],
             });
             let strand_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -391,6 +393,7 @@ fn pipeline(
             buffers: &vertex_layouts(state.input),
         },
         primitive: wgpu::PrimitiveState {
+            topology: state.topology,
             cull_mode: state.cull_mode,
             ..Default::default()
         },

@@ -159,9 +159,15 @@ pub struct FurScene {
 pub(super) struct SceneStrands {
     /// Group 2 of the strand pass.
     pub bind_group: wgpu::BindGroup,
-    /// Segments drawn per strand.
+    /// Segments of the longest strand.
     pub segments: u32,
     pub count: usize,
+    /// The LOD ranks in upload order (ascending) and the thickest root's radius.
+    pub ranks: Vec<f32>,
+    pub root_radius: f32,
+    /// The strands as uploaded (their root triangles, to pose their frames) and the frames.
+    records: Vec<super::guard_strands::GpuStrand>,
+    frames: wgpu::Buffer,
 }
 
 /// A scene's PRT state: the transfer textures and what the rotation pass and the PRT passes
@@ -580,6 +586,12 @@ impl FurScene {
             };
             let strands = storage("guard strands", bytemuck::cast_slice(&prepared.strands));
             let points = storage("guard strand points", bytemuck::cast_slice(&prepared.points));
+            let frames = super::guard_strands::root_frames(self.deformer.current(), &prepared.strands);
+            let frames = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("guard strand frames"),
+                contents: bytemuck::cast_slice(&frames),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            });
             let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("guard strands"),
                 layout,
@@ -592,12 +604,20 @@ impl FurScene {
                         binding: 1,
                         resource: points.as_entire_binding(),
                     },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: frames.as_entire_binding(),
+                    },
                 ],
             });
             SceneStrands {
                 bind_group,
                 segments: prepared.segments,
                 count: prepared.strands.len(),
+                ranks: prepared.ranks.clone(),
+                root_radius: prepared.root_radius,
+                records: prepared.strands.clone(),
+                frames,
             }
         })?;
         self.uploads.geometry_bytes +=
@@ -693,6 +713,12 @@ impl FurScene {
         let (surface, normals) = pool().install(|| deformer.pose(positions, normals))?;
         let vertices = bytemuck::cast_slice::<_, u8>(surface);
         self.queue.write_buffer(&self.surface.geometry, 0, vertices);
+        if let Some(strands) = &self.strands {
+            let frames = super::guard_strands::root_frames(surface, &strands.records);
+            self.queue
+                .write_buffer(&strands.frames, 0, bytemuck::cast_slice(&frames));
+            self.uploads.pose_bytes += size_of_val(frames.as_slice()) as u64;
+        }
         // Sent now: poses without a frame between them would otherwise pile up their staging
         // copies until the next frame's submit.
         self.queue.submit(std::iter::empty());

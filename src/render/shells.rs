@@ -37,6 +37,7 @@ pub(super) fn state(model: Model) -> PassState<'static> {
             Model::KajiyaKay => VertexInput::Surface,
             Model::Prt => VertexInput::Pulled,
         },
+        topology: wgpu::PrimitiveTopology::TriangleList,
         cull_mode: Some(wgpu::Face::Back),
         depth_write: true,
         blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),

@@ -21,8 +21,8 @@ const PRT: &str = concat!(
     include_str!("strand_prt.wgsl")
 );
 
-/// Both sides drawn (a ribbon turns to the eye anyway), premultiplied "over"; depth written
-/// unless `sorted` ([`StrandOrder::Sorted`]).
+/// One triangle strip, both sides drawn (a ribbon turns to the eye anyway),
+/// premultiplied "over"; depth written unless `sorted` ([`StrandOrder::Sorted`]).
 pub(super) fn state(model: Model, sorted: bool) -> PassState<'static> {
     PassState {
         label: if sorted { "sorted strands" } else { "strands" },
@@ -31,6 +31,7 @@ pub(super) fn state(model: Model, sorted: bool) -> PassState<'static> {
             Model::Prt => PRT,
         },
         input: VertexInput::Pulled,
+        topology: wgpu::PrimitiveTopology::TriangleStrip,
         cull_mode: None,
         depth_write: !sorted,
         blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
@@ -40,6 +41,27 @@ pub(super) fn state(model: Model, sorted: bool) -> PassState<'static> {
 /// Smallest share of the strands the strand LOD keeps: past it, the kept strands stay this
 /// share and grow translucent instead of ever wider.
 pub(super) const MIN_KEPT: f32 = 1.0 / 16.0;
+
+/// How many of `ranks` (the strands' LOD ranks, ascending, as uploaded) the strand LOD may keep
+/// in a frame where their thickest root (`radius`) is at most `pixels_per_unit` pixels per
+/// object unit: the vertex shader keeps a strand when its rank is below its width over
+/// `strand_pixels`, so the strands past that with the thickest root nearest the eye are left
+/// out of the draw (a quarter more kept, for the shader's own measure).
+pub(super) fn kept_strands(
+    ranks: &[f32],
+    radius: f32,
+    pixels_per_unit: Option<f64>,
+    strand_pixels: f32,
+) -> u32 {
+    let keep = match pixels_per_unit {
+        Some(ppu) if strand_pixels > 0.0 => {
+            let across = 2.0 * f64::from(radius) * ppu / f64::from(strand_pixels);
+            1.25 * across.max(f64::from(MIN_KEPT))
+        }
+        _ => f64::INFINITY,
+    };
+    ranks.partition_point(|&r| f64::from(r) < keep) as u32
+}
 
 /// Pixels of fur depth per drawn strand segment: a strand a few pixels long is drawn with fewer
 /// segments than it has (every `k`-th point), the whole fur depth with at least one.
@@ -103,21 +125,20 @@ impl Bands {
     }
 }
 
-/// Draws band `k` of the scene's strands, `segments` of each (nothing when it has none).
+/// The first `strands` of the scene's (those the strand LOD may keep, [`kept_strands`]), band
+/// `k`, `segments` of each; nothing when there are none.
 pub(super) fn draw(
     pass: &mut wgpu::RenderPass<'_>,
     pipelines: &PassPipelines,
     scene: &FurScene,
     bands: &Bands,
     k: u32,
-    segments: u32,
+    (strands, segments): (u32, u32),
 ) {
-    let Some(strands) = &scene.strands else {
+    let Some(guard) = &scene.strands else {
         return;
     };
-    // `set_guard_hairs` checked that every segment of every strand fits in a draw.
-    let vertices = 6 * segments * strands.count as u32;
-    if vertices == 0 {
+    if strands == 0 || segments == 0 {
         return;
     }
     pass.set_pipeline(if bands.sorted {
@@ -125,8 +146,9 @@ pub(super) fn draw(
     } else {
         &pipelines.strands
     });
-    pass.set_bind_group(2, &strands.bind_group, &[]);
-    pass.draw(0..vertices, k..k + 1);
+    pass.set_bind_group(2, &guard.bind_group, &[]);
+    // Each strand's block of the strip (`strands.wgsl`); at most 2^20 strands of 64 segments.
+    pass.draw(0..strands * (2 * segments + 4), k..k + 1);
 }
 
 #[cfg(test)]
@@ -155,5 +177,17 @@ mod tests {
         settings.strand_order = StrandOrder::Stochastic;
         let stochastic = Bands::new(&settings, 30, ShellMethod::Instanced);
         assert_eq!((stochastic.draws(), stochastic.shell_start(1)), (1, 30));
+    }
+
+    #[test]
+    fn the_draw_keeps_the_strands_whose_rank_the_lod_may_keep() {
+        let ranks = [0.01, 0.05, 0.1, 0.2, 0.4, 0.8];
+        // Roots 0.04 px across at most: the floor 1/16, a quarter more, keeps ranks below 0.078.
+        assert_eq!(kept_strands(&ranks, 0.2, Some(0.1), 1.0), 2);
+        // 0.24 px: ranks below 0.3.
+        assert_eq!(kept_strands(&ranks, 0.6, Some(0.2), 1.0), 4);
+        assert_eq!(kept_strands(&ranks, 0.6, Some(0.2), 0.0), 6, "no LOD: all");
+        assert_eq!(kept_strands(&ranks, 0.6, None, 1.0), 6, "no measure: all");
+        assert_eq!(kept_strands(&ranks, 10.0, Some(1.0), 1.0), 6);
     }
 }

@@ -1,10 +1,12 @@
 // Pass (d), the guard hairs (hybrid-fur-volume-and-strands §3): every strand a tapered ribbon
 // facing the eye, its corners pulled from storage (no vertex buffers and no geometry shader,
-// which Metal and WebGPU lack): vertex `6 (strand · segments + segment) + corner`. Each strand's
-// points stand in the frame of the surface at its root (`guard_strands.rs`), rebuilt here from
-// the skin's vertices, so a pose carries them. Instance `k` is height band `k` of the frame's
-// strand order (`strands.rs`): the fragments outside it are dropped, so each band lands among
-// the shells where it stands. The model's file (`strand_kk.wgsl`, `strand_prt.wgsl`) shades.
+// which Metal and WebGPU lack). One triangle strip holds every strand: a strand's block is its
+// first corner again, corner `2 j + side` of each drawn point `j`, and its last corner again,
+// so that the triangles joining two strands have no area; instance `k` is band `k`. Each strand's points stand in the frame of the
+// surface at its root (`guard_strands.rs`), rebuilt here from the skin's vertices, so a pose
+// carries them. Band `k` of the frame's strand order (`strands.rs`) keeps the fragments
+// between its heights, so each band lands among the shells where it stands. The model's file
+// (`strand_kk.wgsl`, `strand_prt.wgsl`) shades.
 
 struct GuardStrand {
     // The root triangle's skin vertices; the strand's first point.
@@ -20,6 +22,8 @@ struct GuardStrand {
 @group(2) @binding(0) var<storage, read> guard_strands: array<GuardStrand>;
 // Per point: its place in the root frame (t, b, n), object units, and its radius.
 @group(2) @binding(1) var<storage, read> guard_points: array<vec4<f32>>;
+// Per strand, the surface's frame at its root in the current pose: origin, t, n (`w` unused).
+@group(2) @binding(2) var<storage, read> guard_frames: array<vec4<f32>>;
 
 struct StrandOut {
     @builtin(position) clip: vec4<f32>,
@@ -38,7 +42,7 @@ struct StrandOut {
     @location(7) @interpolate(flat) strand: u32,
 };
 
-// The unit vector perpendicular to `n` that `guard_strands.rs` picks where ∂P/∂u gives none.
+// A unit vector perpendicular to `n`.
 fn perpendicular(n: vec3<f32>) -> vec3<f32> {
     let axis = select(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(1.0, 0.0, 0.0), abs(n.x) < 0.9);
     return normalize(cross(n, axis));
@@ -51,16 +55,11 @@ struct RootFrame {
     n: vec3<f32>,
 };
 
-// The frame of the (posed) surface at the strand's root, as `guard_strands::root_frame`.
-fn root_frame(s: GuardStrand) -> RootFrame {
-    let c = s.corners;
-    let w = s.shape.xyz;
-    let origin = w.x * skin_vec3(c.x, 0u) + w.y * skin_vec3(c.y, 0u) + w.z * skin_vec3(c.z, 0u);
-    let n = unit_or(w.x * skin_vec3(c.x, 3u) + w.y * skin_vec3(c.y, 3u) + w.z * skin_vec3(c.z, 3u),
-                    vec3<f32>(0.0, 0.0, 1.0));
-    let d = w.x * skin_vec3(c.x, 6u) + w.y * skin_vec3(c.y, 6u) + w.z * skin_vec3(c.z, 6u);
-    let t = unit_or(d - n * dot(n, d), perpendicular(n));
-    return RootFrame(origin, t, cross(n, t), n);
+// The frame of the (posed) surface at strand `i`'s root (`guard_strands::root_frames`).
+fn root_frame(i: u32) -> RootFrame {
+    let t = guard_frames[3u * i + 1u].xyz;
+    let n = guard_frames[3u * i + 2u].xyz;
+    return RootFrame(guard_frames[3u * i].xyz, t, cross(n, t), n);
 }
 
 // Point `k` of strand `s`: object position and radius.
@@ -75,6 +74,9 @@ fn strand_height(s: GuardStrand, k: u32) -> f32 {
 }
 
 const FAR_HEIGHT: f32 = 3.0e38;
+// Flags of `frame.strand_counts.z`: one band holds every fragment; stochastic coverage.
+const WHOLE: u32 = 1u;
+const STOCHASTIC: u32 = 2u;
 
 // Height share of shell instance `i`.
 fn shell_height(i: u32) -> f32 {
@@ -87,7 +89,7 @@ fn shell_height(i: u32) -> f32 {
 fn band_range(k: u32) -> vec2<f32> {
     let n = frame.strand_counts.x;
     let shells = frame.counts.x;
-    if (frame.strand_counts.z == 1u || shells == 0u) {
+    if ((frame.strand_counts.z & WHOLE) != 0u || shells == 0u) {
         return vec2<f32>(-FAR_HEIGHT, FAR_HEIGHT);
     }
     let start = (k * shells * 2u + n) / (2u * n);
@@ -117,42 +119,45 @@ fn vs_main(@builtin(vertex_index) vertex: u32, @builtin(instance_index) band: u3
     var out: StrandOut;
     out.clip = CULLED;
     let segments = max(frame.strand_counts.y, 1u);
-    let strand = vertex / (6u * segments);
-    let segment = vertex / 6u - strand * segments;
-    let corner = vertex % 6u;
+    let block = 2u * segments + 4u;
+    let strand = vertex / block;
+    let corner = clamp(vertex - strand * block, 1u, block - 2u) - 1u;
     let s = guard_strands[strand];
     let count = u32(s.tip_color.w);
     let drawn = min(segments, count - 1u);
-    if (segment >= drawn) {
-        return out;
-    }
     // Strand LOD, first, so that a dropped strand costs little: a strand thinner than
     // `frame.strand.z` pixels (measured across the view at its root) is kept with probability
     // its width / that, drawn that wide: fewer, wider strands with the same coverage.
     var widen = 1.0;
     if (frame.strand.z > 0.0) {
-        let c = s.corners;
-        let w = s.shape.xyz;
-        let root = w.x * skin_vec3(c.x, 0u) + w.y * skin_vec3(c.y, 0u) + w.z * skin_vec3(c.z, 0u);
+        let root = guard_frames[3u * strand].xyz;
         let across = 2.0 * pixels_across(root, perpendicular(view_vector(root)),
-                                         guard_points[c.w].w);
+                                         guard_points[s.corners.w].w);
         let keep = clamp(across / frame.strand.z, frame.strand.w, 1.0);
         if (s.root_color.w >= keep) {
             return out;
         }
         widen = 1.0 / keep;
     }
+    // A strand wholly outside the band is dropped (its points' heights bound it).
     let range = band_range(band);
-    let h0 = strand_height(s, drawn_point(segment, drawn, count));
-    let h1 = strand_height(s, drawn_point(segment + 1u, drawn, count));
-    if (max(h0, h1) < range.x || min(h0, h1) >= range.y) {
-        return out;
+    if ((frame.strand_counts.z & WHOLE) == 0u) {
+        var low = FAR_HEIGHT;
+        var high = -FAR_HEIGHT;
+        for (var j = 0u; j <= drawn; j++) {
+            let h = strand_height(s, drawn_point(j, drawn, count));
+            low = min(low, h);
+            high = max(high, h);
+        }
+        if (high < range.x || low >= range.y) {
+            return out;
+        }
     }
-    let f = root_frame(s);
-    // Two triangles per segment: (0 -, 0 +, 1 -), (1 -, 0 +, 1 +).
-    let upper = corner == 2u || corner == 3u || corner == 5u;
-    let side_sign = select(-1.0, 1.0, corner == 1u || corner == 4u || corner == 5u);
-    let j = segment + select(0u, 1u, upper);
+    let f = root_frame(strand);
+    // Past the strand's last drawn point (a strand of fewer segments than drawn), the strip
+    // repeats it: triangles of no area.
+    let j = min(corner / 2u, drawn);
+    let side_sign = select(-1.0, 1.0, (corner & 1u) == 1u);
     let k = drawn_point(j, drawn, count);
     let p = strand_point(f, s, k);
     let before = strand_point(f, s, drawn_point(max(j, 1u) - 1u, drawn, count)).xyz;
@@ -197,7 +202,7 @@ fn fs_main(v: StrandOut) -> @location(0) vec4<f32> {
     var s = v;
     // Stochastic transparency: the coverage kept as the chance the fragment is drawn at all,
     // opaque, so the depth buffer orders it exactly.
-    if (frame.strand_counts.w == 1u) {
+    if ((frame.strand_counts.z & STOCHASTIC) != 0u) {
         let c = v.color.a;
         if (coverage_draw(vec2<u32>(v.clip.xy), v.strand) >= c) {
             discard;

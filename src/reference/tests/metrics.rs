@@ -92,3 +92,28 @@ fn the_alpha_profile_follows_coverage_out_from_the_skin() {
     // The largest gap is in the first bin, where the reference is most opaque.
     assert!((e.alpha_profile_error - 0.5 * truth[0]).abs() < 0.05);
 }
+
+#[test]
+fn the_detail_ratio_is_the_squared_ratio_of_fine_contrast() {
+    // A grey image with a one-pixel checkerboard of amplitude `a` over all of it: the 5 × 5 box
+    // mean keeps a twenty-fifth of the pattern, so the residual is proportional to `a` and the
+    // energies' ratio is the amplitudes' ratio squared.
+    let side = 20;
+    let checker = |a: f32| -> Vec<[f32; 4]> {
+        (0..side * side)
+            .map(|i| {
+                let sign = if (i % side + i / side) % 2 == 0 { 1.0 } else { -1.0 };
+                let v = 0.3 + a * sign;
+                [v, v, v, 1.0]
+            })
+            .collect()
+    };
+    let distance = vec![0.0; side * side];
+    let (fine, coarse) = (checker(0.1), checker(0.05));
+    let e = compare(view(&coarse, side), view(&fine, side), &distance, 10.0).unwrap();
+    assert!((e.detail_ratio - 0.25).abs() < 1e-5, "{}", e.detail_ratio);
+    let same = compare(view(&fine, side), view(&fine, side), &distance, 10.0).unwrap();
+    assert!((same.detail_ratio - 1.0).abs() < 1e-12);
+    let flat = compare(view(&checker(0.0), side), view(&fine, side), &distance, 10.0).unwrap();
+    assert!(flat.detail_ratio < 1e-20, "{}", flat.detail_ratio);
+}
