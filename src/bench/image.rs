@@ -26,6 +26,7 @@ use crate::reference::{
 };
 use crate::render::{
     AdapterChoice, FurScene, KajiyaKay, LightModel, Lighting, Prt, RenderSettings, Renderer, ShellMethod,
+    StrandOrder,
 };
 
 /// Layers of the volume: the skin and 64 shells.
@@ -48,6 +49,9 @@ struct Config {
     prt_order: Option<usize>,
     /// Hybrid: this share of the overcoat drawn as guard strands, the rest in the shells.
     guard_share: Option<f64>,
+    /// How the strands are composited, and the strand LOD's narrowest strand in pixels.
+    strand_order: StrandOrder,
+    strand_pixels: f32,
 }
 
 const DEFAULT: Config = Config {
@@ -58,10 +62,12 @@ const DEFAULT: Config = Config {
     lod: false,
     prt_order: None,
     guard_share: None,
+    strand_order: StrandOrder::Stochastic,
+    strand_pixels: 1.0,
 };
 
 /// The configurations drawn: the defaults, marched shells and the hybrid (the overcoat as guard
-/// strands over an undercoat volume) in `--quick`; the hybrid marched and at the add-on's share
+/// strands over an undercoat volume; also sorted and without the strand LOD) in `--quick`; the hybrid marched and at the add-on's share
 /// of 0.1, every shell count, fins off, LOD (Kajiya–Kay and PRT) and PRT at order 4 (instanced
 /// and marched) for every object; PRT at every order from 2 to 8 on the study object (the
 /// short-furred sphere) only, since each order is a transfer bake and PRT frames are the
@@ -78,6 +84,19 @@ fn configs(quick: bool, study: bool) -> Vec<Config> {
         Config {
             name: "hybrid",
             guard_share: Some(1.0),
+            ..DEFAULT
+        },
+        // Its strands composited exactly in the shells' order, and without the strand LOD.
+        Config {
+            name: "hybrid.sorted",
+            guard_share: Some(1.0),
+            strand_order: StrandOrder::Sorted,
+            ..DEFAULT
+        },
+        Config {
+            name: "hybrid.nolod",
+            guard_share: Some(1.0),
+            strand_pixels: 0.0,
             ..DEFAULT
         },
     ];
@@ -423,6 +442,8 @@ fn preview_settings(config: &Config, fur_depth: f32) -> RenderSettings {
         shell_method: config.method,
         lod: config.lod,
         fur_depth,
+        strand_order: config.strand_order,
+        strand_pixels: config.strand_pixels,
         ..RenderSettings::default()
     }
 }
