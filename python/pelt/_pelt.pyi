@@ -528,6 +528,10 @@ class Preview:
         shells_per_pixel: float = 1.0,
         shell_method: Literal["instanced", "marched", "auto"] = "instanced",
         mesh_error: float = 1.0,
+        guard_hairs: bool = True,
+        strand_order: Literal["stochastic", "depth", "banded", "sorted"] = "stochastic",
+        strand_bands: int = 4,
+        strand_pixels: float = 1.0,
     ) -> npt.NDArray[np.uint8] | npt.NDArray[np.float32]:
         """One frame (GIL released): ``[height, width, 4]`` uint8 sRGB, or float32 linear with
         ``linear=True``; straight alpha, top row first.
@@ -550,7 +554,14 @@ class Preview:
         object is small on screen, may stray from it (0 always draws the full mesh; after
         :meth:`update`, a simplified version that would smear the new colors or lengths, such
         as a bald spot narrower than its triangles, is no longer drawn). ``fur_depth``
-        defaults to the asset's. Bad input raises :class:`InvalidParameterError` naming it; the
+        defaults to the asset's. ``guard_hairs``: draw the asset's guard hairs as strands over
+        the shells (``False``: the shells alone); ``strand_order``: how they are composited
+        among the shells: ``"stochastic"`` (a thin strand's coverage as a per-pixel random
+        choice, opaque, exact on average), ``"depth"`` (coverage as opacity, one draw under the
+        shells), ``"banded"`` (``strand_bands`` height bands between the shells), ``"sorted"``
+        (a band per shell: the reference, slowest); ``strand_pixels``: the strand LOD keeps a
+        share of the strands thinner than this many pixels, drawn that wide (0: every strand).
+        Bad input raises :class:`InvalidParameterError` naming it; the
         preview stays usable."""
     def update(self, *, color: npt.ArrayLike | None = None, length: npt.ArrayLike | None = None) -> None:
         """Rewrite the per-vertex colors (``[V, 4]`` or ``[V, 3]``, linear) and/or length
@@ -573,6 +584,9 @@ class Preview:
         """Bytes sent to the GPU so far, by kind."""
     @property
     def transfer_order(self) -> int | None: ...
+    @property
+    def guard_strands(self) -> int:
+        """Guard hairs drawn as strands (the asset's; 0 without)."""
     @property
     def last_frame(self) -> FrameInfo | None:
         """What the last frame drew (shell count, LOD level and blend, projected sizes)."""

@@ -17,7 +17,7 @@ use crate::error::PeltError;
 use crate::prt::pack::PackedF16;
 use crate::render::{
     AdapterChoice, Camera, FrameInfo, FurScene, KajiyaKay, LightModel, Lighting, Prt, RenderSettings,
-    Renderer, ShellMethod,
+    Renderer, ShellMethod, StrandOrder,
 };
 
 /// The preview renderer of one baked asset.
@@ -225,7 +225,8 @@ impl PyPreview {
     #[pyo3(signature = (
         view_matrix, projection_matrix, width, height, *, lighting=None, shells=None, fins=true,
         lod=false, linear=false, fur_depth=None, background=(0.0, 0.0, 0.0, 0.0), min_shells=2,
-        max_shells=64, shells_per_pixel=1.0, shell_method="instanced", mesh_error=1.0
+        max_shells=64, shells_per_pixel=1.0, shell_method="instanced", mesh_error=1.0,
+        guard_hairs=true, strand_order="stochastic", strand_bands=4, strand_pixels=1.0
     ))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
@@ -247,7 +248,25 @@ impl PyPreview {
         shells_per_pixel: f32,
         shell_method: &str,
         mesh_error: f32,
+        guard_hairs: bool,
+        strand_order: &str,
+        strand_bands: i128,
+        strand_pixels: f32,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let strand_bands: u32 = super::ints::unsigned("strand_bands", strand_bands)?;
+        let strand_order = match strand_order {
+            "stochastic" => StrandOrder::Stochastic,
+            "depth" => StrandOrder::Depth,
+            "banded" => StrandOrder::Banded(strand_bands),
+            "sorted" => StrandOrder::Sorted,
+            other => {
+                return Err(PeltError::parameter(
+                    "strand_order",
+                    format!("must be 'stochastic', 'depth', 'banded' or 'sorted', got {other:?}"),
+                )
+                .into());
+            }
+        };
         let shells: Option<u32> = super::ints::unsigned_opt("shells", shells)?;
         let min_shells: u32 = super::ints::unsigned("min_shells", min_shells)?;
         let max_shells: u32 = super::ints::unsigned("max_shells", max_shells)?;
@@ -282,6 +301,9 @@ impl PyPreview {
             mesh_error,
             fur_depth: fur_depth.unwrap_or(self.fur_depth),
             background: [background.0, background.1, background.2, background.3],
+            guard_hairs,
+            strand_order,
+            strand_pixels,
             ..RenderSettings::default()
         };
         let shape = [camera.height as usize, camera.width as usize, 4];
@@ -374,6 +396,12 @@ impl PyPreview {
     }
 
     /// The adapter: `{"name", "backend", "device_type"}`.
+    /// Guard hairs drawn as strands (the asset's, 0 without).
+    #[getter]
+    fn guard_strands(&self) -> usize {
+        self.lock_scene().guard_strand_count()
+    }
+
     #[getter]
     fn adapter<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let a = self.renderer.adapter();

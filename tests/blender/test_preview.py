@@ -298,3 +298,34 @@ def test_bad_input_names_the_problem_and_the_preview_survives(asset):
     # Nothing changed: the next valid frame is the same image.
     assert np.array_equal(preview.render(VIEW, PROJECTION, SIDE, SIDE), good)
     assert preview.transfer_order == 3
+
+
+def test_guard_hairs_are_drawn_as_strands_over_the_shells():
+    positions, triangles = uv_sphere()
+    mesh = pelt.FurMesh(positions, triangles)
+    guarded = pelt.Pipeline().bake(
+        mesh,
+        tile_size=0.5,
+        hair=pelt.HairParams(density=1024, guard_fraction=0.2),
+        layers=8,
+        resolution=32,
+        fin_size=(64, 16),
+        fur_depth=0.1,
+        guard_hairs=True,
+    )
+    preview = pelt.Preview(guarded, adapter="cpu")
+    assert preview.guard_strands == len(guarded.guard_hairs["counts"]) > 50
+    shells = preview.render(VIEW, PROJECTION, SIDE, SIDE, guard_hairs=False)
+    hybrid = preview.render(VIEW, PROJECTION, SIDE, SIDE)
+    changed = np.abs(hybrid.astype(int) - shells.astype(int)).max(axis=-1) > 8
+    assert changed.mean() > 0.01
+    # Every order draws; a bad one is named.
+    for order in ("depth", "banded", "sorted"):
+        image = preview.render(VIEW, PROJECTION, SIDE, SIDE, strand_order=order)
+        assert not np.array_equal(image, shells)
+    with pytest.raises(pelt.InvalidParameterError, match="strand_order"):
+        preview.render(VIEW, PROJECTION, SIDE, SIDE, strand_order="random")
+    with pytest.raises(pelt.InvalidParameterError, match="strand_pixels"):
+        preview.render(VIEW, PROJECTION, SIDE, SIDE, strand_pixels=float("nan"))
+    # An asset without guard hairs draws none.
+    assert pelt.Preview(bake(transfer=False), adapter="cpu").guard_strands == 0
