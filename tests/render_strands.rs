@@ -367,3 +367,37 @@ fn prt_lights_the_strands_with_the_hair_around_them() {
         "strands change the mean brightness {ratio}×"
     );
 }
+
+/// The strand LOD keeps a share of the thin strands and widens them by its inverse: the opacity
+/// the strands add stays (the strands here are about 0.3 px wide).
+#[test]
+fn the_strand_lod_keeps_the_strands_coverage() {
+    let f = fixture();
+    let mut hybrid = scene(&f.mesh);
+    hybrid.set_guard_hairs(&f.renderer, &f.strands).unwrap();
+    let coverage = |s: &RenderSettings| -> f64 {
+        let image = f
+            .renderer
+            .render_linear(&hybrid, &camera(rest_view()), &Lighting::default(), s)
+            .unwrap();
+        image.pixels.chunks_exact(4).map(|p| f64::from(p[3])).sum()
+    };
+    let shells = coverage(&RenderSettings {
+        guard_hairs: false,
+        ..settings()
+    });
+    for order in [StrandOrder::Sorted, StrandOrder::Stochastic] {
+        let with = |strand_pixels| RenderSettings {
+            strand_order: order,
+            strand_pixels,
+            ..settings()
+        };
+        let kept = coverage(&with(1.0)) - shells;
+        let all = coverage(&with(0.0)) - shells;
+        assert!(all > 50.0, "{order:?}: the strands add {all}");
+        assert!(
+            (kept / all - 1.0).abs() < 0.1,
+            "{order:?}: the strands add {kept} with the LOD, {all} without"
+        );
+    }
+}
