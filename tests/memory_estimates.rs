@@ -69,6 +69,9 @@ fn every_estimate_bounds_the_measured_peak() {
     });
     let (f16, u8) = (pack_f16(&transfer).unwrap(), pack_u8(&transfer).unwrap());
 
+    #[cfg(feature = "render")]
+    preview_uploads(&volume, &f16);
+
     let (positions, triangles) = torus(96, 48);
     let mesh = FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap();
     let patches = PatchParams {
@@ -180,4 +183,42 @@ fn every_estimate_bounds_the_measured_peak() {
         assert!(refused.contains("export_gltf"), "{refused}");
     }
     pelt::memory::set_limit(None).unwrap();
+}
+
+/// The preview's texture uploads: a one-triangle scene, so that its geometry is next to nothing,
+/// after a first scene has built the device's pipelines.
+#[cfg(feature = "render")]
+fn preview_uploads(volume: &HairVolume, transfer: &pelt::prt::pack::PackedF16) {
+    use pelt::render::{
+        AdapterChoice, FurScene, Renderer, scene_upload_peak_bytes, transfer_upload_peak_bytes,
+    };
+    let renderer = Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe)");
+    let mesh = FurMesh::new(MeshInput::new(
+        &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        &[[0, 1, 2]],
+    ))
+    .unwrap();
+    let uvs = [[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]];
+    let mut warm = FurScene::new(&renderer, &mesh, &uvs, volume).unwrap();
+    warm.set_transfer(&renderer, transfer).unwrap();
+    drop(warm);
+    let mut scene = measured("preview upload", scene_upload_peak_bytes(volume), || {
+        FurScene::new(&renderer, &mesh, &uvs, volume).unwrap()
+    });
+    let order = scene.transfer_order().unwrap_or(3);
+    let estimate = transfer_upload_peak_bytes(volume.layers, volume.resolution, order);
+    measured("preview transfer upload", estimate, || {
+        scene.set_transfer(&renderer, transfer).unwrap()
+    });
+    pelt::memory::set_limit(Some(pelt::memory::MIN_LIMIT)).unwrap();
+    let big = HairVolume {
+        resolution: 4096,
+        ..volume.clone()
+    };
+    let refused = FurScene::new(&renderer, &mesh, &uvs, &big)
+        .err()
+        .map(|e| e.to_string());
+    pelt::memory::set_limit(None).unwrap();
+    let refused = refused.expect("a 4096² volume is refused under the smallest limit");
+    assert!(refused.contains("preview upload"), "{refused}");
 }

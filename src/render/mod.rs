@@ -56,6 +56,7 @@ mod surface_mesh;
 mod texture_target;
 mod textures;
 mod transfer;
+mod upload_peak;
 mod window;
 
 #[cfg(test)]
@@ -73,6 +74,7 @@ pub use settings::{
     StrandOrder,
 };
 pub use smoke::SMOKE_COLOR;
+pub use upload_peak::{scene_upload_peak_bytes, transfer_upload_peak_bytes};
 pub use window::{DisplayHandle, PresentedFrame, WindowSurface};
 
 use std::sync::atomic::{AtomicU64, Ordering};

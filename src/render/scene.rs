@@ -266,6 +266,12 @@ impl FurScene {
         volume: &HairVolume,
     ) -> Result<Self> {
         let device = &renderer.device;
+        crate::memory::check("preview upload", super::scene_upload_peak_bytes(volume), || {
+            format!(
+                "the volume's `resolution` ({}) or `layers` ({})",
+                volume.resolution, volume.layers
+            )
+        })?;
         textures::validate(volume, &device.limits())?;
         let levels = Levels::new(volume.layers as u32);
         let surface = surface_mesh::build(mesh, corner_uvs)?;
@@ -442,6 +448,16 @@ impl FurScene {
             self.resolution,
             stride,
             limits.max_texture_array_layers,
+        )?;
+        crate::memory::check(
+            "preview upload",
+            super::transfer_upload_peak_bytes(self.layers as usize, self.resolution, order),
+            || {
+                format!(
+                    "the transfer's `order` ({order}) or the volume's `resolution` ({})",
+                    self.resolution
+                )
+            },
         )?;
         let n = order * order;
         let rotated_bytes = (self.surface_source.len() * n * 16) as u64;
