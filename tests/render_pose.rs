@@ -12,8 +12,7 @@ use glam::{DMat4, Mat3, Vec3};
 use pelt::render::{Camera, FurScene, Lighting, RenderSettings, RgbaImage};
 use pelt::{FurMesh, MeshInput, PeltError};
 
-use common::torus::{FurredTorus, covered, differing};
-use common::{column_major, look_at_rows, perspective_rows};
+use common::torus::{FurredTorus, covered, differing, oblique_view, perspective_camera};
 
 const SIZE: u32 = 128;
 
@@ -33,16 +32,7 @@ fn settings() -> RenderSettings {
 
 /// A perspective camera (60°) whose view matrix is `view` (object to eye, row-major).
 fn camera(view: DMat4) -> Camera {
-    Camera {
-        view: view.as_mat4().to_cols_array(),
-        projection: column_major(perspective_rows(60.0, 0.5, 10.0)),
-        width: SIZE,
-        height: SIZE,
-    }
-}
-
-fn rest_view() -> DMat4 {
-    DMat4::from_cols_array_2d(&look_at_rows([0.0, -2.6, 2.2], [0.0; 3], [0.0, 0.0, 1.0])).transpose()
+    perspective_camera(view, SIZE)
 }
 
 fn render(scene: &FurScene, camera: &Camera, lighting: &Lighting) -> RgbaImage {
@@ -98,15 +88,15 @@ fn a_rigid_pose_draws_the_rest_seen_through_the_inverse_motion() {
         direction: (turn * Vec3::from(light.direction)).to_array(),
         ..light.clone()
     };
-    let expected = render(&rest, &camera(rest_view()), &light);
-    let got = render(&posed, &camera(rest_view() * motion.inverse()), &turned_light);
+    let expected = render(&rest, &camera(oblique_view()), &light);
+    let got = render(&posed, &camera(oblique_view() * motion.inverse()), &turned_light);
     // Rasterization of the moved triangles may round differently at an edge (none do here).
     let off = differing(&expected, &got, 4);
     assert!(off < 0.002, "{:.2}% of the pixels differ", 100.0 * off);
     assert!(covered(&got) > 2000);
 
     // Seen from the rest camera, the pose has moved: the check above can fail.
-    let unmoved = render(&posed, &camera(rest_view()), &turned_light);
+    let unmoved = render(&posed, &camera(oblique_view()), &turned_light);
     assert!(differing(&expected, &unmoved, 12) > 0.2);
 }
 
@@ -125,7 +115,7 @@ fn a_pose_draws_what_a_scene_of_the_posed_mesh_draws() {
     posed.deform(&positions, None).unwrap();
     let bent = FurMesh::new(MeshInput::new(&positions, f.mesh.triangles())).unwrap();
     let built = FurScene::new(&f.renderer, &bent, &f.uvs, &f.volume).unwrap();
-    let camera = camera(rest_view());
+    let camera = camera(oblique_view());
     let light = Lighting::default();
     // Without fins: a posed fin keeps the texture interval of its rest edge (its texture
     // stretches with the edge, as the shells' does with the skin), while a scene built from the
@@ -144,7 +134,7 @@ fn a_pose_draws_what_a_scene_of_the_posed_mesh_draws() {
 fn poses_start_from_the_rest_and_bad_poses_change_nothing() {
     let f = fixture();
     let mut scene = f.scene();
-    let camera = camera(rest_view());
+    let camera = camera(oblique_view());
     let light = Lighting::default();
     let rest = render(&scene, &camera, &light);
     let before = scene.uploads();

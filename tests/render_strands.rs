@@ -26,8 +26,7 @@ use pelt::render::{
 use pelt::volume::{HairVolume, VolumeParams, bake_volume};
 use pelt::{FurMesh, MeshInput, PeltError};
 
-use common::torus::differing;
-use common::{column_major, look_at_rows, perspective_rows};
+use common::torus::{differing, oblique_view, perspective_camera};
 
 const SIZE: u32 = 128;
 const FUR_DEPTH: f32 = 0.08;
@@ -95,16 +94,7 @@ fn settings() -> RenderSettings {
 }
 
 fn camera(view: DMat4) -> Camera {
-    Camera {
-        view: view.as_mat4().to_cols_array(),
-        projection: column_major(perspective_rows(60.0, 0.5, 10.0)),
-        width: SIZE,
-        height: SIZE,
-    }
-}
-
-fn rest_view() -> DMat4 {
-    DMat4::from_cols_array_2d(&look_at_rows([0.0, -2.6, 2.2], [0.0; 3], [0.0, 0.0, 1.0])).transpose()
+    perspective_camera(view, SIZE)
 }
 
 fn render(scene: &FurScene, camera: &Camera, settings: &RenderSettings) -> RgbaImage {
@@ -118,23 +108,23 @@ fn render(scene: &FurScene, camera: &Camera, settings: &RenderSettings) -> RgbaI
 fn without_guard_hairs_the_frame_is_the_shells_alone_exactly() {
     let f = fixture();
     let shells = scene(&f.mesh);
-    let expected = render(&shells, &camera(rest_view()), &settings());
+    let expected = render(&shells, &camera(oblique_view()), &settings());
     let mut emptied = scene(&f.mesh);
     emptied.set_guard_hairs(&f.renderer, &f.strands).unwrap();
     emptied
         .set_guard_hairs(&f.renderer, &PlacedStrands::default())
         .unwrap();
     assert_eq!(emptied.guard_strand_count(), 0);
-    assert!(render(&emptied, &camera(rest_view()), &settings()).pixels == expected.pixels);
+    assert!(render(&emptied, &camera(oblique_view()), &settings()).pixels == expected.pixels);
     let mut hidden = scene(&f.mesh);
     hidden.set_guard_hairs(&f.renderer, &f.strands).unwrap();
     let off = RenderSettings {
         guard_hairs: false,
         ..settings()
     };
-    assert!(render(&hidden, &camera(rest_view()), &off).pixels == expected.pixels);
+    assert!(render(&hidden, &camera(oblique_view()), &off).pixels == expected.pixels);
     // And with them drawn, the picture changes (the checks above can fail).
-    let drawn = render(&hidden, &camera(rest_view()), &settings());
+    let drawn = render(&hidden, &camera(oblique_view()), &settings());
     assert!(differing(&drawn, &expected, 8) > 0.02);
 }
 
@@ -217,12 +207,12 @@ fn a_pose_carries_the_strands_with_the_surface() {
     };
     let renderer = &f.renderer;
     let expected = renderer
-        .render(&rest, &camera(rest_view()), &light, &settings())
+        .render(&rest, &camera(oblique_view()), &light, &settings())
         .unwrap();
     let got = renderer
         .render(
             &posed,
-            &camera(rest_view() * motion.inverse()),
+            &camera(oblique_view() * motion.inverse()),
             &turned,
             &settings(),
         )
@@ -230,7 +220,7 @@ fn a_pose_carries_the_strands_with_the_surface() {
     let off = differing(&expected, &got, 6);
     assert!(off < 0.004, "{:.2}% of the pixels differ", 100.0 * off);
     let unmoved = renderer
-        .render(&posed, &camera(rest_view()), &turned, &settings())
+        .render(&posed, &camera(oblique_view()), &turned, &settings())
         .unwrap();
     assert!(differing(&expected, &unmoved, 12) > 0.2);
 }
@@ -268,15 +258,15 @@ fn every_strand_order_draws_close_to_the_sorted_composite() {
         strand_order: order,
         ..settings()
     };
-    let sorted = render(&hybrid, &camera(rest_view()), &with(StrandOrder::Sorted));
-    let shells = render(&scene(&f.mesh), &camera(rest_view()), &settings());
+    let sorted = render(&hybrid, &camera(oblique_view()), &with(StrandOrder::Sorted));
+    let shells = render(&scene(&f.mesh), &camera(oblique_view()), &settings());
     let strands_change = mean_difference(&sorted, &shells);
     for order in [
         StrandOrder::Stochastic,
         StrandOrder::Depth,
         StrandOrder::Banded(4),
     ] {
-        let image = render(&hybrid, &camera(rest_view()), &with(order));
+        let image = render(&hybrid, &camera(oblique_view()), &with(order));
         let off = mean_difference(&image, &sorted);
         assert!(
             off < 0.5 * strands_change,
@@ -312,7 +302,7 @@ fn bad_guard_hairs_and_settings_are_refused_by_name() {
     ] {
         let e = f
             .renderer
-            .render(&hybrid, &camera(rest_view()), &Lighting::default(), &bad)
+            .render(&hybrid, &camera(oblique_view()), &Lighting::default(), &bad)
             .unwrap_err();
         assert!(e.to_string().contains("settings.strand"), "{e}");
     }
@@ -343,7 +333,7 @@ fn prt_lights_the_strands_with_the_hair_around_them() {
     };
     let render = |scene: &FurScene, settings: &RenderSettings| {
         f.renderer
-            .render(scene, &camera(rest_view()), &prt, settings)
+            .render(scene, &camera(oblique_view()), &prt, settings)
             .unwrap()
     };
     let shells = render(&hybrid, &settings());
@@ -378,7 +368,7 @@ fn the_strand_lod_keeps_the_strands_coverage() {
     let coverage = |s: &RenderSettings| -> f64 {
         let image = f
             .renderer
-            .render_linear(&hybrid, &camera(rest_view()), &Lighting::default(), s)
+            .render_linear(&hybrid, &camera(oblique_view()), &Lighting::default(), s)
             .unwrap();
         image.pixels.chunks_exact(4).map(|p| f64::from(p[3])).sum()
     };

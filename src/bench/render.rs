@@ -13,7 +13,7 @@ use rayon::prelude::*;
 use super::{BenchOptions, CaseResult, time_fallible};
 use crate::error::Result;
 use crate::hair::HairParams;
-use crate::lapped::{PatchParams, build_patches};
+use crate::lapped::{PatchParams, Patches, build_patches};
 use crate::mesh::shapes::{subdivide, suzanne};
 use crate::mesh::{FurMesh, MeshInput};
 use crate::prt::pack::pack_f16;
@@ -112,6 +112,21 @@ fn rotate_on_cpu(frames: &[[[f64; 3]; 3]], light: &[[f64; 3]]) -> Result<Vec<[f6
     })
 }
 
+/// Suzanne subdivided three times (61,952 triangles; twice in `--quick`) under lapped patches of
+/// `TILE`: the render cases' mesh.
+pub(super) fn suzanne_patched(options: &BenchOptions) -> Result<(FurMesh, Patches)> {
+    let levels = if options.quick { 2 } else { 3 };
+    let mesh = FurMesh::new(subdivide(&suzanne(), levels).input())?;
+    let patches = build_patches(
+        &mesh,
+        &PatchParams {
+            tile_size: TILE,
+            ..PatchParams::default()
+        },
+    )?;
+    Ok((mesh, patches))
+}
+
 /// `render.frame`: one frame of Suzanne subdivided three times (61,952 triangles; twice in
 /// `--quick`, 15,488) with lapped-patch UVs, 32 shells and fins, Kajiya–Kay, at 512² and
 /// 1920 × 1080, drawn as a preview on this adapter draws it (`ShellMethod::Auto`: shells
@@ -126,15 +141,7 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let renderer = Renderer::new(AdapterChoice::PreferHardware)?;
     let name = note_adapter(&renderer);
     let levels = if options.quick { 2 } else { 3 };
-    let data = subdivide(&suzanne(), levels);
-    let mesh = FurMesh::new(data.input())?;
-    let patches = build_patches(
-        &mesh,
-        &PatchParams {
-            tile_size: TILE,
-            ..PatchParams::default()
-        },
-    )?;
+    let (mesh, patches) = suzanne_patched(options)?;
     let volume = bake_volume(
         &HairParams::default(),
         &VolumeParams {
@@ -166,7 +173,7 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let lighting = Lighting::default();
     let what = format!(
         "Suzanne subdivided {levels}× ({} triangles, {} GPU vertices, {} fins), {SHELLS} shells + fins",
-        data.triangles.len(),
+        mesh.face_count(),
         scene.surface_vertex_count(),
         scene.fin_count(),
     );

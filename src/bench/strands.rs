@@ -11,14 +11,11 @@
 //! - `render.frame.hybrid.lod`: 8× as far, the strand LOD's frame and how much of the strands'
 //!   coverage it keeps (their added opacity with the LOD over without, composited exactly).
 
-use super::render::{FUR_DEPTH, SHELLS, TILE, camera, note_adapter};
+use super::render::{FUR_DEPTH, SHELLS, camera, note_adapter, suzanne_patched};
 use super::{BenchOptions, CaseResult, time_fallible};
 use crate::error::Result;
 use crate::guard::guard_hairs;
 use crate::hair::HairParams;
-use crate::lapped::{PatchParams, build_patches};
-use crate::mesh::FurMesh;
-use crate::mesh::shapes::{subdivide, suzanne};
 use crate::reference::metrics::{LinearRgba, flip_map};
 use crate::render::{
     AdapterChoice, Camera, FurScene, Lighting, LinearImage, RenderSettings, Renderer, ShellMethod,
@@ -77,15 +74,7 @@ fn coverage(image: &LinearImage) -> f64 {
 pub(super) fn strand_cases(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let renderer = Renderer::new(AdapterChoice::PreferHardware)?;
     let adapter = note_adapter(&renderer);
-    let levels = if options.quick { 2 } else { 3 };
-    let mesh = FurMesh::new(subdivide(&suzanne(), levels).input())?;
-    let patches = build_patches(
-        &mesh,
-        &PatchParams {
-            tile_size: TILE,
-            ..PatchParams::default()
-        },
-    )?;
+    let (mesh, patches) = suzanne_patched(options)?;
     let hair = HairParams::default();
     let volume = bake_volume(
         &hair,

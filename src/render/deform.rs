@@ -65,6 +65,11 @@ impl Deformer {
         }
     }
 
+    /// The full mesh's triangles over the skin's GPU vertices, three indices each.
+    pub fn triangles(&self) -> &[u32] {
+        &self.layout.indices
+    }
+
     /// The skin's GPU vertices of the current pose (the rest shape's before any).
     pub fn current(&self) -> &[SurfaceVertex] {
         &self.surface

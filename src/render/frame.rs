@@ -263,15 +263,15 @@ impl Renderer {
             .get(checked.info.mesh_level as usize)
             .ok_or_else(|| PeltError::Render("the geometric level drawn is missing".into()))?;
         let method = self.shell_method(settings.shell_method);
-        let bands = Bands::new(settings, checked.info.shells, method);
         let strand_scene = scene.strands.as_ref().filter(|_| settings.guard_hairs);
+        let bands = Bands::new(settings, checked.info.shells, method, strand_scene.is_some());
         let ppu = lod::nearest_pixels_per_unit(camera, scene.extent.center, scene.extent.radius);
         let strand_draw = strand_scene.map_or((0, 0), |s| {
             let fur_pixels = ppu.map_or(f64::INFINITY, |ppu| {
                 f64::from(settings.fur_depth) * scene.extent.max_length * ppu
             });
             (
-                strands::kept_strands(&s.ranks, s.root_radius, ppu, settings.strand_pixels),
+                strands::kept_strands(&s.records, s.root_radius, ppu, settings.strand_pixels),
                 strands::segments_drawn(s.segments, fur_pixels),
             )
         });
@@ -387,21 +387,10 @@ impl Renderer {
                 }
                 skin::draw(&mut pass, pipelines, scene, level, checked.model);
                 fins::draw(&mut pass, pipelines, scene, fin_indices.len() as u32);
-                let shells_drawn = checked.info.shells;
-                if strand_scene.is_none() {
-                    shells::draw(
-                        &mut pass,
-                        pipelines,
-                        scene,
-                        level,
-                        checked.model,
-                        0..shells_drawn,
-                        method,
-                    );
-                }
-                for k in (0..bands.draws()).filter(|_| strand_scene.is_some()) {
+                // Without strands, one band: the shells in one draw.
+                for k in 0..bands.draws() {
                     strands::draw(&mut pass, pipelines, scene, &bands, k, strand_draw);
-                    let shells = bands.shell_start(k)..bands.shell_start(k + 1).min(shells_drawn);
+                    let shells = bands.shell_start(k)..bands.shell_start(k + 1).min(checked.info.shells);
                     shells::draw(&mut pass, pipelines, scene, level, checked.model, shells, method);
                 }
             }

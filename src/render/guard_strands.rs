@@ -42,14 +42,11 @@ pub(super) struct GuardStrands {
     /// Segments of the longest strand (every strand is drawn with this many, the shorter ones'
     /// extra segments dropped by the vertex shader).
     pub segments: u32,
-    /// The strands' LOD ranks, ascending: the strands are stored in this order, so those the
-    /// strand LOD keeps are a prefix (`strands::kept_strands`).
-    pub ranks: Vec<f32>,
     /// The thickest root's radius, object units.
     pub root_radius: f32,
 }
 
-/// The unit vector perpendicular to `n` that `strands.wgsl`'s `perpendicular` picks.
+/// A unit vector perpendicular to `n`, for a root where `∂P/∂u` gives no tangent.
 fn perpendicular(n: Vec3) -> Vec3 {
     let axis = if n.x.abs() < 0.9 { Vec3::X } else { Vec3::Y };
     n.cross(axis).normalize()
@@ -203,7 +200,6 @@ pub(super) fn prepare(
         sorted.push(s);
     }
     Ok(GuardStrands {
-        ranks: sorted.iter().map(|s| s.root_color[3]).collect(),
         root_radius: points.iter().fold(0.0f32, |m, p| m.max(p[0][3])),
         strands: sorted,
         points: sorted_points,
@@ -250,7 +246,7 @@ mod tests {
         assert!((g.strands[0].shape[3] - 1.5).abs() < 1e-6, "length at the root");
         let rank = g.strands[0].root_color[3];
         assert!((0.0..1.0).contains(&rank));
-        assert_eq!((g.ranks.as_slice(), g.root_radius), ([rank].as_slice(), 0.01));
+        assert_eq!(g.root_radius, 0.01);
     }
 
     #[test]

@@ -148,9 +148,8 @@ pub struct FurScene {
     uploads: UploadStats,
     /// The rest shape, to pose the scene.
     deformer: Deformer,
-    /// The skin's rest vertices and the full mesh's triangles over them, which the guard
-    /// strands are tied to.
-    rest_surface: (Vec<super::surface_mesh::SurfaceVertex>, Vec<u32>),
+    /// The skin's rest vertices, which the guard strands' points are placed over.
+    rest_surface: Vec<super::surface_mesh::SurfaceVertex>,
     /// The guard strands, when set.
     pub(super) strands: Option<SceneStrands>,
 }
@@ -161,12 +160,11 @@ pub(super) struct SceneStrands {
     pub bind_group: wgpu::BindGroup,
     /// Segments of the longest strand.
     pub segments: u32,
-    pub count: usize,
-    /// The LOD ranks in upload order (ascending) and the thickest root's radius.
-    pub ranks: Vec<f32>,
+    /// The thickest root's radius.
     pub root_radius: f32,
-    /// The strands as uploaded (their root triangles, to pose their frames) and the frames.
-    records: Vec<super::guard_strands::GpuStrand>,
+    /// The strands as uploaded, in ascending LOD rank (their root triangles pose their frames,
+    /// their ranks tell which the LOD may keep), and the frames.
+    pub records: Vec<super::guard_strands::GpuStrand>,
     frames: wgpu::Buffer,
 }
 
@@ -371,7 +369,7 @@ impl FurScene {
             pose_bytes: 0,
         };
         let deformer = Deformer::new(mesh, &surface);
-        let rest_surface = (surface.vertices.clone(), surface.indices.clone());
+        let rest_surface = surface.vertices.clone();
         let fin_ends = fins.source.chunks_exact(4).map(|c| [c[0], c[1]]).collect();
         let extent = extent(mesh.positions(), &lengths);
         Ok(FurScene {
@@ -570,22 +568,28 @@ impl FurScene {
             self.strands = None;
             return Ok(());
         }
-        // The strand records and points, twice over while they are made and sent.
-        let bytes = 2.0 * (64.0 * guard_hairs.spans.len() as f64 + 16.0 * guard_hairs.points.len() as f64);
+        // The strand records (kept), their frames and points, twice over while they are made
+        // and sent.
+        let bytes = 2.0 * (160.0 * guard_hairs.spans.len() as f64 + 16.0 * guard_hairs.points.len() as f64);
         crate::memory::check("guard strand upload", bytes, || "`guard_share`".into())?;
-        let (vertices, indices) = &self.rest_surface;
         let lengths = expand(&self.attributes.1, &self.surface_source);
-        let prepared = super::guard_strands::prepare(guard_hairs, vertices, indices, &lengths)?;
+        let prepared = super::guard_strands::prepare(
+            guard_hairs,
+            &self.rest_surface,
+            self.deformer.triangles(),
+            &lengths,
+        )?;
         let device = &renderer.device;
         let limit = device.limits().max_storage_buffer_binding_size;
-        let draw_vertices = 6 * u64::from(prepared.segments) * prepared.strands.len() as u64;
+        // A draw's vertices, `strands · (2 · segments + 4)`, fit in a u32 below
+        // MAX_GUARD_STRANDS strands of MAX_SEGMENTS segments; the buffers must fit the device.
         let biggest =
             size_of_val(prepared.points.as_slice()).max(size_of_val(prepared.strands.as_slice())) as u64;
-        if biggest > limit || draw_vertices > u64::from(u32::MAX) {
+        if biggest > limit {
             return Err(PeltError::parameter(
                 "guard_hairs",
                 format!(
-                    "{} strands of {} points need a {biggest}-byte buffer and {draw_vertices} vertices, the device allows {limit} bytes and 2^32 vertices",
+                    "{} strands of {} points need a {biggest}-byte buffer, the device allows {limit} bytes",
                     prepared.strands.len(),
                     prepared.segments + 1
                 ),
@@ -629,8 +633,6 @@ impl FurScene {
             SceneStrands {
                 bind_group,
                 segments: prepared.segments,
-                count: prepared.strands.len(),
-                ranks: prepared.ranks.clone(),
                 root_radius: prepared.root_radius,
                 records: prepared.strands.clone(),
                 frames,
@@ -644,7 +646,7 @@ impl FurScene {
 
     /// Guard strands the scene draws ([`FurScene::set_guard_hairs`]).
     pub fn guard_strand_count(&self) -> usize {
-        self.strands.as_ref().map_or(0, |s| s.count)
+        self.strands.as_ref().map_or(0, |s| s.records.len())
     }
 
     /// The SH order of the scene's transfer, if it has one.

@@ -4,6 +4,7 @@
 //! `n` is drawn just before shell `round(k S / n)` of the `S` drawn, holding the strand
 //! fragments that stand between the shells around it, and band `n` after every shell.
 
+use super::guard_strands::GpuStrand;
 use super::pipelines::{Model, PassPipelines, PassState, VertexInput};
 use super::scene::FurScene;
 use super::settings::{RenderSettings, ShellMethod, StrandOrder};
@@ -42,13 +43,12 @@ pub(super) fn state(model: Model, sorted: bool) -> PassState<'static> {
 /// share and grow translucent instead of ever wider.
 pub(super) const MIN_KEPT: f32 = 1.0 / 16.0;
 
-/// How many of `ranks` (the strands' LOD ranks, ascending, as uploaded) the strand LOD may keep
-/// in a frame where their thickest root (`radius`) is at most `pixels_per_unit` pixels per
+/// How many of `strands` (as uploaded, in ascending LOD rank) the strand LOD may keep in a frame where their thickest root (`radius`) is at most `pixels_per_unit` pixels per
 /// object unit: the vertex shader keeps a strand when its rank is below its width over
 /// `strand_pixels`, so the strands past that with the thickest root nearest the eye are left
 /// out of the draw (a quarter more kept, for the shader's own measure).
 pub(super) fn kept_strands(
-    ranks: &[f32],
+    strands: &[GpuStrand],
     radius: f32,
     pixels_per_unit: Option<f64>,
     strand_pixels: f32,
@@ -60,7 +60,7 @@ pub(super) fn kept_strands(
         }
         _ => f64::INFINITY,
     };
-    ranks.partition_point(|&r| f64::from(r) < keep) as u32
+    strands.partition_point(|s| f64::from(s.root_color[3]) < keep) as u32
 }
 
 /// Pixels of fur depth per drawn strand segment: a strand a few pixels long is drawn with fewer
@@ -93,14 +93,15 @@ pub(super) struct Bands {
 }
 
 impl Bands {
-    /// The bands of a frame drawing `shells` shells by `method` (resolved).
-    pub fn new(settings: &RenderSettings, shells: u32, method: ShellMethod) -> Bands {
+    /// The bands of a frame drawing `shells` shells by `method` (resolved), with `strands`
+    /// drawn or none (then one band: the shells in one draw).
+    pub fn new(settings: &RenderSettings, shells: u32, method: ShellMethod, strands: bool) -> Bands {
         let (count, sorted) = match settings.strand_order {
             StrandOrder::Stochastic | StrandOrder::Depth => (0, false),
             StrandOrder::Banded(n) => (n, false),
             StrandOrder::Sorted => (shells.max(1), true),
         };
-        let whole = method == ShellMethod::Marched || shells == 0 || count == 0;
+        let whole = !strands || method == ShellMethod::Marched || shells == 0 || count == 0;
         Bands {
             count: if whole { 1 } else { count },
             shells,
@@ -161,27 +162,32 @@ mod tests {
             strand_order: StrandOrder::Banded(4),
             ..Default::default()
         };
-        let b = Bands::new(&settings, 30, ShellMethod::Instanced);
+        let b = Bands::new(&settings, 30, ShellMethod::Instanced, true);
         let starts: Vec<u32> = (0..=b.count).map(|k| b.shell_start(k)).collect();
         assert_eq!(starts, [0, 8, 15, 23, 30]);
         assert_eq!(b.draws(), 5);
         settings.strand_order = StrandOrder::Sorted;
-        let sorted = Bands::new(&settings, 30, ShellMethod::Instanced);
+        let sorted = Bands::new(&settings, 30, ShellMethod::Instanced, true);
+        let none = Bands::new(&settings, 30, ShellMethod::Instanced, false);
+        assert_eq!((none.draws(), none.shell_start(1), none.sorted), (1, 30, false));
         assert!((0..=30).all(|k| sorted.shell_start(k) == k) && sorted.sorted);
-        let marched = Bands::new(&settings, 30, ShellMethod::Marched);
+        let marched = Bands::new(&settings, 30, ShellMethod::Marched, true);
         assert_eq!(
             (marched.draws(), marched.shell_start(0), marched.shell_start(1)),
             (1, 0, 30)
         );
         assert!(!marched.sorted, "one band under the hull writes depth");
         settings.strand_order = StrandOrder::Stochastic;
-        let stochastic = Bands::new(&settings, 30, ShellMethod::Instanced);
+        let stochastic = Bands::new(&settings, 30, ShellMethod::Instanced, true);
         assert_eq!((stochastic.draws(), stochastic.shell_start(1)), (1, 30));
     }
 
     #[test]
     fn the_draw_keeps_the_strands_whose_rank_the_lod_may_keep() {
-        let ranks = [0.01, 0.05, 0.1, 0.2, 0.4, 0.8];
+        let ranks = [0.01, 0.05, 0.1, 0.2, 0.4, 0.8].map(|rank| GpuStrand {
+            root_color: [0.0, 0.0, 0.0, rank],
+            ..bytemuck::Zeroable::zeroed()
+        });
         // Roots 0.04 px across at most: the floor 1/16, a quarter more, keeps ranks below 0.078.
         assert_eq!(kept_strands(&ranks, 0.2, Some(0.1), 1.0), 2);
         // 0.24 px: ranks below 0.3.

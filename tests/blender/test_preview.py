@@ -34,14 +34,13 @@ def uv_sphere(segments=24, rings=12):
     return np.array(positions, np.float32), np.array(triangles, np.uint32)
 
 
-def bake(*, layers=8, transfer=True):
+def bake(*, layers=8, transfer=True, hair=None, **options):
     positions, triangles = uv_sphere()
     mesh = pelt.FurMesh(positions, triangles)
-    hair = pelt.HairParams(density=1024)
     return pelt.Pipeline().bake(
         mesh,
         tile_size=0.5,
-        hair=hair,
+        hair=hair or pelt.HairParams(density=1024),
         layers=layers,
         resolution=32,
         fin_size=(64, 16),
@@ -49,6 +48,7 @@ def bake(*, layers=8, transfer=True):
         transfer=transfer,
         order=3,
         directions=64,
+        **options,
     )
 
 
@@ -301,18 +301,7 @@ def test_bad_input_names_the_problem_and_the_preview_survives(asset):
 
 
 def test_guard_hairs_are_drawn_as_strands_over_the_shells():
-    positions, triangles = uv_sphere()
-    mesh = pelt.FurMesh(positions, triangles)
-    guarded = pelt.Pipeline().bake(
-        mesh,
-        tile_size=0.5,
-        hair=pelt.HairParams(density=1024, guard_fraction=0.2),
-        layers=8,
-        resolution=32,
-        fin_size=(64, 16),
-        fur_depth=0.1,
-        guard_hairs=True,
-    )
+    guarded = bake(hair=pelt.HairParams(density=1024, guard_fraction=0.2), guard_hairs=True)
     preview = pelt.Preview(guarded, adapter="cpu")
     assert preview.guard_strands == len(guarded.guard_hairs["counts"]) > 50
     shells = preview.render(VIEW, PROJECTION, SIDE, SIDE, guard_hairs=False)

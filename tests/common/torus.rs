@@ -2,12 +2,14 @@
 //! (split where the ring and the tube close, a seam as between patches) and the small hair
 //! volume, for tests that render it with passes or settings changed.
 
+use glam::DMat4;
 use pelt::mesh::shapes::{torus, torus_uvs};
 use pelt::render::{AdapterChoice, Camera, FurScene, Lighting, RenderSettings, Renderer, RgbaImage};
 use pelt::volume::HairVolume;
 use pelt::{FurMesh, MeshInput};
 
 use super::volume::small_volume;
+use super::{column_major, look_at_rows, perspective_rows};
 
 pub struct FurredTorus {
     pub renderer: Renderer,
@@ -58,4 +60,19 @@ pub fn differing(a: &RgbaImage, b: &RgbaImage, tolerance: u8) -> f64 {
         .filter(|(p, q)| p.iter().zip(*q).any(|(x, y)| x.abs_diff(*y) > tolerance))
         .count();
     count as f64 / (a.pixels.len() / 4) as f64
+}
+
+/// A perspective camera (60°) of `size²` pixels whose view matrix is `view` (object to eye).
+pub fn perspective_camera(view: DMat4, size: u32) -> Camera {
+    Camera {
+        view: view.as_mat4().to_cols_array(),
+        projection: column_major(perspective_rows(60.0, 0.5, 10.0)),
+        width: size,
+        height: size,
+    }
+}
+
+/// The view from above and to the side of the torus, looking at its centre.
+pub fn oblique_view() -> DMat4 {
+    DMat4::from_cols_array_2d(&look_at_rows([0.0, -2.6, 2.2], [0.0; 3], [0.0, 0.0, 1.0])).transpose()
 }
