@@ -14,10 +14,10 @@ use pelt::render::{
     AdapterChoice, Camera, FurScene, KajiyaKay, LightModel, Lighting, RenderSettings, Renderer, RgbaImage,
     ShellMethod,
 };
-use pelt::{FurMesh, MeshInput, PeltError};
+use pelt::{FurMesh, MeshInput};
 
 use common::torus::{FurredTorus, covered};
-use common::{column_major, look_at};
+use common::{column_major, look_at, parameter_name};
 
 const AROUND: usize = 32;
 const ACROSS: usize = 16;
@@ -266,13 +266,6 @@ fn renders_are_deterministic() {
     // A frame of another size in between does not disturb the cached targets.
     let _ = render(&a, &oblique(48), &settings());
     assert!(first == render(&a, &camera, &settings()));
-}
-
-fn parameter_name(e: PeltError) -> String {
-    match e {
-        PeltError::InvalidParameter { name, .. } => name,
-        other => panic!("expected an invalid parameter, got {other}"),
-    }
 }
 
 #[test]

@@ -9,7 +9,7 @@ mod common;
 use std::sync::OnceLock;
 
 use common::volume::small_volume;
-use common::{column_major, look_at_rows, mul, orthographic, perspective_rows};
+use common::{column_major, look_at_rows, mul, orthographic, parameter_name, perspective_rows};
 use pelt::color::srgb_to_linear;
 use pelt::prt::pack::{PackedF16, pack_f16, texel_index};
 use pelt::prt::sh;
@@ -19,7 +19,7 @@ use pelt::render::{
     AdapterChoice, Camera, FurScene, LightModel, Lighting, LinearImage, Prt, RenderSettings, Renderer,
 };
 use pelt::volume::HairVolume;
-use pelt::{FurMesh, MeshInput, PeltError};
+use pelt::{FurMesh, MeshInput};
 
 /// SH order of the test transfer.
 const ORDER: usize = 3;
@@ -349,13 +349,6 @@ fn a_light_behind_the_skin_lights_nothing_and_one_above_lights_the_fur() {
     // Transfer is zero below the horizon; only the ringing of the order-3 cap is left, clamped.
     assert!(below < 0.02 * above, "lit from below: {below} vs {above}");
     let _ = f;
-}
-
-fn parameter_name(e: PeltError) -> String {
-    match e {
-        PeltError::InvalidParameter { name, .. } => name,
-        other => panic!("expected an invalid parameter, got {other}"),
-    }
 }
 
 #[test]

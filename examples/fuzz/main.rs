@@ -27,7 +27,7 @@ use pelt::mesh::{obj::parse_obj, shapes};
 use pelt::pipeline::{BakeParams, Pipeline, TransferChoice};
 use pelt::prt::bands::{BandParams, bake_transfer_auto};
 use pelt::prt::{Method, Phase, TransferParams, TransferVolume, bake_transfer, sh};
-use pelt::volume::{VolumeParams, bake_volume};
+use pelt::volume::{PlaneParams, VolumeParams, bake_volume};
 use pelt::{FurMesh, MeshInput, PeltError};
 
 mod corpus;
@@ -644,6 +644,14 @@ fn pipeline_target(u: &mut Unstructured<'_>) -> Arb<Outcome> {
             None
         },
         transfer: None,
+        planes: if u.arbitrary()? {
+            Some(PlaneParams {
+                planes: count(u, 8)?,
+                size: [count(u, 16)?, count(u, 8)?],
+            })
+        } else {
+            None
+        },
     };
     if u.arbitrary()? {
         params.transfer = Some(TransferChoice {
@@ -656,6 +664,9 @@ fn pipeline_target(u: &mut Unstructured<'_>) -> Arb<Outcome> {
     Ok(judge(pipeline.bake(Arc::new(mesh), &params, None), |asset| {
         all_finite("uv", asset.patches.uv.iter().flatten().flatten())?;
         all_finite("coverage", &asset.volume.coverage)?;
+        if let Some(planes) = &asset.planes {
+            all_finite("plane tilt", &planes.tilt)?;
+        }
         if let Some(guard) = &asset.guard_hairs {
             all_finite("guard hairs", guard.points.iter().flatten())?;
         }

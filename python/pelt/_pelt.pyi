@@ -348,10 +348,15 @@ def sh_project_light(
     ``half_angle`` radians (0: directional)."""
 
 class StageReport(TypedDict):
-    stage: Literal["patches", "volume", "guard_hairs", "transfer"]
+    stage: Literal["patches", "volume", "guard_hairs", "planes", "transfer"]
     ran: bool
     seconds: float
     summary: str
+
+class PlaneSlices(TypedDict):
+    planes: int
+    tilt: tuple[float, float]
+    slices: npt.NDArray[np.uint8]
 
 class GuardHairs(TypedDict):
     """A ``guard_share`` of the overcoat's strands over the mesh, placed where the shells would
@@ -382,6 +387,9 @@ class FurAsset:
     @property
     def guard_hairs(self) -> GuardHairs | None:
         """The guard hairs of a bake with ``guard_hairs=True``, else ``None``."""
+    @property
+    def planes(self) -> PlaneSlices | None:
+        """The virtual planes' slices of a bake with ``planes``, else ``None``."""
     @property
     def report(self) -> list[StageReport]:
         """Per stage, in order: whether it ran or was reused, seconds, a summary line."""
@@ -426,6 +434,7 @@ class Pipeline:
         phase: Literal["isotropic", "kajiya-kay"] = "kajiya-kay",
         guard_hairs: bool = False,
         guard_share: float = 1.0,
+        planes: int = 0,
         progress: Callable[[str, float], bool | None] | None = None,
     ) -> FurAsset:
         """Bake ``mesh`` (GIL released): lapped patches with tiles ``tile_size`` object units wide,
@@ -434,7 +443,9 @@ class Pipeline:
         band selection within ``tolerance``. ``guard_hairs=True`` draws a ``guard_share`` (in
         ``(0, 1]``) of the overcoat as explicit strands (:attr:`FurAsset.guard_hairs`) and bakes
         the rest of the coat into the volume (and the transfer); it needs a ``guard_fraction``
-        and an overcoat width above 0, and at most 1,048,576 guard hairs over the mesh. Every
+        and an overcoat width above 0, and at most 1,048,576 guard hairs over the mesh.
+        ``planes`` (``[1, 256]``; 0, the default, skips them) bakes that many virtual planes per
+        axis for ``Preview.render(shell_method="planes")`` (:attr:`FurAsset.planes`). Every
         parameter is checked before any stage runs. ``progress(stage, fraction)`` returning
         ``False`` cancels with :class:`BakeCancelled`;
         stages finished before the cancel stay cached. Raises :class:`MemoryLimitError` when
@@ -458,6 +469,7 @@ class Pipeline:
         phase: Literal["isotropic", "kajiya-kay"] = "kajiya-kay",
         guard_hairs: bool = False,
         guard_share: float = 1.0,
+        planes: int = 0,
     ) -> float:
         """Estimated peak memory in bytes of :meth:`bake` with these arguments (an upper bound;
         the mesh's own share, usually small, is not counted). Checks the arguments as
@@ -526,12 +538,13 @@ class Preview:
         min_shells: int = 2,
         max_shells: int = 64,
         shells_per_pixel: float = 1.0,
-        shell_method: Literal["instanced", "marched", "auto"] = "instanced",
+        shell_method: Literal["instanced", "marched", "planes", "auto"] = "instanced",
         mesh_error: float = 1.0,
         guard_hairs: bool = True,
         strand_order: Literal["stochastic", "depth", "banded", "sorted"] = "stochastic",
         strand_bands: int = 4,
         strand_pixels: float = 1.0,
+        plane_loop_limit: int = 16,
     ) -> npt.NDArray[np.uint8] | npt.NDArray[np.float32]:
         """One frame (GIL released): ``[height, width, 4]`` uint8 sRGB, or float32 linear with
         ``linear=True``; straight alpha, top row first.
@@ -549,7 +562,10 @@ class Preview:
         cross-fades LOD levels (``shells`` must be ``None`` then). ``shell_method="marched"``
         draws the shells as one hull whose pixels march down through the layers: one mesh of
         triangles whatever the shell count, several times faster on a CPU adapter, lit once per
-        pixel; ``"auto"`` marches on a CPU adapter and instances on a GPU. ``mesh_error``: the
+        pixel; ``"planes"`` traces each pixel's ray through the asset's virtual planes (a bake
+        with ``planes``; raycast paper), crossing at most ``plane_loop_limit`` (``[1, 256]``) of
+        them, the shell count and LOD not applying; ``"auto"`` marches on a CPU adapter and
+        instances on a GPU. ``mesh_error``: the
         most pixels a simplified version of the mesh, drawn instead of the full one where the
         object is small on screen, may stray from it (0 always draws the full mesh; after
         :meth:`update`, a simplified version that would smear the new colors or lengths, such

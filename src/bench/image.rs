@@ -28,6 +28,7 @@ use crate::render::{
     AdapterChoice, FurScene, KajiyaKay, LightModel, Lighting, Prt, RenderSettings, Renderer, ShellMethod,
     StrandOrder,
 };
+use crate::volume::{PlaneParams, bake_slices};
 
 /// Layers of the volume: the skin and 64 shells.
 const LAYERS: usize = 65;
@@ -52,6 +53,8 @@ struct Config {
     /// How the strands are composited, and the strand LOD's narrowest strand in pixels.
     strand_order: StrandOrder,
     strand_pixels: f32,
+    /// Virtual planes: this many per axis, and the loop limit.
+    planes: Option<(usize, u32)>,
 }
 
 const DEFAULT: Config = Config {
@@ -64,13 +67,16 @@ const DEFAULT: Config = Config {
     guard_share: None,
     strand_order: StrandOrder::Stochastic,
     strand_pixels: 1.0,
+    planes: None,
 };
 
-/// The configurations drawn: the defaults, marched shells and the hybrid (the overcoat as guard
-/// strands over an undercoat volume; also sorted and without the strand LOD) in `--quick`; the hybrid marched and at the add-on's share
-/// of 0.1, every shell count, fins off, LOD (Kajiya–Kay and PRT) and PRT at order 4 (instanced
-/// and marched) for every object; PRT at every order from 2 to 8 on the study object (the
-/// short-furred sphere) only, since each order is a transfer bake and PRT frames are the
+/// The configurations drawn: the defaults, marched shells, the hybrid (the overcoat as guard
+/// strands over an undercoat volume; also sorted and without the strand LOD) and the virtual
+/// planes (32 per axis, loop limit 16) in `--quick`; the hybrid marched and at the add-on's
+/// share of 0.1, every shell count, fins off, LOD (Kajiya–Kay and PRT), PRT at order 4
+/// (instanced, marched and through the planes) for every object; PRT at every order from 2 to 8
+/// and the planes at 16, 32 and 64 per axis with loop limits 8, 16 and 32 on the study object
+/// (the short-furred sphere) only, since each order is a transfer bake and PRT frames are the
 /// slowest on a CPU adapter.
 fn configs(quick: bool, study: bool) -> Vec<Config> {
     let mut list = vec![
@@ -97,6 +103,13 @@ fn configs(quick: bool, study: bool) -> Vec<Config> {
             name: "hybrid.nolod",
             guard_share: Some(1.0),
             strand_pixels: 0.0,
+            ..DEFAULT
+        },
+        // The raycast paper's virtual planes at the library's defaults.
+        Config {
+            name: "planes",
+            method: ShellMethod::VirtualPlanes,
+            planes: Some((32, 16)),
             ..DEFAULT
         },
     ];
@@ -155,7 +168,40 @@ fn configs(quick: bool, study: bool) -> Vec<Config> {
         prt_order: Some(4),
         ..DEFAULT
     });
+    // The planes' own fringe, without the fins that cover their hull's straight edges (§3.4).
+    list.push(Config {
+        name: "planes.nofins",
+        method: ShellMethod::VirtualPlanes,
+        planes: Some((32, 16)),
+        fins: false,
+        ..DEFAULT
+    });
+    list.push(Config {
+        name: "planes.prt4",
+        method: ShellMethod::VirtualPlanes,
+        planes: Some((32, 16)),
+        prt_order: Some(4),
+        ..DEFAULT
+    });
     if study {
+        // The paper's grid (its tests T1–T9): plane counts against loop limits.
+        for (name, planes, limit) in [
+            ("planes16.loop8", 16, 8),
+            ("planes16.loop16", 16, 16),
+            ("planes16.loop32", 16, 32),
+            ("planes32.loop8", 32, 8),
+            ("planes32.loop32", 32, 32),
+            ("planes64.loop8", 64, 8),
+            ("planes64.loop16", 64, 16),
+            ("planes64.loop32", 64, 32),
+        ] {
+            list.push(Config {
+                name,
+                method: ShellMethod::VirtualPlanes,
+                planes: Some((planes, limit)),
+                ..DEFAULT
+            });
+        }
         for (name, order) in [
             ("prt2", 2),
             ("prt3", 3),
@@ -289,6 +335,7 @@ fn object_cases(
     let reps = 1;
     let mut transfer_order = None;
     let mut hybrid: Option<(f64, FurScene)> = None;
+    let mut plane_count = None;
     for config in configs(options.quick, study) {
         let runs = |scene: &CanonicalScene| {
             runs_group(&format!("{group}.{}.{}", light_name(scene), config.name), prefix)
@@ -326,6 +373,17 @@ fn object_cases(
             guarded.volume.guard_share = share;
             let baked = pipeline.bake(first.mesh.clone(), &guarded, None)?;
             hybrid = Some((share, FurScene::from_asset(renderer, &baked)?));
+        }
+        if let Some((planes, _)) = config.planes
+            && plane_count != Some(planes)
+        {
+            let plane_params = PlaneParams {
+                planes,
+                ..PlaneParams::default()
+            };
+            let slices = bake_slices(&strands, |_| true, &plane_params, None)?;
+            fur.set_planes(renderer, Some(&slices))?;
+            plane_count = Some(planes);
         }
         let drawn = match (&hybrid, config.guard_share) {
             (Some((_, scene)), Some(_)) => scene,
@@ -444,6 +502,7 @@ fn preview_settings(config: &Config, fur_depth: f32) -> RenderSettings {
         fur_depth,
         strand_order: config.strand_order,
         strand_pixels: config.strand_pixels,
+        plane_loop_limit: config.planes.map_or(16, |p| p.1),
         ..RenderSettings::default()
     }
 }

@@ -25,14 +25,14 @@ use crate::prt::pack::{PackedF16, PackedU8, pack_f16, pack_u8};
 use crate::prt::transfer::{MAX_LAYER_SPACING, MAX_LAYERS, MAX_VOXELS};
 use crate::prt::volume_input::VolumeInput;
 use crate::prt::{Phase, Transfer, TransferParams, bake_transfer};
-use crate::volume::{HairVolume, VolumeParams, bake_volume};
+use crate::volume::{HairVolume, PlaneParams, PlaneSlices, VolumeParams, bake_slices, bake_volume};
 
 use key::{KeyHasher, patch_mesh_key};
 
 pub use crate::mesh::MAX_FUR_DEPTH;
 
 /// Stage names, in the order they run.
-pub const STAGES: [&str; 4] = ["patches", "volume", "guard_hairs", "transfer"];
+pub const STAGES: [&str; 5] = ["patches", "volume", "guard_hairs", "planes", "transfer"];
 
 /// Reports `(stage, finished fraction of that stage)`; returns `false` to cancel the bake.
 pub type StageCallback<'a> = &'a (dyn Fn(&str, f64) -> bool + Sync);
@@ -76,6 +76,10 @@ pub struct BakeParams {
     pub fur_depth: Option<f64>,
     /// The PRT bake; `None` skips it (Kajiya–Kay lighting needs no transfer).
     pub transfer: Option<TransferChoice>,
+    /// The slices of the virtual-planes renderer
+    /// ([`ShellMethod::VirtualPlanes`](crate::render::ShellMethod)); `None` (default) skips them,
+    /// since only that method reads them.
+    pub planes: Option<PlaneParams>,
 }
 
 impl BakeParams {
@@ -133,6 +137,9 @@ impl BakeParams {
         }
         if self.volume.guard_hairs {
             crate::guard::validate(&self.hair, depth, self.volume.guard_share)?;
+        }
+        if let Some(planes) = &self.planes {
+            planes.validate()?;
         }
         Ok(())
     }
@@ -196,7 +203,13 @@ impl BakeParams {
                 + 16.0 * (l * r * r) as f64
                 + crate::prt::peak::transfer_peak_bytes(l, r, &choice.params, choice.auto, true)
         });
-        volume.max(transfer)
+        // The slices are baked with the volume held, from strands grown again.
+        let planes = self.planes.as_ref().map_or(0.0, |p| {
+            crate::volume::peak::volume_bytes(&self.volume)
+                + crate::volume::peak::strand_bytes(&self.hair)
+                + p.bytes()
+        });
+        volume.max(transfer).max(planes)
     }
 
     /// `Ok` when [`Self::peak_bytes`] fits the memory limit.
@@ -259,6 +272,8 @@ pub struct FurAsset {
     pub guard_hairs: Option<Arc<PlacedStrands>>,
     /// The transfer, when asked for.
     pub transfer: Option<Arc<TransferBake>>,
+    /// The virtual planes' slices, when asked for ([`BakeParams::planes`]).
+    pub planes: Option<Arc<PlaneSlices>>,
     /// The parameters of the bake.
     pub params: BakeParams,
     /// Per stage, in order: ran or reused, seconds, summary.
@@ -276,6 +291,7 @@ pub struct Pipeline {
     patches: Option<Cached<Patches>>,
     volume: Option<Cached<HairVolume>>,
     guard_hairs: Option<Cached<PlacedStrands>>,
+    planes: Option<Cached<PlaneSlices>>,
     transfer: Option<Cached<TransferBake>>,
 }
 
@@ -379,6 +395,43 @@ impl Pipeline {
             None
         };
 
+        let planes = match &params.planes {
+            None => {
+                self.planes = None;
+                None
+            }
+            Some(plane_params) => {
+                // The shells' hair (guard hairs drawn as strands left out), sliced.
+                let planes_key = KeyHasher::new("planes")
+                    .key(volume_key)
+                    .params(plane_params)
+                    .finish();
+                Some(run_stage(
+                    &mut self.planes,
+                    planes_key,
+                    "planes",
+                    &mut report,
+                    || {
+                        let callback = stage_callback(progress, "planes");
+                        let call = |f: f64| callback.as_ref().is_none_or(|c| c(f));
+                        let strands = crate::hair::grow_strands(&hair)?;
+                        let drawn = if params.volume.guard_hairs {
+                            crate::guard::drawn_as_strands(&strands, params.volume.guard_share)
+                        } else {
+                            Vec::new()
+                        };
+                        let keep = |i: usize| !drawn.get(i).copied().unwrap_or(false);
+                        let slices = bake_slices(&strands, keep, plane_params, Some(&call))?;
+                        let summary = format!(
+                            "{} planes per axis, slices {}×{}, lean ({:.2}, {:.2})",
+                            slices.planes, slices.size[0], slices.size[1], slices.tilt[0], slices.tilt[1]
+                        );
+                        Ok((slices, summary))
+                    },
+                )?)
+            }
+        };
+
         let depth_in_tiles = params.fur_depth() / params.patches.tile_size;
         let transfer = match &params.transfer {
             None => {
@@ -424,6 +477,7 @@ impl Pipeline {
             patches,
             volume,
             guard_hairs,
+            planes,
             transfer,
             params: params.clone(),
             report,

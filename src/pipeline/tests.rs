@@ -260,3 +260,41 @@ fn cancelling_keeps_finished_stages_and_drops_the_cancelled_one() {
         [("patches", false), ("volume", true), ("transfer", true)]
     );
 }
+
+#[test]
+fn the_planes_stage_runs_only_when_asked_and_when_its_inputs_change() {
+    let mut pipeline = Pipeline::new();
+    let mut params = small_params();
+    params.transfer = None;
+    let mesh = sphere(RED, DOWN, 1.0);
+    let plain = pipeline.bake(mesh.clone(), &params, None).unwrap();
+    assert!(plain.planes.is_none());
+    assert_eq!(ran(&plain), [("patches", true), ("volume", true)]);
+
+    params.planes = Some(PlaneParams {
+        planes: 4,
+        size: [16, 8],
+    });
+    let with = pipeline.bake(mesh.clone(), &params, None).unwrap();
+    assert_eq!(
+        ran(&with),
+        [("patches", false), ("volume", false), ("planes", true)]
+    );
+    // The slices of the bake's own strands, as baked alone.
+    let strands = crate::hair::grow_strands(&params.grown_hair(&mesh)).unwrap();
+    let alone = bake_slices(&strands, |_| true, params.planes.as_ref().unwrap(), None).unwrap();
+    assert_eq!(**with.planes.as_ref().unwrap(), alone);
+    // Unchanged, reused; another count, baked again without the volume.
+    let again = pipeline.bake(mesh.clone(), &params, None).unwrap();
+    assert_eq!(ran(&again)[2], ("planes", false));
+    params.planes.as_mut().unwrap().planes = 8;
+    let more = pipeline.bake(mesh.clone(), &params, None).unwrap();
+    assert_eq!(ran(&more)[1..], [("volume", false), ("planes", true)]);
+    assert_eq!(more.planes.as_ref().unwrap().planes, 8);
+    // A bad count is named before any stage runs.
+    params.planes.as_mut().unwrap().planes = 0;
+    match pipeline.bake(mesh, &params, None) {
+        Err(PeltError::InvalidParameter { name, .. }) => assert_eq!(name, "planes"),
+        other => panic!("{other:?}"),
+    }
+}

@@ -15,8 +15,8 @@ use crate::error::PeltError;
 use crate::pipeline::{BakeParams, FurAsset, Pipeline, StageCallback, TransferChoice};
 use crate::placement::StrandSpan;
 use crate::prt::TransferParams;
-use crate::volume::VolumeParams;
 use crate::volume::coverage::CoverageMode;
+use crate::volume::{PlaneParams, VolumeParams};
 
 /// A bake cache: keeps the last result of every stage, so a re-bake runs only what changed.
 /// One per furred object. Thread-safe: a bake holds the cache for its whole run. Over a mesh
@@ -51,7 +51,7 @@ impl PyPipeline {
         mesh, *, tile_size=1.0, seed=1, down=None, hair=None, layers=16, resolution=128,
         coverage="exact", fin_size=(512, 128), fur_depth=None, transfer=true, order=None,
         tolerance=crate::prt::bands::DEFAULT_TOLERANCE, directions=256, phase="kajiya-kay",
-        guard_hairs=false, guard_share=1.0, progress=None
+        guard_hairs=false, guard_share=1.0, planes=0, progress=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn bake(
@@ -74,12 +74,13 @@ impl PyPipeline {
         phase: &str,
         guard_hairs: bool,
         guard_share: f64,
+        planes: i128,
         progress: Option<Bound<'_, PyAny>>,
     ) -> PyResult<PyFurAsset> {
         #[rustfmt::skip]
         let params = bake_params(
             tile_size, seed, down, hair, layers, resolution, coverage, fin_size, fur_depth, transfer, order,
-            tolerance, directions, phase, guard_hairs, guard_share,
+            tolerance, directions, phase, guard_hairs, guard_share, planes,
         )?;
         let reporter = PyProgress::new(progress);
         let mesh = mesh.inner.clone();
@@ -99,7 +100,7 @@ impl PyPipeline {
         *, tile_size=1.0, seed=1, down=None, hair=None, layers=16, resolution=128, coverage="exact",
         fin_size=(512, 128), fur_depth=None, transfer=true, order=None,
         tolerance=crate::prt::bands::DEFAULT_TOLERANCE, directions=256, phase="kajiya-kay",
-        guard_hairs=false, guard_share=1.0
+        guard_hairs=false, guard_share=1.0, planes=0
     ))]
     #[allow(clippy::too_many_arguments)]
     fn peak_bytes(
@@ -119,11 +120,12 @@ impl PyPipeline {
         phase: &str,
         guard_hairs: bool,
         guard_share: f64,
+        planes: i128,
     ) -> PyResult<f64> {
         #[rustfmt::skip]
         let params = bake_params(
             tile_size, seed, down, hair, layers, resolution, coverage, fin_size, fur_depth, transfer, order,
-            tolerance, directions, phase, guard_hairs, guard_share,
+            tolerance, directions, phase, guard_hairs, guard_share, planes,
         )?;
         params.validate_ranges()?;
         Ok(params.peak_bytes())
@@ -153,6 +155,7 @@ fn bake_params(
     phase: &str,
     guard_hairs: bool,
     guard_share: f64,
+    planes: i128,
 ) -> PyResult<BakeParams> {
     // Any Python int is taken and narrowed by name (an unnamed OverflowError otherwise).
     let seed: u64 = super::ints::unsigned("seed", seed)?;
@@ -161,6 +164,7 @@ fn bake_params(
     let fin_size: (usize, usize) = super::ints::unsigned_pair("fin_size", fin_size)?;
     let order: Option<usize> = super::ints::unsigned_opt("order", order)?;
     let directions: usize = super::ints::unsigned("directions", directions)?;
+    let planes: usize = super::ints::unsigned("planes", planes)?;
     let mut params = BakeParams {
         hair: hair.map(|h| h.inner.clone()).unwrap_or_default(),
         volume: VolumeParams {
@@ -173,6 +177,11 @@ fn bake_params(
             ..VolumeParams::default()
         },
         fur_depth,
+        // 0 bakes no slices (only the virtual-planes renderer reads them).
+        planes: (planes > 0).then(|| PlaneParams {
+            planes,
+            ..PlaneParams::default()
+        }),
         ..BakeParams::default()
     };
     params.patches.tile_size = tile_size;
@@ -279,6 +288,22 @@ impl PyFurAsset {
         let triangles = placed.spans.iter().map(|k| k.triangle).collect();
         d.set_item("root_triangles", array(py, triangles, &[s])?)?;
         d.set_item("root_weights", array(py, colors(|k| k.weights), &[s, 3])?)?;
+        Ok(Some(d))
+    }
+
+    /// The virtual planes' slices (a bake with `planes`), else `None`: `planes` (N per axis),
+    /// `tilt` (their lean), `slices` `[2N, height, width, 4]` uint8 (straight, sRGB color; the
+    /// first N across u, the rest across v).
+    #[getter]
+    fn planes<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(p) = &self.inner.planes else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        d.set_item("planes", p.planes)?;
+        d.set_item("tilt", (p.tilt[0], p.tilt[1]))?;
+        let [w, h] = p.size;
+        d.set_item("slices", array(py, p.rgba.clone(), &[2 * p.planes, h, w, 4])?)?;
         Ok(Some(d))
     }
 

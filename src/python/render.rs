@@ -226,7 +226,8 @@ impl PyPreview {
         view_matrix, projection_matrix, width, height, *, lighting=None, shells=None, fins=true,
         lod=false, linear=false, fur_depth=None, background=(0.0, 0.0, 0.0, 0.0), min_shells=2,
         max_shells=64, shells_per_pixel=1.0, shell_method="instanced", mesh_error=1.0,
-        guard_hairs=true, strand_order="stochastic", strand_bands=4, strand_pixels=1.0
+        guard_hairs=true, strand_order="stochastic", strand_bands=4, strand_pixels=1.0,
+        plane_loop_limit=16
     ))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
@@ -252,7 +253,9 @@ impl PyPreview {
         strand_order: &str,
         strand_bands: i128,
         strand_pixels: f32,
+        plane_loop_limit: i128,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let plane_loop_limit: u32 = super::ints::unsigned("plane_loop_limit", plane_loop_limit)?;
         let strand_bands: u32 = super::ints::unsigned("strand_bands", strand_bands)?;
         let strand_order = match strand_order {
             "stochastic" => StrandOrder::Stochastic,
@@ -274,10 +277,11 @@ impl PyPreview {
             "instanced" => ShellMethod::Instanced,
             "marched" => ShellMethod::Marched,
             "auto" => ShellMethod::Auto,
+            "planes" => ShellMethod::VirtualPlanes,
             other => {
                 return Err(PeltError::parameter(
                     "shell_method",
-                    format!("must be 'instanced', 'marched' or 'auto', got {other:?}"),
+                    format!("must be 'instanced', 'marched', 'planes' or 'auto', got {other:?}"),
                 )
                 .into());
             }
@@ -304,6 +308,7 @@ impl PyPreview {
             guard_hairs,
             strand_order,
             strand_pixels,
+            plane_loop_limit,
             ..RenderSettings::default()
         };
         let shape = [camera.height as usize, camera.width as usize, 4];

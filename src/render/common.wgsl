@@ -31,6 +31,9 @@ struct Frame {
     // x: height bands n (strand draws n + 1), y: segments drawn per strand, z: flags (1: one
     // band holds every fragment, 2: stochastic coverage).
     strand_counts: vec4<u32>,
+    // Virtual planes: x planes per family N, y the loop limit, zw the planes' lean (tile units
+    // across per fur depth up).
+    planes: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;

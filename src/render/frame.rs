@@ -13,7 +13,7 @@ use super::prt_light::world_coefficients;
 use super::prt_rotate::RotationUniforms;
 use super::readback::read_texels;
 use super::scene::FurScene;
-use super::settings::RenderSettings;
+use super::settings::{RenderSettings, ShellMethod};
 use super::strands::{self, Bands};
 use super::{Renderer, fins, geometry_lod, scoped, shells, skin};
 use crate::error::{PeltError, Result};
@@ -170,6 +170,8 @@ impl Renderer {
             return Err(PeltError::parameter("scene", "was uploaded by another Renderer"));
         }
         camera.frame(self.device.limits().max_texture_dimension_2d)?;
+        settings.shells_to_draw(scene.layers)?;
+        let settings = &settings.as_drawn(self.shell_method(settings.shell_method));
         let fixed = settings.shells_to_draw(scene.layers)?;
         let mut info = lod::choose(&scene.levels, settings, camera, &scene.extent, fixed);
         let levels = scene.drawable_levels();
@@ -209,6 +211,13 @@ impl Renderer {
         } else {
             Model::KajiyaKay
         };
+        if self.shell_method(settings.shell_method) == ShellMethod::VirtualPlanes && scene.planes.is_none() {
+            return Err(PeltError::parameter(
+                "settings.shell_method",
+                "\"planes\" needs the virtual planes' slices: bake them (Python: \
+                 Pipeline.bake(planes=32)) or set them with FurScene::set_planes, or draw the shells",
+            ));
+        }
         Ok(Checked {
             camera,
             light,
@@ -263,6 +272,7 @@ impl Renderer {
             .get(checked.info.mesh_level as usize)
             .ok_or_else(|| PeltError::Render("the geometric level drawn is missing".into()))?;
         let method = self.shell_method(settings.shell_method);
+        let settings = &settings.as_drawn(method);
         let strand_scene = scene.strands.as_ref().filter(|_| settings.guard_hairs);
         let bands = Bands::new(settings, checked.info.shells, method, strand_scene.is_some());
         let ppu = lod::nearest_pixels_per_unit(camera, scene.extent.center, scene.extent.radius);
@@ -300,6 +310,7 @@ impl Renderer {
                         0,
                     ],
                 ),
+                planes: scene.planes.as_ref().map_or((0, [0.0; 2]), |p| (p.count, p.tilt)),
             },
         );
         // A panic elsewhere cannot leave the cached targets half-made, so a poisoned lock is fine.

@@ -26,6 +26,7 @@ pub(super) struct FrameUniforms {
     prt: [u32; 4],
     strand: [f32; 4],
     strand_counts: [u32; 4],
+    planes: [f32; 4],
 }
 
 /// The scene's side of the frame.
@@ -44,6 +45,8 @@ pub(super) struct SceneFrame<'a> {
     pub fin_spacing: f32,
     /// The guard strands' row of the uniforms: `strand` and `strand_counts` of `Frame`.
     pub strand: ([f32; 4], [u32; 4]),
+    /// The virtual planes' count and lean (zero without slices).
+    pub planes: (u32, [f32; 2]),
 }
 
 impl FrameUniforms {
@@ -76,6 +79,12 @@ impl FrameUniforms {
             prt: [scene.prt[0], scene.prt[1], scene.prt[2], scene.layers],
             strand: scene.strand.0,
             strand_counts: scene.strand.1,
+            planes: [
+                scene.planes.0 as f32,
+                settings.plane_loop_limit as f32,
+                scene.planes.1[0],
+                scene.planes.1[1],
+            ],
         }
     }
 }

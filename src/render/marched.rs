@@ -11,6 +11,7 @@ const KAJIYA_KAY: &str = concat!(
     include_str!("lighting.wgsl"),
     include_str!("surface.wgsl"),
     include_str!("surface_kk.wgsl"),
+    include_str!("march.wgsl"),
     include_str!("marched.wgsl")
 );
 const PRT: &str = concat!(
@@ -18,6 +19,7 @@ const PRT: &str = concat!(
     include_str!("prt.wgsl"),
     include_str!("surface.wgsl"),
     include_str!("surface_prt.wgsl"),
+    include_str!("march.wgsl"),
     include_str!("marched.wgsl")
 );
 

@@ -8,13 +8,8 @@
 // Lighting is evaluated once per pixel, at the layer where the composite passes half opacity,
 // which has hair where the ray crosses it; the Banks darkening, linear in height, is applied to
 // the composite exactly (the ambient's and the direct light's apart), and PRT moves its transfer to the composite's mean height (`raised`).
-// The lighting model's file defines `march_frame`, `march_light` and `march_banks`.
+// The ray, the composite and its lighting are `march.wgsl`'s.
 
-// The most ray length, in layer heights, that descends one layer: where a flat hull is seen
-// nearly edge-on (beyond about 80°), the ray is bent down so that it still reaches the skin.
-const MAX_RUN: f32 = 6.0;
-// Opacity past which the layers below cannot change an 8-bit pixel.
-const OPAQUE: f32 = 0.998;
 // How far, in texels of the mip read, the ray may move sideways through one composited group of
 // layers of the LOD chain: while it stays within about a texel, the group's "over" composite
 // (Lengyel §2.4) is what the ray would gather from its layers one by one.
@@ -39,93 +34,9 @@ fn march_texels(uv: vec2<f32>, layers: Layers, lod: f32, fade: bool) -> Texels {
     return Texels(fine, coarse);
 }
 
-// The view ray from a hull fragment, in the tile frame: `uv` moves `uv_rate` per object unit of
-// ray, its height above the surface falls `fall` level-0 layers per unit and, where the surface
-// curves away under it (a sphere's limb), rises back `bend` per unit² (the surface drops t²κ/2
-// below the tangent plane). A ray whose height never reaches a layer leaves the fur first.
-struct Ray {
-    uv_rate: vec2<f32>,
-    fall: f32,
-    bend: f32,
-    // Longest ray, per layer of drop, before it is bent down to the skin: MAX_RUN layer heights.
-    cap: f32,
-};
-
-// `curvature`: the surface's normal curvature at the fragment, 0 where flat or concave.
-fn march_ray(f: MarchFrame, curvature: f32) -> Ray {
-    // Columns: object offset per unit of u, of v and of level-0 layer height.
-    let a = f.dpdu;
-    let b = f.dpdv;
-    let c = f.up * frame.fur.y;
-    let bc = cross(b, c);
-    let det = dot(a, bc);
-    let layer = length(c);
-    if (!(abs(det) > 1e-30 && layer > 0.0)) {
-        return Ray(vec2<f32>(0.0), 1.0, 0.0, 1.0);
-    }
-    // The ray into the surface in (u, v, height) per object unit: Cramer's rule.
-    let w = -view_vector(f.position);
-    let d = vec3<f32>(dot(bc, w), dot(cross(c, a), w), dot(cross(a, b), w)) / det;
-    return Ray(d.xy, -d.z, 0.5 * curvature / layer, MAX_RUN * layer);
-}
-
-// Ray length to drop `drop` level-0 layers below the hull, or a negative value if it never does:
-// the nearer root of bend·t² − fall·t + drop = 0, in the form that stays exact as bend → 0.
-fn ray_length(r: Ray, drop: f32) -> f32 {
-    let disc = r.fall * r.fall - 4.0 * r.bend * drop;
-    if (drop <= 0.0) {
-        return 0.0;
-    }
-    if (r.fall <= 0.0 || disc < 0.0) {
-        // Flat and seen edge-on, the ray is bent down to the layer; curved, it has left the fur.
-        return select(-1.0, r.cap * drop, r.bend <= 0.0);
-    }
-    return min(2.0 * drop / (r.fall + sqrt(disc)), r.cap * drop);
-}
-
-// The surface's curvature from screen derivatives of the normal and position (taken in uniform
-// control flow): the larger of the two screen axes', where the normal turns away from the step.
-fn surface_curvature(normal: vec3<f32>, position: vec3<f32>) -> f32 {
-    let dpx = dpdx(position);
-    let dpy = dpdy(position);
-    let kx = dot(dpdx(normal), dpx) / max(dot(dpx, dpx), 1e-30);
-    let ky = dot(dpdy(normal), dpy) / max(dot(dpy, dpy), 1e-30);
-    return max(max(kx, ky), 0.0);
-}
-
 @vertex
 fn vs_main(v: SurfaceIn) -> SurfaceVarying {
     return surface_vertex(v, shell_layers(frame.counts.x - 1u), true);
-}
-
-// What a march leaves: the composite (premultiplied, before the vertex color's rgb) and the layer
-// lit for it, the one where the composite passes half opacity.
-struct Marched {
-    color: vec4<f32>,
-    // Σ of each layer's share of `color` × its height (share of the fur depth): Banks darkening,
-    // (1 - b) + b × height, of every layer composited is (1 - b) color + b raised.
-    raised: vec4<f32>,
-    shown: Layers,
-    uv: vec2<f32>,
-    // The shown layer's own texel opacity (level drawn).
-    alpha: f32,
-};
-
-// `out` with `texel` (premultiplied, read at `uv` from `layers`, its level's own opacity
-// `alpha`, standing `height` level-0 layers up) composited under it; the layer where the
-// composite passes half opacity is the one lit.
-fn composite(out: Marched, texel: vec4<f32>, layers: Layers, uv: vec2<f32>, alpha: f32,
-             height: f32) -> Marched {
-    var next = out;
-    if (out.color.a < 0.5) {
-        next.shown = layers;
-        next.uv = uv;
-        next.alpha = alpha;
-    }
-    let share = (1.0 - out.color.a) * texel;
-    next.color += share;
-    next.raised += share * (height * frame.fur.y);
-    return next;
 }
 
 fn march(s: SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
@@ -232,15 +143,15 @@ fn march_levels(s: SurfaceOut, ray: Ray, lod: f32, k: u32) -> Marched {
 
 @fragment
 fn fs_main(v: SurfaceVarying) -> @location(0) vec4<f32> {
-    let s = surface_fragment(v);
-    let grad = uv_gradients(s.uv);
-    let f = march_frame(s);
-    let curvature = surface_curvature(f.normal, f.position);
+    let h = hull_fragment(v);
+    let s = h.s;
+    let f = h.f;
+    let ray = h.ray;
+    let grad = h.grad;
     // Bald faces draw no shells.
     if (s.length <= 0.0) {
         discard;
     }
-    let ray = march_ray(f, curvature);
     let lod = march_lod(grad);
     var m: Marched;
     if (frame.fin.y > 0.0) {
@@ -255,10 +166,5 @@ fn fs_main(v: SurfaceVarying) -> @location(0) vec4<f32> {
         discard;
     }
     let mean = m.raised.a / max(m.color.a, 1e-6);
-    let k = march_light(s, f, m.uv, m.shown, m.alpha, grad, mean);
-    let b = march_banks(f);
-    let ambient = (1.0 - b.x) * m.color.rgb + b.x * m.raised.rgb;
-    let c = (1.0 - b.y) * m.color + b.y * m.raised;
-    return vec4<f32>((ambient * k.ambient + c.rgb * k.scale) * s.color.rgb + c.a * k.add,
-                     m.color.a);
+    return lit(s, f, m, march_light(s, f, m.uv, m.shown, m.alpha, grad, mean));
 }

@@ -19,7 +19,8 @@
 //! mesh), `scene_levels.rs` (their indices and fins) and `level_hosts.rs` (whether they hold
 //! after a repaint); `textures.rs` (volume upload, premultiplied),
 //! `transfer.rs` (PRT textures); `scene.rs`; `pipelines.rs` (shared layouts, pipelines per
-//! lighting model and target) and one file per pass, `skin.rs`, `fins.rs`, `shells.rs`, with
+//! lighting model and target) and one file per pass, `skin.rs`, `fins.rs`, `shells.rs`
+//! (`marched.rs` and `planes.rs`, the shells' one-hull methods, share `march.wgsl`), with
 //! `common.wgsl`, `surface.wgsl` and the model's WGSL (`lighting.wgsl`, `surface_kk.wgsl`,
 //! `fin_kk.wgsl` for Kajiya–Kay; `prt.wgsl`, `surface_prt.wgsl`, `fin_prt.wgsl` for PRT) shared
 //! by their shaders; `prt_light.rs` (world SH) and `prt_rotate.rs` (the rotation compute pass);
@@ -42,6 +43,7 @@ mod lighting;
 mod lod;
 mod marched;
 mod pipelines;
+mod planes;
 mod prt_light;
 mod prt_rotate;
 mod readback;
@@ -70,8 +72,8 @@ pub use lighting::{KajiyaKay, LightModel, Lighting, MAX_LIGHT_RADIUS, MAX_POWER,
 pub use lod::FrameInfo;
 pub use scene::{FurScene, UploadStats};
 pub use settings::{
-    MAX_FUR_DEPTH, MAX_SHELLS_PER_PIXEL, MAX_STRAND_BANDS, MAX_STRAND_PIXELS, RenderSettings, ShellMethod,
-    StrandOrder,
+    MAX_FUR_DEPTH, MAX_PLANE_LOOP_LIMIT, MAX_SHELLS_PER_PIXEL, MAX_STRAND_BANDS, MAX_STRAND_PIXELS,
+    RenderSettings, ShellMethod, StrandOrder,
 };
 pub use smoke::SMOKE_COLOR;
 pub use upload_peak::{scene_upload_peak_bytes, transfer_upload_peak_bytes};

@@ -5,6 +5,8 @@
 //! pipeline recipe. Each pass file (`skin.rs`, `fins.rs`, `shells.rs`) states only what is its
 //! own: shader per lighting model, culling, depth writes and blending (Lengyel et al. 2001, §2.3).
 //!
+//! Group 0 also holds the virtual planes' slices (binding 7).
+//!
 //! The strand pass adds group 2 (the guard strands, their points and root frames).
 //!
 //! Pipelines exist per lighting model and target format and are built on first use.
@@ -14,7 +16,7 @@ use std::sync::OnceLock;
 
 use super::frame_uniforms::FrameUniforms;
 use super::prt_rotate::RotatePipeline;
-use super::{fins, marched, shells, skin, strands};
+use super::{fins, marched, planes, shells, skin, strands};
 use crate::error::{PeltError, Result};
 
 /// Depth target.
@@ -131,6 +133,7 @@ pub(super) struct PassPipelines {
     pub fins: wgpu::RenderPipeline,
     pub shells: wgpu::RenderPipeline,
     pub marched: wgpu::RenderPipeline,
+    pub planes: wgpu::RenderPipeline,
     /// The guard strands writing depth, and without ([`super::StrandOrder::Sorted`]).
     pub strands: wgpu::RenderPipeline,
     pub strands_sorted: wgpu::RenderPipeline,
@@ -158,6 +161,8 @@ pub(super) struct FurPipelines {
     pub tile_sampler: wgpu::Sampler,
     /// Repeats along the fin (u), clamps across (v: skin to top of the fur).
     pub fin_sampler: wgpu::Sampler,
+    /// What a scene without the virtual planes' slices binds in their place.
+    pub no_planes: wgpu::TextureView,
     prt: OnceLock<PrtShared>,
     /// Indexed by [`variant`].
     passes: [OnceLock<PassPipelines>; 6],
@@ -259,6 +264,8 @@ impl FurPipelines {
                     // The skin's vertices: the fins read their ends from them, PRT's passes their
                     // corners (and the marched shells' fragments their frame).
                     storage_entry(6, wgpu::ShaderStages::VERTEX_FRAGMENT),
+                    // The virtual planes' slices.
+                    texture_entry(7, wgpu::TextureViewDimension::D2Array),
                 ],
             });
             let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -286,6 +293,7 @@ impl FurPipelines {
                 strand_layout,
                 tile_sampler: sampler(device, "tile", wgpu::AddressMode::Repeat),
                 fin_sampler: sampler(device, "fin", wgpu::AddressMode::ClampToEdge),
+                no_planes: super::planes::empty_planes(device),
                 prt: OnceLock::new(),
                 passes: Default::default(),
             })
@@ -364,6 +372,7 @@ impl FurPipelines {
                 fins: pipeline(device, layout, &fins::state(model), format),
                 shells: pipeline(device, layout, &shells::state(model), format),
                 marched: pipeline(device, layout, &marched::state(model), format),
+                planes: pipeline(device, layout, &planes::state(model), format),
                 strands: pipeline(device, strand_layout, &strands::state(model, false), format),
                 strands_sorted: pipeline(device, strand_layout, &strands::state(model, true), format),
             })

@@ -12,17 +12,20 @@ use super::fin_pose::PosedFinPlanes;
 use super::frame_uniforms::FrameUniforms;
 use super::level_hosts::LevelHosts;
 use super::lod::{Extent, Levels};
-use super::pipelines::Model;
+use super::pipelines::{FurPipelines, Model};
+use super::planes::ScenePlanes;
 use super::prt_rotate::RotationUniforms;
 use super::scene_levels::{self, MeshLevel, SceneLevels};
 use super::surface_mesh::expand;
+use super::textures::VolumeTextures;
 use super::{Renderer, scoped, surface_mesh, textures, transfer};
 use crate::FurMesh;
 use crate::error::{PeltError, Result};
 use crate::mesh::MAX_LENGTH;
 use crate::prt::pack::PackedF16;
 use crate::threads::pool;
-use crate::volume::HairVolume;
+use crate::volume::slices::check_slices;
+use crate::volume::{HairVolume, PlaneSlices};
 
 /// Hair color where the mesh has none: white, so the texture's own color shows.
 const DEFAULT_COLOR: [f32; 4] = [1.0; 4];
@@ -132,6 +135,10 @@ pub struct FurScene {
     drawable: usize,
     pub(super) uniforms: wgpu::Buffer,
     pub(super) bind_group: wgpu::BindGroup,
+    /// The volume's textures, which the bind group holds (kept to make it anew).
+    volume_textures: VolumeTextures,
+    /// The virtual planes' slices, when set.
+    pub(super) planes: Option<ScenePlanes>,
     surface_source: Vec<u32>,
     fin_source: Vec<u32>,
     mesh_vertices: usize,
@@ -321,40 +328,14 @@ impl FurScene {
                     usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                     mapped_at_creation: false,
                 });
-                let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("fur"),
-                    layout: &pipelines.bind_group_layout,
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: uniforms.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: wgpu::BindingResource::TextureView(&volume_gpu.shells),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 2,
-                            resource: wgpu::BindingResource::TextureView(&volume_gpu.tangents),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 3,
-                            resource: wgpu::BindingResource::TextureView(&volume_gpu.fin),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 4,
-                            resource: wgpu::BindingResource::Sampler(&pipelines.tile_sampler),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 5,
-                            resource: wgpu::BindingResource::Sampler(&pipelines.fin_sampler),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 6,
-                            resource: surface_gpu.geometry.as_entire_binding(),
-                        },
-                    ],
-                });
+                let bind_group = fur_bind_group(
+                    device,
+                    pipelines,
+                    &uniforms,
+                    &volume_gpu,
+                    &pipelines.no_planes,
+                    &surface_gpu.geometry,
+                );
                 Ok::<_, PeltError>((surface_gpu, fins_gpu, volume_gpu, uniforms, bind_group))
             })??;
 
@@ -387,6 +368,8 @@ impl FurScene {
             attributes: (colors, lengths),
             uniforms,
             bind_group,
+            volume_textures: volume_gpu,
+            planes: None,
             surface_source: surface.source,
             fin_source: fins.source,
             mesh_vertices: mesh.vertex_count(),
@@ -416,6 +399,9 @@ impl FurScene {
         }
         if let Some(guard_hairs) = &asset.guard_hairs {
             scene.set_guard_hairs(renderer, guard_hairs)?;
+        }
+        if let Some(planes) = &asset.planes {
+            scene.set_planes(renderer, Some(planes))?;
         }
         Ok(scene)
     }
@@ -538,6 +524,69 @@ impl FurScene {
         })??;
         self.transfer = Some(scene_transfer);
         self.uploads.transfer_bytes += bytes;
+        Ok(())
+    }
+
+    /// Sets the virtual planes' slices ([`crate::volume::bake_slices`] of this scene's hair),
+    /// which [`super::ShellMethod::VirtualPlanes`] draws, replacing any earlier ones; `None`
+    /// removes them.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming `renderer` (not the one that uploaded the scene),
+    /// `planes`, `plane_size[i]`, `planes.rgba` or `planes.tilt` (slices that do not match their
+    /// sizes), or `plane_size` beyond the device; [`PeltError::MemoryLimit`] above the memory
+    /// limit; [`PeltError::Render`] when the device fails. The scene is unchanged then.
+    pub fn set_planes(&mut self, renderer: &Renderer, slices: Option<&PlaneSlices>) -> Result<()> {
+        if renderer.id != self.renderer_id {
+            return Err(PeltError::parameter(
+                "renderer",
+                "is not the Renderer that uploaded this scene",
+            ));
+        }
+        let Some(slices) = slices else {
+            self.planes = None;
+            return self.rebind(renderer);
+        };
+        check_slices(slices)?;
+        let limits = renderer.device.limits();
+        let (side, layers) = (
+            limits.max_texture_dimension_2d as usize,
+            limits.max_texture_array_layers as usize,
+        );
+        if slices.size.iter().any(|&s| s > side) || 2 * slices.planes > layers {
+            return Err(PeltError::parameter(
+                "plane_size",
+                format!(
+                    "must fit this device's textures ({side} texels a side, {layers} layers for 2 × planes), got {:?} with {} planes",
+                    slices.size, slices.planes
+                ),
+            ));
+        }
+        // The slices, their mips (a third more) and their premultiplied copy.
+        crate::memory::check("preview upload", 3.0 * slices.rgba.len() as f64, || {
+            format!("`planes` ({}) or `plane_size` ({:?})", slices.planes, slices.size)
+        })?;
+        let device = &renderer.device;
+        let planes = scoped(device, "uploading the plane slices", || {
+            super::planes::upload_planes(device, &renderer.queue, slices)
+        })??;
+        self.uploads.texture_bytes += planes.bytes;
+        self.planes = Some(planes);
+        self.rebind(renderer)
+    }
+
+    /// Makes group 0 anew with the current textures.
+    fn rebind(&mut self, renderer: &Renderer) -> Result<()> {
+        let pipelines = renderer.fur_pipelines()?;
+        let planes = self.planes.as_ref().map_or(&pipelines.no_planes, |p| &p.view);
+        self.bind_group = fur_bind_group(
+            &renderer.device,
+            pipelines,
+            &self.uniforms,
+            &self.volume_textures,
+            planes,
+            &self.surface.geometry,
+        );
         Ok(())
     }
 
@@ -760,6 +809,11 @@ impl FurScene {
         self.surface_source.len()
     }
 
+    /// Whether the virtual planes' slices are set ([`FurScene::set_planes`]).
+    pub fn has_planes(&self) -> bool {
+        self.planes.is_some()
+    }
+
     /// Fin quads of the full mesh (one per mesh edge that has a fin plane).
     pub fn fin_count(&self) -> usize {
         self.mesh_levels.first().map_or(0, |l| l.fins.len())
@@ -801,4 +855,41 @@ impl FurScene {
     pub(super) fn renderer_id(&self) -> u64 {
         self.renderer_id
     }
+}
+
+/// Group 0 of every fur pass: the frame's uniforms, the volume's textures and samplers, the
+/// skin's vertices and the virtual planes' slices.
+fn fur_bind_group(
+    device: &wgpu::Device,
+    pipelines: &FurPipelines,
+    uniforms: &wgpu::Buffer,
+    volume: &VolumeTextures,
+    planes: &wgpu::TextureView,
+    skin: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    let view = wgpu::BindingResource::TextureView;
+    let sampler = wgpu::BindingResource::Sampler;
+    let resources = [
+        uniforms.as_entire_binding(),
+        view(&volume.shells),
+        view(&volume.tangents),
+        view(&volume.fin),
+        sampler(&pipelines.tile_sampler),
+        sampler(&pipelines.fin_sampler),
+        skin.as_entire_binding(),
+        view(planes),
+    ];
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
+        .into_iter()
+        .enumerate()
+        .map(|(binding, resource)| wgpu::BindGroupEntry {
+            binding: binding as u32,
+            resource,
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("fur"),
+        layout: &pipelines.bind_group_layout,
+        entries: &entries,
+    })
 }

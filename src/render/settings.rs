@@ -32,6 +32,14 @@ pub enum ShellMethod {
     /// ([`crate::render::Renderer::shell_method`] tells which): for interactive previews. The
     /// default stays `Instanced`, so that the same settings draw the same way on every adapter.
     Auto,
+    /// The raycast paper's virtual planes (raycast-fur-virtual-planes §3): one hull whose
+    /// fragments trace the view ray through two families of planes standing across the tile's
+    /// u and v, each textured with its own slice of the hair volume (the scene's
+    /// [`PlaneSlices`](crate::volume::PlaneSlices), [`super::FurScene::set_planes`]), leaning
+    /// with the hair, plus the paper's half-z plane (§3.5), then the skin. At most
+    /// [`RenderSettings::plane_loop_limit`] planes per pixel; the shell count and LOD do not
+    /// apply. The fins cover the silhouette as for the shells (§3.4).
+    VirtualPlanes,
 }
 
 impl ShellMethod {
@@ -132,7 +140,13 @@ pub struct RenderSettings {
     /// the coverage stays; `[0, MAX_STRAND_PIXELS]`, 0 keeps every strand (a thin one then
     /// drawn a pixel wide, its opacity its coverage).
     pub strand_pixels: f32,
+    /// [`ShellMethod::VirtualPlanes`]: the most planes a pixel's ray crosses, the loop limit of
+    /// raycast-fur-virtual-planes §4.1 (its main cost), `[1, MAX_PLANE_LOOP_LIMIT]`.
+    pub plane_loop_limit: u32,
 }
+
+/// Largest [`RenderSettings::plane_loop_limit`].
+pub const MAX_PLANE_LOOP_LIMIT: u32 = 256;
 
 /// Largest [`RenderSettings::strand_pixels`].
 pub const MAX_STRAND_PIXELS: f32 = 64.0;
@@ -155,6 +169,7 @@ impl Default for RenderSettings {
             guard_hairs: true,
             strand_order: StrandOrder::Depth,
             strand_pixels: 1.0,
+            plane_loop_limit: 16,
         }
     }
 }
@@ -171,6 +186,19 @@ fn check(name: &str, value: f32, hi: f32) -> Result<()> {
 }
 
 impl RenderSettings {
+    /// The settings a frame draws with `method` (resolved): the virtual planes trace the whole
+    /// fur from one hull, so the shell count and LOD do not apply to them.
+    pub(super) fn as_drawn(&self, method: ShellMethod) -> RenderSettings {
+        match method {
+            ShellMethod::VirtualPlanes => RenderSettings {
+                lod: false,
+                shell_count: None,
+                ..*self
+            },
+            _ => *self,
+        }
+    }
+
     /// Checks every field; returns the number of shells to draw for a volume of `layers` layers
     /// when LOD is off (the count LOD starts from when it is on: all of them).
     pub(super) fn shells_to_draw(&self, layers: u32) -> Result<u32> {
@@ -185,6 +213,15 @@ impl RenderSettings {
             return Err(PeltError::parameter(
                 "settings.strand_order",
                 format!("Banded must have [1, {MAX_STRAND_BANDS}] bands, got {n}"),
+            ));
+        }
+        if !(1..=MAX_PLANE_LOOP_LIMIT).contains(&self.plane_loop_limit) {
+            return Err(PeltError::parameter(
+                "settings.plane_loop_limit",
+                format!(
+                    "must be in [1, {MAX_PLANE_LOOP_LIMIT}], got {}",
+                    self.plane_loop_limit
+                ),
             ));
         }
         for (i, &c) in self.background.iter().enumerate() {
@@ -229,7 +266,7 @@ impl RenderSettings {
 
 #[cfg(test)]
 mod tests {
-    use super::ShellMethod::{Auto, Instanced, Marched};
+    use super::ShellMethod::{Auto, Instanced, Marched, VirtualPlanes};
 
     #[test]
     fn auto_marches_on_a_cpu_and_instances_on_a_gpu_and_the_rest_stay() {
@@ -238,6 +275,7 @@ mod tests {
         for cpu in [true, false] {
             assert_eq!(Instanced.resolve(cpu), Instanced);
             assert_eq!(Marched.resolve(cpu), Marched);
+            assert_eq!(VirtualPlanes.resolve(cpu), VirtualPlanes);
         }
     }
 }

@@ -45,8 +45,8 @@ pub(super) fn state(model: Model) -> PassState<'static> {
 }
 
 /// Draws shell instances `shells` (0 the innermost) of geometric level `level`: instanced, a
-/// copy of the mesh per shell, or marched ([`super::marched`]), their hull once with the range
-/// that starts at 0; `method` is resolved ([`ShellMethod::resolve`]), an `Auto` left over draws
+/// copy of the mesh per shell, or marched ([`super::marched`]) or traced through the virtual
+/// planes ([`super::planes`]), their hull once with the range that starts at 0; `method` is resolved ([`ShellMethod::resolve`]), an `Auto` left over draws
 /// instanced.
 pub(super) fn draw(
     pass: &mut wgpu::RenderPass<'_>,
@@ -63,7 +63,8 @@ pub(super) fn draw(
     let (pipeline, instances) = match method {
         ShellMethod::Instanced | ShellMethod::Auto => (&pipelines.shells, shells),
         ShellMethod::Marched if shells.start == 0 => (&pipelines.marched, 0..1),
-        ShellMethod::Marched => return,
+        ShellMethod::VirtualPlanes if shells.start == 0 => (&pipelines.planes, 0..1),
+        ShellMethod::Marched | ShellMethod::VirtualPlanes => return,
     };
     pass.set_pipeline(pipeline);
     scene.surface.draw(pass, model, level.indices.clone(), instances);

@@ -101,7 +101,10 @@ impl Bands {
             StrandOrder::Banded(n) => (n, false),
             StrandOrder::Sorted => (shells.max(1), true),
         };
-        let whole = !strands || method == ShellMethod::Marched || shells == 0 || count == 0;
+        let whole = !strands
+            || matches!(method, ShellMethod::Marched | ShellMethod::VirtualPlanes)
+            || shells == 0
+            || count == 0;
         Bands {
             count: if whole { 1 } else { count },
             shells,

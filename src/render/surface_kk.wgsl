@@ -120,6 +120,13 @@ fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alph
     return HairLight(p.ambient, p.direct, frame.light_color.rgb * p.shine);
 }
 
+// The virtual planes' lighting: the marched layer's, at the height where their composite passes
+// half opacity (`planes.wgsl`).
+fn plane_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, grad: vec4<f32>,
+               mean: f32) -> HairLight {
+    return march_light(s, f, uv, layers, 1.0, grad, mean);
+}
+
 // The Banks strengths the march darkens its layers by: x the ambient's, y the direct light's.
 fn march_banks(f: MarchFrame) -> vec2<f32> {
     let n = unit_or(f.normal, vec3<f32>(0.0, 0.0, 1.0));

@@ -123,6 +123,14 @@ fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alph
     return HairLight(vec3<f32>(0.0), max(texel + shift, vec3<f32>(0.0)), vec3<f32>(0.0));
 }
 
+// The virtual planes' lighting: their slices hold no transfer of their own (a slice is a slab
+// seen from the side, not a shell texel), so they take the hair's mean transfer at the
+// composite's mean height `mean`, as the fins and guard strands do.
+fn plane_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, grad: vec4<f32>,
+               mean: f32) -> HairLight {
+    return HairLight(vec3<f32>(0.0), mean_radiance(s.ids, s.bary, mean), vec3<f32>(0.0));
+}
+
 // The transfer holds the hair's self-shadowing: no Banks darkening on top.
 fn march_banks(f: MarchFrame) -> vec2<f32> {
     return vec2<f32>(0.0);

@@ -276,31 +276,48 @@ pub(super) fn upload_volume(
     let [fin_w, fin_h] = volume.fin_size;
     // Fins are seen at every scale, from the edge of a close-up to a distant silhouette, so they
     // get the same alpha-weighted, linear-light mip chain as the shells.
-    let fin_levels = mip_chain_rgba8(
-        fin_w,
-        fin_h,
-        1,
-        &volume.fin,
-        true,
-        &MipOptions {
-            levels: MipLevels::Full,
-            alpha: MipAlpha::Straight,
-        },
-    )?;
-    let fin_levels: Vec<Vec<u8>> = pool().install(|| fin_levels.iter().map(|l| premultiply(l)).collect());
-    let (fin, fin_bytes) = upload(
+    let (fin, fin_bytes) = upload_with_mips(
         device,
         queue,
         "fin",
-        srgb,
         [fin_w, fin_h, 1],
-        &[(0, fin_levels)],
+        &volume.fin,
         wgpu::TextureViewDimension::D2,
-    );
+    )?;
     Ok(VolumeTextures {
         shells,
         tangents,
         fin,
         bytes: shell_bytes + tangent_bytes + fin_bytes,
     })
+}
+
+/// Uploads `layers` straight sRGB RGBA8 images of `width × height` with their full mip chain
+/// (alpha-weighted, in linear light), premultiplied.
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] when the sizes do not match `rgba` (checked by the callers).
+pub(super) fn upload_with_mips(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    label: &str,
+    [width, height, layers]: [usize; 3],
+    rgba: &[u8],
+    dimension: wgpu::TextureViewDimension,
+) -> Result<(wgpu::TextureView, u64)> {
+    let options = MipOptions {
+        levels: MipLevels::Full,
+        alpha: MipAlpha::Straight,
+    };
+    let levels = mip_chain_rgba8(width, height, layers, rgba, true, &options)?;
+    let levels: Vec<Vec<u8>> = pool().install(|| levels.iter().map(|l| premultiply(l)).collect());
+    Ok(upload(
+        device,
+        queue,
+        label,
+        wgpu::TextureFormat::Rgba8UnormSrgb,
+        [width, height, layers],
+        &[(0, levels)],
+        dimension,
+    ))
 }

@@ -18,17 +18,19 @@ use super::strand_table::StrandTable;
 use crate::color::{srgb8_encoder, unit_to_u8};
 
 /// One strand's cut through a row.
-struct Piece {
+pub(super) struct Piece {
     /// Distance behind the slab's front, as [`depth_key`].
-    depth: i64,
-    x: f64,
-    radius: f64,
-    color: [f32; 3],
+    pub depth: i64,
+    /// Center and radius, texels.
+    pub x: f64,
+    pub radius: f64,
+    /// Linear color.
+    pub color: [f32; 3],
 }
 
 /// An integer that orders depths as [`f64::total_cmp`] does (the sign-magnitude bits of an f64
 /// turned into two's complement), so that sorting compares integers.
-fn depth_key(depth: f64) -> i64 {
+pub(super) fn depth_key(depth: f64) -> i64 {
     let bits = depth.to_bits() as i64;
     bits ^ (((bits >> 63) as u64) >> 1) as i64
 }
@@ -64,6 +66,13 @@ pub fn fin_row(
             })
         })
         .collect();
+    composite_row(&pieces, width, rgba);
+}
+
+/// Composites `pieces` (one row's strand cuts, in strand order) front to back into `rgba`, a row
+/// of `width` texels (straight RGBA8, color sRGB-encoded), with each piece's exact interval
+/// coverage per texel; the row wraps.
+pub(super) fn composite_row(pieces: &[Piece], width: usize, rgba: &mut [u8]) {
     // Nearest first; the strand index breaks ties, so the order is total and never depends on
     // the sort. Pieces are in strand order, so their position stands for the index, and the
     // sort moves pairs of integers instead of whole pieces.

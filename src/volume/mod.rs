@@ -14,6 +14,7 @@
 //!   shares to its per-texel sums;
 //! - `stack`: the shell layers two at a time, with LOD level 1 and mipmaps made pair by pair;
 //! - [`fin`]: the fin texture, a slab of hair seen from the side;
+//! - [`slices`]: the virtual-planes renderer's slices, every slab of the tile seen from the side;
 //! - [`lod`]: composited shell pairs and mipmaps;
 //! - [`bake`]: the whole volume ([`bake_volume`]) with its trim and statistics.
 
@@ -25,6 +26,7 @@ mod grid;
 pub mod lod;
 pub mod peak;
 pub mod shells;
+pub mod slices;
 mod splat;
 mod stack;
 pub mod strand_table;
@@ -33,3 +35,4 @@ pub mod strand_table;
 mod tests;
 
 pub use bake::{HairVolume, VolumeParams, VolumeStats, bake_strands, bake_volume};
+pub use slices::{PlaneParams, PlaneSlices, bake_slices};

@@ -139,6 +139,29 @@ def test_marched_shells_cover_what_instanced_shells_cover(preview):
         assert abs(means[0] - means[1]) <= 0.15 * means[0], means
 
 
+def test_virtual_planes_draw_the_slices_of_a_bake_that_asked_for_them():
+    # The raycast paper's planes: one hull traced through the asset's slices. They cover what
+    # the shells cover, look otherwise, and a higher loop limit never lets more skin through.
+    asset = bake(transfer=False, planes=8)
+    assert asset.planes["planes"] == 8
+    assert asset.planes["slices"].shape == (16, 64, 128, 4)
+    assert [s["stage"] for s in asset.report] == ["patches", "volume", "planes"]
+    preview = pelt.Preview(asset, adapter="cpu")
+    shells = preview.render(VIEW, PROJECTION, SIDE, SIDE)
+    planes = preview.render(VIEW, PROJECTION, SIDE, SIDE, shell_method="planes")
+    covered = [int((image[..., 3] > 0).sum()) for image in (shells, planes)]
+    assert abs(covered[0] - covered[1]) <= 0.03 * covered[0], covered
+    assert not np.array_equal(shells, planes)
+
+    def planes_opacity(limit):
+        image = preview.render(VIEW, PROJECTION, SIDE, SIDE, shell_method="planes", plane_loop_limit=limit)
+        return float(image[..., 3].sum())
+
+    opacity = [planes_opacity(1), planes_opacity(32)]
+    assert opacity[0] < opacity[1], opacity
+    assert bake(transfer=False).planes is None
+
+
 def test_auto_shell_method_marches_on_a_cpu_adapter(preview):
     auto = preview.render(VIEW, PROJECTION, SIDE, SIDE, shell_method="auto")
     cpu = preview.adapter["device_type"] == "Cpu"
@@ -280,6 +303,11 @@ def test_bad_input_names_the_problem_and_the_preview_survives(asset):
         (lambda: pelt.Preview(asset, adapter="quantum"), "adapter"),
         (lambda: preview.render(VIEW, PROJECTION, SIDE, SIDE, shell_method="ray"), "shell_method"),
         (lambda: preview.render(VIEW, PROJECTION, SIDE, SIDE, shells=-1), "`shells`.*got -1"),
+        # The virtual planes without their slices, and a bad loop limit or plane count.
+        (lambda: preview.render(VIEW, PROJECTION, SIDE, SIDE, shell_method="planes"), "shell_method"),
+        (lambda: preview.render(VIEW, PROJECTION, SIDE, SIDE, plane_loop_limit=-1), "`plane_loop_limit`"),
+        (lambda: bake(planes=257), "planes"),
+        (lambda: bake(planes=-2), "`planes`.*got -2"),
     ]
     for call, name in cases:
         with pytest.raises(

@@ -77,3 +77,11 @@ pub fn orthographic(half: f64, near: f64, far: f64) -> [f32; 16] {
 pub fn mul(a: &[[f64; 4]; 4], b: &[[f64; 4]; 4]) -> [[f64; 4]; 4] {
     std::array::from_fn(|r| std::array::from_fn(|c| (0..4).map(|k| a[r][k] * b[k][c]).sum()))
 }
+
+/// The parameter an [`pelt::PeltError::InvalidParameter`] names (any other error fails the test).
+pub fn parameter_name(e: pelt::PeltError) -> String {
+    match e {
+        pelt::PeltError::InvalidParameter { name, .. } => name,
+        other => panic!("expected an invalid parameter, got {other}"),
+    }
+}

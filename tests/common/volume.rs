@@ -4,8 +4,8 @@
 use pelt::hair::HairParams;
 use pelt::volume::{HairVolume, VolumeParams, bake_volume};
 
-/// A 64² volume of `layers` layers (a 128 × 32 fin texture, untrimmed) of dense, doubly wide hair.
-pub fn small_volume(layers: usize) -> HairVolume {
+/// The dense, doubly wide hair of [`small_volume`].
+pub fn small_hair() -> HairParams {
     let defaults = HairParams::default();
     let mut hair = HairParams {
         density: 3000,
@@ -13,6 +13,12 @@ pub fn small_volume(layers: usize) -> HairVolume {
     };
     hair.undercoat.width = defaults.undercoat.width.map(|w| w * 2.0);
     hair.overcoat.width = defaults.overcoat.width.map(|w| w * 2.0);
+    hair
+}
+
+/// A 64² volume of `layers` layers (a 128 × 32 fin texture, untrimmed) of [`small_hair`].
+pub fn small_volume(layers: usize) -> HairVolume {
+    let hair = small_hair();
     let params = VolumeParams {
         layers,
         resolution: 64,

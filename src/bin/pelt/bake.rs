@@ -69,6 +69,11 @@ pub struct BakeArgs {
     #[arg(long, value_name = "SHARE")]
     #[serde(default)]
     pub guard_share: Option<f64>,
+    /// Also bake the virtual planes' slices, N per axis, [1, 256], for the raycast renderer
+    /// (`pelt view`, key V).
+    #[arg(long, value_name = "N")]
+    #[serde(default)]
+    pub planes: Option<usize>,
 }
 
 /// `x,y,z` as three finite floats.
@@ -114,6 +119,10 @@ fn bake_params(args: &BakeArgs) -> Result<BakeParams, String> {
     if let Some(share) = args.guard_share {
         params.volume.guard_share = share;
     }
+    params.planes = args.planes.map(|planes| pelt::volume::PlaneParams {
+        planes,
+        ..pelt::volume::PlaneParams::default()
+    });
     params.transfer = (!args.no_transfer).then(|| {
         let mut choice = TransferChoice::default();
         if let Some(order) = args.order {

@@ -136,7 +136,11 @@ impl App {
             .length()
             .map_or(1.0, |l| l.iter().copied().fold(0.0f32, f32::max));
         let sphere = Sphere::around(asset.mesh.positions(), fur_depth * f64::from(tallest));
-        let mut state = ViewState::new(scene.layers(), scene.transfer_order().is_some());
+        let mut state = ViewState::new(
+            scene.layers(),
+            scene.transfer_order().is_some(),
+            scene.has_planes(),
+        );
         // Start with the faster method on this adapter (marched on a CPU); M switches.
         state.marched = renderer.shell_method(ShellMethod::Auto) == ShellMethod::Marched;
         let adapter = renderer.adapter();

@@ -23,6 +23,7 @@ controls:
   + / -            more / fewer shells (with LOD: the most LOD may draw)
   F                fins on / off
   M                shells instanced / marched per pixel (faster on a CPU, where it starts)
+  V                virtual planes on / off (a bake with --planes)
   L                level of detail on / off
   K / P            Kajiya-Kay / PRT lighting
   R                reset the camera
@@ -38,6 +39,7 @@ pub enum Action {
     FewerShells,
     ToggleFins,
     ToggleMarched,
+    TogglePlanes,
     ToggleLod,
     KajiyaKay,
     Prt,
@@ -71,6 +73,7 @@ pub fn key_action(key: &Key) -> Option<Action> {
             "-" | "_" => Some(Action::FewerShells),
             "f" => Some(Action::ToggleFins),
             "m" => Some(Action::ToggleMarched),
+            "v" => Some(Action::TogglePlanes),
             "l" => Some(Action::ToggleLod),
             "k" => Some(Action::KajiyaKay),
             "p" => Some(Action::Prt),
@@ -135,12 +138,16 @@ pub struct ViewState {
     pub prt: bool,
     /// Whether the scene has transfer textures (PRT possible).
     pub has_transfer: bool,
+    /// Fur traced through the virtual planes instead of the shells.
+    pub planes: bool,
+    /// Whether the scene has the planes' slices.
+    pub has_planes: bool,
 }
 
 impl ViewState {
     /// All shells, fins on, no LOD, Kajiya–Kay, for a volume of `layers` layers (the skin
     /// included).
-    pub fn new(layers: u32, has_transfer: bool) -> Self {
+    pub fn new(layers: u32, has_transfer: bool, has_planes: bool) -> Self {
         let max_shells = layers.saturating_sub(1);
         ViewState {
             orbit: Orbit::default(),
@@ -152,6 +159,8 @@ impl ViewState {
             lod: false,
             prt: false,
             has_transfer,
+            planes: false,
+            has_planes,
         }
     }
 
@@ -177,6 +186,12 @@ impl ViewState {
             }
             Action::ToggleFins => self.fins = !self.fins,
             Action::ToggleMarched => self.marched = !self.marched,
+            Action::TogglePlanes if !self.has_planes => {
+                return Outcome::Refused(
+                    "the virtual planes need their slices; bake with --planes 32".into(),
+                );
+            }
+            Action::TogglePlanes => self.planes = !self.planes,
             Action::ToggleLod => self.lod = !self.lod,
             Action::KajiyaKay if self.prt => self.prt = false,
             Action::Prt if !self.has_transfer => {
@@ -196,10 +211,10 @@ impl ViewState {
     pub fn settings(&self, fur_depth: f32) -> RenderSettings {
         let base = RenderSettings {
             fins: self.fins,
-            shell_method: if self.marched {
-                ShellMethod::Marched
-            } else {
-                ShellMethod::Instanced
+            shell_method: match (self.planes, self.marched) {
+                (true, _) => ShellMethod::VirtualPlanes,
+                (false, true) => ShellMethod::Marched,
+                (false, false) => ShellMethod::Instanced,
             },
             fur_depth,
             background: BACKGROUND,
