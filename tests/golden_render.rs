@@ -10,8 +10,9 @@ mod common;
 use std::sync::OnceLock;
 
 use common::golden::{RENDER_FLIP, check_render, flip_mean, golden_dir, read_png};
-use common::volume::small_volume;
+use common::volume::{small_hair, small_volume};
 use common::{column_major, look_at_rows, perspective_rows};
+use pelt::hair::grow_strands;
 use pelt::lapped::{PatchParams, build_patches};
 use pelt::mesh::shapes::{uv_sphere, uv_sphere_polygons};
 use pelt::prt::pack::{PackedF16, pack_f16};
@@ -22,7 +23,7 @@ use pelt::render::{
     AdapterChoice, Camera, FurScene, LightModel, Lighting, Prt, RenderSettings, Renderer, RgbaImage,
     ShellMethod,
 };
-use pelt::volume::HairVolume;
+use pelt::volume::{HairVolume, PlaneParams, bake_slices};
 use pelt::{FurMesh, MeshInput};
 
 /// Image side: small, so lavapipe renders each in a blink.
@@ -374,4 +375,30 @@ fn marched_shells_of_zero_length_leave_the_skin() {
     let bare = render(&scene, &frontal(), &light(), &skin);
     let furred = render(&scene, &frontal(), &light(), &marched());
     assert_eq!(bare.pixels, furred.pixels);
+}
+
+#[test]
+fn virtual_planes_kajiya_kay_and_prt() {
+    // The raycast paper's planes, 16 per axis, sliced from the volume's own hair.
+    let f = fixture();
+    let strands = grow_strands(&small_hair()).unwrap();
+    let params = PlaneParams {
+        planes: 16,
+        size: [64, 32],
+    };
+    let slices = bake_slices(&strands, |_| true, &params, None).unwrap();
+    let mut scene = scene(None, None);
+    scene.set_planes(&f.renderer, Some(&slices)).unwrap();
+    let planes = RenderSettings {
+        shell_method: ShellMethod::VirtualPlanes,
+        ..settings()
+    };
+    golden(
+        "render_virtual_planes_kajiya_kay.png",
+        &render(&scene, &frontal(), &light(), &planes),
+    );
+    golden(
+        "render_virtual_planes_prt.png",
+        &render(&scene, &frontal(), &prt_light(), &planes),
+    );
 }

@@ -631,6 +631,66 @@ fn a_light_from_the_eye_sees_no_self_shadow_and_a_slanted_one_crosses_more_fur()
     );
 }
 
+#[test]
+fn goldman_attenuation_splits_the_hairs_direct_light_into_reflected_and_transmitted() {
+    // Goldman's factor (1 + κ)/2 ρ_reflect + (1 − κ)/2 ρ_transmit scales the hair's direct
+    // light, which is otherwise linear in it: image(ρr, ρt) = S + ρr R + ρt T, S the skin and
+    // ambient (none here), so image(1, 0) + image(0, 1) = image(1, 1) + image(0, 0). With the
+    // light exactly from the (orthographic) eye every hair shows its lit side, κ = 1, and
+    // ρ_transmit changes nothing.
+    let f = fixture();
+    let scene = scene();
+    let image = |direction: [f32; 3], reflect: f32, transmit: f32| -> Vec<f32> {
+        let lighting = Lighting {
+            direction,
+            color: [2.5; 3],
+            self_shadow: 0.0,
+            model: LightModel::KajiyaKay(KajiyaKay {
+                ambient: [0.0; 3],
+                reflect,
+                transmit,
+                ..KajiyaKay::default()
+            }),
+        };
+        let linear = f
+            .renderer
+            .render_linear(&scene, &top(), &lighting, &settings())
+            .unwrap();
+        // Premultiplied, so that sums of images are sums of light.
+        linear
+            .pixels
+            .chunks_exact(4)
+            .flat_map(|p| [p[0] * p[3], p[1] * p[3], p[2] * p[3]])
+            .collect()
+    };
+    let close = |a: &[f32], b: &[f32]| {
+        a.iter()
+            .zip(b)
+            .all(|(x, y)| (x - y).abs() <= 2e-3 * (1.0 + y.abs()))
+    };
+    let eye = [0.0, 0.0, 1.0];
+    assert!(close(&image(eye, 1.0, 0.0), &image(eye, 1.0, 1.0)));
+    let side = [0.8, 0.0, 0.6];
+    let (reflected, transmitted) = (image(side, 1.0, 0.0), image(side, 0.0, 1.0));
+    let (both, neither) = (image(side, 1.0, 1.0), image(side, 0.0, 0.0));
+    let sum: Vec<f32> = reflected.iter().zip(&transmitted).map(|(a, b)| a + b).collect();
+    let expected: Vec<f32> = both.iter().zip(&neither).map(|(a, b)| a + b).collect();
+    assert!(close(&sum, &expected));
+    // Both parts light some hair: the light from the side falls on seen and unseen sides.
+    let total = |v: &[f32], base: &[f32]| v.iter().zip(base).map(|(a, b)| f64::from(a - b)).sum::<f64>();
+    assert!(total(&reflected, &neither) > 1.0 && total(&transmitted, &neither) > 1.0);
+    // Bad factors are named.
+    let bad = Lighting {
+        model: LightModel::KajiyaKay(KajiyaKay {
+            transmit: 1.5,
+            ..KajiyaKay::default()
+        }),
+        ..Lighting::default()
+    };
+    let err = f.renderer.render(&scene, &top(), &bad, &settings()).unwrap_err();
+    assert_eq!(parameter_name(err), "kajiya_kay.transmit");
+}
+
 /// Mean alpha of each row of `rgba` (`width` texels a row), `[0, 1]`.
 fn row_alpha(rgba: &[u8], width: usize) -> Vec<f64> {
     rgba.chunks_exact(4 * width)

@@ -487,6 +487,8 @@ class LightingDict(TypedDict, total=False):
     specular: float
     diffuse_power: float
     specular_power: float
+    reflect: float
+    transmit: float
     environment: npt.ArrayLike
     light_radius: float
 

@@ -127,6 +127,8 @@ fn parse_lighting(obj: Option<&Bound<'_, PyAny>>, has_transfer: bool) -> PyResul
             ("specular", LightModel::KajiyaKay(kk)) => kk.specular = number(&value, &name)?,
             ("diffuse_power", LightModel::KajiyaKay(kk)) => kk.diffuse_power = number(&value, &name)?,
             ("specular_power", LightModel::KajiyaKay(kk)) => kk.specular_power = number(&value, &name)?,
+            ("reflect", LightModel::KajiyaKay(kk)) => kk.reflect = number(&value, &name)?,
+            ("transmit", LightModel::KajiyaKay(kk)) => kk.transmit = number(&value, &name)?,
             ("light_radius", LightModel::Prt(prt)) => prt.light_radius = number(&value, &name)?,
             ("environment", LightModel::Prt(prt)) => {
                 let (array, _) = float_ndarray(&value, "lighting.environment", "[n², 3]", |s| {

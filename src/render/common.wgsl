@@ -34,6 +34,8 @@ struct Frame {
     // Virtual planes: x planes per family N, y the loop limit, zw the planes' lean (tile units
     // across per fur depth up).
     planes: vec4<f32>,
+    // Kajiya-Kay: x Goldman's ρ_reflect, y ρ_transmit.
+    goldman: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;

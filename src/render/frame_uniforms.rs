@@ -27,6 +27,7 @@ pub(super) struct FrameUniforms {
     strand: [f32; 4],
     strand_counts: [u32; 4],
     planes: [f32; 4],
+    goldman: [f32; 4],
 }
 
 /// The scene's side of the frame.
@@ -85,6 +86,7 @@ impl FrameUniforms {
                 scene.planes.1[0],
                 scene.planes.1[1],
             ],
+            goldman: [light.goldman[0], light.goldman[1], 0.0, 0.0],
         }
     }
 }

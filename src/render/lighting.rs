@@ -31,6 +31,14 @@ pub struct KajiyaKay {
     pub diffuse_power: f32,
     /// `Ps`, `(0, MAX_POWER]`.
     pub specular_power: f32,
+    /// Goldman's directional attenuation (Fake fur rendering, 1997; the raycast paper's §3.8):
+    /// the direct light is scaled by `(1 + κ)/2 · reflect + (1 − κ)/2 · transmit`, where `κ` is
+    /// the cosine between `T × L` and `T × V` (1 where the light is on the viewer's side of the
+    /// hair, −1 where it shines through it). `ρ_reflect`, `[0, 1]`; 1 with `transmit` 1 (the
+    /// default) attenuates nothing.
+    pub reflect: f32,
+    /// `ρ_transmit`, `[0, 1]`: how much light the hair passes forward.
+    pub transmit: f32,
 }
 
 impl Default for KajiyaKay {
@@ -41,6 +49,8 @@ impl Default for KajiyaKay {
             specular: 0.25,
             diffuse_power: 1.0,
             specular_power: 48.0,
+            reflect: 1.0,
+            transmit: 1.0,
         }
     }
 }
@@ -149,6 +159,8 @@ pub(super) struct LightingFrame {
     pub ambient: [f32; 3],
     /// `Kd, Ks, Pd, Ps`.
     pub kajiya_kay: [f32; 4],
+    /// Goldman's `ρ_reflect, ρ_transmit` (1, 1 under PRT: no attenuation).
+    pub goldman: [f32; 2],
     pub self_shadow: f32,
     /// The PRT inputs, checked; `None` for Kajiya–Kay.
     pub prt: Option<Prt>,
@@ -179,6 +191,7 @@ impl Lighting {
                     color,
                     ambient: kk.ambient,
                     kajiya_kay: [kk.diffuse, kk.specular, kk.diffuse_power, kk.specular_power],
+                    goldman: [kk.reflect, kk.transmit],
                     self_shadow: self.self_shadow,
                     prt: None,
                 })
@@ -190,6 +203,7 @@ impl Lighting {
                     color,
                     ambient: [0.0; 3],
                     kajiya_kay: [0.0; 4],
+                    goldman: [1.0; 2],
                     self_shadow: 0.0,
                     prt: Some(prt.clone()),
                 })
@@ -205,6 +219,8 @@ fn check_kajiya_kay(kk: &KajiyaKay) -> Result<()> {
     in_range("kajiya_kay.diffuse", kk.diffuse, 0.0, MAX_RADIANCE, false)?;
     in_range("kajiya_kay.specular", kk.specular, 0.0, MAX_RADIANCE, false)?;
     in_range("kajiya_kay.diffuse_power", kk.diffuse_power, 0.0, MAX_POWER, true)?;
+    in_range("kajiya_kay.reflect", kk.reflect, 0.0, 1.0, false)?;
+    in_range("kajiya_kay.transmit", kk.transmit, 0.0, 1.0, false)?;
     in_range(
         "kajiya_kay.specular_power",
         kk.specular_power,

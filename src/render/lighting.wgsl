@@ -46,6 +46,18 @@ struct HairParts {
     shine: f32,
 };
 
+// Goldman's directional attenuation (Fake fur rendering, 1997): κ is the cosine between the
+// planes that hold the hair with the light and with the eye, 1 when the light falls on the side
+// of the hair that is seen (reflected), −1 when it shines through it toward the eye
+// (transmitted). Where either plane is undefined (the hair points at the light or the eye), κ is
+// 0 and the two weigh alike.
+fn directional_attenuation(tangent: vec3<f32>, light: vec3<f32>, view: vec3<f32>) -> f32 {
+    let a = cross(tangent, light);
+    let b = cross(tangent, view);
+    let kappa = dot(a, b) / max(length(a) * length(b), 1e-12);
+    return 0.5 * (1.0 + kappa) * frame.goldman.x + 0.5 * (1.0 - kappa) * frame.goldman.y;
+}
+
 fn hair_parts(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>) -> HairParts {
     let l = frame.light_direction.xyz;
     let h = unit_or(l + view, normal);
@@ -54,7 +66,8 @@ fn hair_parts(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>) -> HairPar
     // The floor keeps pow's base positive (pow(0, y) is undefined in WGSL).
     let diffuse = pow(max(1.0 - u * u, 1e-8), 0.5 * frame.kajiya_kay.z);
     let specular = pow(max(1.0 - v * v, 1e-8), 0.5 * frame.kajiya_kay.w);
-    let lit = clamp((dot(normal, l) + TERMINATOR_WRAP) / (1.0 + TERMINATOR_WRAP), 0.0, 1.0);
+    let lit = clamp((dot(normal, l) + TERMINATOR_WRAP) / (1.0 + TERMINATOR_WRAP), 0.0, 1.0)
+        * directional_attenuation(tangent, l, view);
     return HairParts(frame.ambient.rgb, frame.light_color.rgb * lit * (frame.kajiya_kay.x * diffuse),
                      lit * (frame.kajiya_kay.y * specular));
 }

@@ -44,6 +44,24 @@ fn slice_texel(layer: u32, along: f32, height: f32, run: f32, lod: f32) -> vec4<
     return texel * (alpha / texel.a);
 }
 
+// The slices' mip level. Their width spans a tile, as the shell texture's does, but their
+// height the fur depth, which near the silhouette covers far fewer pixels than a tile's width
+// is squeezed into: a level chosen by the width alone there averaged the dense roots up into
+// the sparse tips, and the fringe went opaque. So the level follows the fur's height in pixels,
+// at most 3 levels (8×) finer than the width asks for (as the fin texture's does), and two
+// levels finer than the pixel: opacity averaged over a footprint and then composited through a
+// run of planes overstates the footprint's coverage, which a sharper, noisier read does not.
+fn slice_lod(f: MarchFrame, grad: vec4<f32>, top: f32) -> f32 {
+    let size = vec2<f32>(textureDimensions(plane_texture).xy);
+    let along = log2(max(max(length(grad.xy), length(grad.zw)) * size.x, 1.0));
+    let a = clip_position(f.position);
+    let b = clip_position(f.position - f.up * (top * frame.fur.y));
+    let pixels = length((a.xy / a.w - b.xy / b.w) * 0.5 * frame.strand.xy);
+    let rows = size.y * top * frame.fur.y / max(pixels, 1e-6);
+    let height = log2(max(rows, 1.0));
+    return min(along, max(height - 2.0, along - 3.0));
+}
+
 // Next crossing of a plane family along one axis: ray length to it, from cell `cell` of
 // position `q` moving `rate` (in plane spacings per unit of ray).
 fn first_crossing(q: f32, cell: f32, rate: f32) -> f32 {
@@ -78,10 +96,7 @@ fn trace(s: SurfaceOut, f: MarchFrame, ray: Ray, grad: vec4<f32>) -> Marched {
     var next = vec2<f32>(first_crossing(q0.x, cell.x, rate.x), first_crossing(q0.y, cell.y, rate.y));
     // Slab depths run per unit of ray.
     let slabs_per_length = length(rate);
-    // The slices' mip level: their width spans a tile, as the shell texture's does.
-    let texels = f32(textureDimensions(plane_texture).x);
-    let rho = max(length(grad.xy), length(grad.zw)) * texels;
-    let lod = log2(max(rho, 1.0));
+    let lod = slice_lod(f, grad, top);
     // The half-z plane (§3.5).
     let nv = clamp(dot(unit_or(f.normal, vec3<f32>(0.0, 0.0, 1.0)), view_vector(f.position)), 0.0, 1.0);
     let half_z_drop = (0.9 * (1.0 - nv) + 0.1) * top;

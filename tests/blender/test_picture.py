@@ -79,8 +79,11 @@ def test_prt_preview_is_as_bright_as_the_strands_it_was_baked_from(long_fur, lig
     assert 0.88 < ratio < 1.12, f"{light}: preview / reference = {ratio:.3f}"
 
 
-# Luminance planes / reference measured (side 1.19, top 1.33), a tenth either way.
-PLANES_LUMINANCE = {"side": (1.09, 1.29), "top": (1.23, 1.43)}
+# Luminance planes / reference measured (side 1.20, top 1.29), a tenth either way; the fringe's
+# mean coverage over the reference's, measured 1.64 and 1.51 (the instanced shells with their
+# fins: 1.55 and 1.45).
+PLANES_LUMINANCE = {"side": (1.10, 1.30), "top": (1.19, 1.39)}
+FRINGE_RATIO = 1.75
 
 
 @pytest.mark.parametrize(
@@ -94,9 +97,9 @@ def test_virtual_planes_agree_with_the_strands_they_were_sliced_from(long_fur, l
     # The raycast paper's planes, sliced from the same strands the reference traces, under a sun
     # (Kajiya-Kay, no ambient, as the reference has no sky): covering as much of the picture,
     # and brighter by what the method misses where the fur is seen from above (a ray crosses
-    # few planes there and sees the skin, the paper's §3.5): 1.19 from the side and 1.33 from
+    # few planes there and sees the skin, the paper's §3.5): 1.20 from the side and 1.29 from
     # above, where the instanced shells give 0.98 and 1.03 (docs/accuracy.md). The bounds hold
-    # those figures to a tenth either way.
+    # those figures to a tenth either way. The fringe is held near the shells' own.
     lighting = {
         "model": "kajiya-kay",
         "direction": tuple(toward_sun),
@@ -109,6 +112,10 @@ def test_virtual_planes_agree_with_the_strands_they_were_sliced_from(long_fur, l
     truth = reference_image(long_fur, toward_sun)
     ratio = mean_fur_luminance(planes) / mean_fur_luminance(truth)
     coverage = planes[..., 3].sum() / truth[..., 3].sum()
+    # The fringe: where the reference is neither clear nor opaque.
+    fringe = (truth[..., 3] > 0.02) & (truth[..., 3] < 0.9)
+    fringe_ratio = planes[..., 3][fringe].mean() / truth[..., 3][fringe].mean()
     low, high = PLANES_LUMINANCE[light]
     assert low < ratio < high, f"{light}: planes / reference = {ratio:.3f}"
     assert 0.97 < coverage < 1.08, f"{light}: coverage planes / reference = {coverage:.3f}"
+    assert fringe_ratio < FRINGE_RATIO, f"{light}: fringe planes / reference = {fringe_ratio:.3f}"

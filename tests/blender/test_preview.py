@@ -294,6 +294,12 @@ def test_bad_input_names_the_problem_and_the_preview_survives(asset):
         (lambda: preview.render(VIEW, PROJECTION, SIDE, -4), "height"),
         (lambda: preview.render(VIEW, PROJECTION, SIDE, SIDE, lighting={"glow": 1.0}), "lighting.glow"),
         (
+            lambda: preview.render(
+                VIEW, PROJECTION, SIDE, SIDE, lighting={"model": "kajiya-kay", "transmit": 1.5}
+            ),
+            "kajiya_kay.transmit",
+        ),
+        (
             lambda: preview.render(VIEW, PROJECTION, SIDE, SIDE, lighting={"direction": (0, 0, 0)}),
             "direction",
         ),
