@@ -67,6 +67,8 @@ def bake_options(obj) -> dict:
         "tolerance": settings.prt_tolerance,
         "guard_hairs": settings.guard_hairs,
         "guard_share": settings.guard_share,
+        # Only the virtual planes read their slices.
+        "planes": settings.planes if settings.shell_method == "PLANES" else 0,
     }
 
 

@@ -153,6 +153,10 @@ class VIEW3D_PT_pelt_display(_SubPanel, bpy.types.Panel):
     def draw_settings(self, layout, settings):
         layout.prop(settings, "fins")
         layout.prop(settings, "shell_method")
+        if settings.shell_method == "PLANES":
+            column = layout.column(align=True)
+            column.prop(settings, "planes")
+            column.prop(settings, "plane_loop_limit")
         layout.prop(settings, "lod")
         column = layout.column(align=True)
         column.active = settings.lod

@@ -101,6 +101,7 @@ def render_options(obj, asset) -> dict:
         "fur_depth": asset.fur_depth,
         "fins": settings.fins,
         "shell_method": settings.shell_method.lower(),
+        "plane_loop_limit": settings.plane_loop_limit,
         "lod": settings.lod,
         "min_shells": min(settings.min_shells, settings.max_shells),
         "max_shells": settings.max_shells,

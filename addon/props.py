@@ -17,6 +17,12 @@ SHELL_METHOD_ITEMS = (
     ("AUTO", "Auto", "Marched on a CPU adapter, where it is several times faster; instanced on a GPU"),
     ("INSTANCED", "Instanced", "Every shell drawn as a copy of the mesh (exact per layer)"),
     ("MARCHED", "Marched", "One hull whose pixels march down through the layers (one mesh of triangles)"),
+    (
+        "PLANES",
+        "Virtual Planes",
+        "One hull whose pixels trace the view ray through planes standing in the fur, each textured "
+        "with its own slice of the hair (the raycast method; Bake adds the slices)",
+    ),
 )
 COVERAGE_ITEMS = (
     ("exact", "Exact", "Analytic area of each hair's cross-section in each texel"),
@@ -231,6 +237,20 @@ class PeltObjectSettings(bpy.types.PropertyGroup):
         description="How the preview draws the shells",
         items=SHELL_METHOD_ITEMS,
         default="AUTO",
+    )
+    planes: bpy.props.IntProperty(
+        name="Planes",
+        description="Virtual planes per axis of the hair tile",
+        default=32,
+        min=1,
+        max=256,
+    )
+    plane_loop_limit: bpy.props.IntProperty(
+        name="Loop Limit",
+        description="The most planes a pixel's ray crosses: the method's main cost",
+        default=16,
+        min=1,
+        max=256,
     )
     min_shells: bpy.props.IntProperty(
         name="Min Shells",

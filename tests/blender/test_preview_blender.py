@@ -58,13 +58,20 @@ def test_render_preview_fills_pelt_preview_with_the_furred_object(addon, prt):
 def test_render_preview_draws_the_shells_as_the_object_asks(addon):
     obj = furred_suzanne_with_camera()
     images = {}
-    for method in ("INSTANCED", "MARCHED", "AUTO"):
+    for method in ("INSTANCED", "MARCHED", "AUTO", "PLANES"):
         obj.pelt.shell_method = method
         assert bpy.ops.pelt.render_preview() == {"FINISHED"}
         images[method] = preview_pixels()
     from addon import preview
 
     assert not np.array_equal(images["INSTANCED"], images["MARCHED"])
+    # The virtual planes: their slices are baked for them (and only for them), and they cover
+    # what the shells cover.
+    asset = preview.preview_of(obj)[1]
+    assert asset.planes is not None and asset.planes["planes"] == obj.pelt.planes
+    assert not np.array_equal(images["PLANES"], images["INSTANCED"])
+    covered = [(images[m][..., 3] > 0.5).sum() for m in ("INSTANCED", "PLANES")]
+    assert abs(covered[0] - covered[1]) <= 0.05 * covered[0], covered
     # Auto marches on a CPU adapter (the tests' own) and instances on a GPU.
     cpu = preview.preview_of(obj)[0].adapter["device_type"] == "Cpu"
     assert np.array_equal(images["AUTO"], images["MARCHED" if cpu else "INSTANCED"])
