@@ -195,6 +195,23 @@ fn guard_hairs_bake_into_the_engine_file_and_export_again() {
 }
 
 #[test]
+fn planes_bake_their_slices_and_bake_json_keeps_the_count() {
+    let dir = out_dir("planes");
+    let output = bake(&dir, 2, &["--planes", "4", "--formats", "png"]);
+    assert_ok(&output);
+    // The stage's report line, on stderr with the others.
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("planes") && stderr.contains("4 planes per axis"),
+        "{stderr}"
+    );
+    let record: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("bake.json")).unwrap()).unwrap();
+    assert_eq!(record["planes"], 4, "{record}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
 fn bad_input_exits_with_a_message_and_no_panic() {
     let dir = out_dir("bad");
     std::fs::create_dir_all(&dir).unwrap();
@@ -247,6 +264,10 @@ fn bad_input_exits_with_a_message_and_no_panic() {
         (
             vec!["bake", passwd.to_str().unwrap(), "--out", out],
             "inside the file's folder",
+        ),
+        (
+            vec!["bake", "missing.obj", "--out", out, "--planes", "0"],
+            "`planes`: must be in [1, 256], got 0",
         ),
     ] {
         let output = pelt(&args, 2);
