@@ -11,8 +11,6 @@ World and the lights (``lighting.py``), turned into the object's own frame, wher
 works.
 """
 
-import math
-
 import bpy
 import numpy as np
 import pelt
@@ -27,27 +25,11 @@ PREVIEW_ROLE = "preview"
 _PREVIEWS: dict = {}
 
 
-def _directions(count: int) -> np.ndarray:
-    """``count`` spherical Fibonacci directions ``[count, 3]``."""
-    i = np.arange(count) + 0.5
-    z = 1.0 - 2.0 * i / count
-    phi = i * math.pi * (3.0 - math.sqrt(5.0))
-    r = np.sqrt(1.0 - z * z)
-    return np.stack([r * np.cos(phi), r * np.sin(phi), z], axis=1)
-
-
 def rotate_sh(coefficients: np.ndarray, rotation: np.ndarray) -> np.ndarray:
-    """SH coefficients ``[n², 3]`` of ``f`` re-expressed for ``g(d) = f(rotation @ d)``.
-
-    The basis at a direction is ``pelt.sh_project_light(d, order)`` (a delta light's projection),
-    so the rotation is the least-squares fit of ``g`` on ``4 n²`` directions: exact, because a
-    rotation keeps every band (no Python loop per vertex; a few hundred basis evaluations)."""
-    order = math.isqrt(coefficients.shape[0])
-    directions = _directions(4 * order * order)
-    basis = np.array([pelt.sh_project_light(tuple(d), order) for d in directions], np.float64)
-    turned = np.array([pelt.sh_project_light(tuple(rotation @ d), order) for d in directions], np.float64)
-    solved, *_ = np.linalg.lstsq(basis, turned @ coefficients.astype(np.float64), rcond=None)
-    return solved.astype(np.float32)
+    """SH coefficients ``[n², 3]`` of ``f`` re-expressed for ``g(d) = f(rotation @ d)``: the
+    crate's exact rotation by ``rotationᵀ`` (``pelt.sh_rotate`` turns a lobe along ``d`` to
+    ``r @ d``, and ``g``'s lobe along ``d`` is ``f``'s along ``rotation @ d``)."""
+    return pelt.sh_rotate(coefficients, np.ascontiguousarray(np.asarray(rotation, np.float64).T))
 
 
 def object_lighting(scene, obj, model: str, order: int | None) -> dict:

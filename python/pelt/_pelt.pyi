@@ -347,6 +347,12 @@ def sh_project_light(
     """SH coefficients ``[order²]`` of a unit-power light from ``direction`` over a cone of
     ``half_angle`` radians (0: directional)."""
 
+def sh_rotate(coefficients: npt.ArrayLike, rotation: npt.ArrayLike) -> npt.NDArray[np.float32]:
+    """SH coefficients ``[n²]`` or ``[n², C]`` rotated by ``rotation`` (3×3, mapping a direction
+    ``d`` to ``rotation @ d``): a lobe along ``d`` ends up along ``rotation @ d``. Exact (Ivanic &
+    Ruedenberg); a rotation that is not orthonormal and proper raises
+    :class:`InvalidParameterError` naming ``rotation``."""
+
 class StageReport(TypedDict):
     stage: Literal["patches", "volume", "guard_hairs", "planes", "transfer"]
     ran: bool

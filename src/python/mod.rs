@@ -126,6 +126,7 @@ fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(prt::bake_transfer, m)?)?;
     m.add_function(wrap_pyfunction!(prt::sh_project_equirect, m)?)?;
     m.add_function(wrap_pyfunction!(prt::sh_project_light, m)?)?;
+    m.add_function(wrap_pyfunction!(prt::sh_rotate, m)?)?;
     m.add_class::<pipeline::PyPipeline>()?;
     m.add_class::<pipeline::PyFurAsset>()?;
     #[cfg(feature = "render")]

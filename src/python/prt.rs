@@ -211,3 +211,45 @@ pub(super) fn sh_project_light<'py>(
     let flat: Vec<f32> = coeffs.iter().map(|&c| c as f32).collect();
     Ok(PyArray1::from_vec(py, flat).into_any())
 }
+
+/// Rotates SH coefficients `[n²]` or `[n², C]` (`n` in 1..=8) by `rotation` (3×3, maps a
+/// direction `d` to `rotation · d`): the coefficients of `g(ω) = f(rotationᵀ ω)`, so a lobe along
+/// `d` ends up along `rotation · d`. Exact (Ivanic & Ruedenberg's recurrence, `sh::ShRotation`);
+/// float32 out, the input's shape.
+#[pyfunction]
+pub(super) fn sh_rotate<'py>(
+    py: Python<'py>,
+    coefficients: &Bound<'py, PyAny>,
+    rotation: [[f64; 3]; 3],
+) -> PyResult<Bound<'py, PyAny>> {
+    let (array, shape) = float_ndarray(coefficients, "coefficients", "[n²] or [n², C]", |s| {
+        matches!(s.len(), 1 | 2) && s[0] > 0
+    })?;
+    let values = flat(&array)?;
+    let order = sh::order_of_len(shape[0]).map_err(|_| {
+        PeltError::parameter(
+            "coefficients",
+            format!(
+                "must have n² rows for an order n in [1, {}] (1, 4, 9, …, 64), got {}",
+                sh::MAX_ORDER,
+                shape[0]
+            ),
+        )
+    })?;
+    let turn = sh::ShRotation::new(order, rotation)?;
+    let columns = shape.get(1).copied().unwrap_or(1);
+    let mut out = vec![0.0f32; values.len()];
+    for c in 0..columns {
+        let column: Vec<f64> = values
+            .iter()
+            .skip(c)
+            .step_by(columns)
+            .map(|&v| f64::from(v))
+            .collect();
+        let turned = turn.apply(&column)?;
+        for (row, v) in turned.into_iter().enumerate() {
+            out[row * columns + c] = v as f32;
+        }
+    }
+    Ok(PyArray1::from_vec(py, out).reshape(shape)?.into_any())
+}

@@ -161,3 +161,29 @@ def test_building_a_mesh_releases_the_gil():
     worker.join()
     # with the GIL held during the whole call this thread could not run while inside the call
     assert window["ticks"] >= 5, window
+
+
+def test_sh_rotate_turns_a_light_exactly_where_the_rotation_sends_it():
+    # Independent answer: the same light projected from the rotated direction (the basis
+    # evaluated there, no rotation involved).
+    rng = np.random.default_rng(3)
+    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
+    q = q @ np.diag(np.sign(np.diag(r)))
+    if np.linalg.det(q) < 0:
+        q[:, 0] = -q[:, 0]
+    d = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
+    for order in (1, 2, 5, 8):
+        light = pelt.sh_project_light(tuple(d), order, 0.2)
+        expected = pelt.sh_project_light(tuple(q @ d), order, 0.2)
+        assert np.allclose(pelt.sh_rotate(light, q), expected, atol=1e-5), order
+    # Columns (colour channels) turn independently and keep their shape.
+    rgb = np.stack([light, 2.0 * light, -light], axis=1)
+    turned = pelt.sh_rotate(rgb, q)
+    assert turned.shape == rgb.shape and turned.dtype == np.float32
+    assert np.allclose(turned[:, 1], 2.0 * expected, atol=1e-5)
+    with pytest.raises(pelt.InvalidParameterError, match="rotation"):
+        pelt.sh_rotate(light, 2.0 * np.eye(3))
+    with pytest.raises(pelt.InvalidParameterError, match="rotation"):
+        pelt.sh_rotate(light, np.diag([1.0, 1.0, -1.0]))
+    with pytest.raises(pelt.InvalidParameterError, match="coefficients"):
+        pelt.sh_rotate(np.ones(5, np.float32), np.eye(3))
