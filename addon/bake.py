@@ -16,7 +16,7 @@ import pelt
 from . import bake_job, bridge, fur, fur_layout, preferences, topology, writer
 
 # Stages of a bake, in order (for the progress bar).
-STAGES = ("patches", "volume", "guard_hairs", "planes", "transfer")
+STAGES = pelt.STAGES
 # Seconds between progress updates of the modal operator.
 POLL_SECONDS = 0.1
 

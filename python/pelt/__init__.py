@@ -6,6 +6,7 @@ numpy (float32 / uint32, C-contiguous; other numeric dtypes are converted). Ever
 """
 
 from ._pelt import (
+    STAGES,
     BakeCancelled,
     FurAsset,
     FurMesh,
@@ -41,6 +42,7 @@ from ._pelt import (
 )
 
 __all__ = [
+    "STAGES",
     "BakeCancelled",
     "FurAsset",
     "FurMesh",

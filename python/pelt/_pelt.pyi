@@ -8,6 +8,8 @@ import numpy as np
 import numpy.typing as npt
 
 __version__: str
+STAGES: tuple[str, ...]
+"""The bake's stages in the order they run (``Pipeline.bake``'s report follows it)."""
 
 class PeltError(Exception):
     """Base class of every error Pelt raises."""

@@ -105,6 +105,11 @@ fn _panic_for_test(py: Python<'_>, message: String) -> PyResult<()> {
 #[pymodule]
 fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", crate::VERSION)?;
+    // The bake's stage names in order, for progress bars (one list, the pipeline's).
+    m.add(
+        "STAGES",
+        pyo3::types::PyTuple::new(m.py(), crate::pipeline::STAGES)?,
+    )?;
     errors::register(m)?;
     m.add_class::<mesh::PyFurMesh>()?;
     m.add_class::<volume::PyHairParams>()?;

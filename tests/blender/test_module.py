@@ -187,3 +187,22 @@ def test_sh_rotate_turns_a_light_exactly_where_the_rotation_sends_it():
         pelt.sh_rotate(light, np.diag([1.0, 1.0, -1.0]))
     with pytest.raises(pelt.InvalidParameterError, match="coefficients"):
         pelt.sh_rotate(np.ones(5, np.float32), np.eye(3))
+
+
+def test_stages_are_the_pipelines_in_the_order_a_bake_reports_them():
+    # Every stage a bake runs is named in pelt.STAGES, in its order (the add-on's progress bar
+    # counts through the same tuple).
+    positions, triangles = octahedron()
+    asset = pelt.Pipeline().bake(
+        pelt.FurMesh(positions, triangles),
+        hair=pelt.HairParams(density=64),
+        layers=4,
+        resolution=16,
+        fin_size=(16, 8),
+        order=2,
+        directions=32,
+        planes=2,
+    )
+    reported = [s["stage"] for s in asset.report]
+    assert reported == [s for s in pelt.STAGES if s in reported]
+    assert reported == ["patches", "volume", "planes", "transfer"]
