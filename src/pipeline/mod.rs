@@ -207,7 +207,7 @@ impl BakeParams {
         let planes = self.planes.as_ref().map_or(0.0, |p| {
             crate::volume::peak::volume_bytes(&self.volume)
                 + crate::volume::peak::strand_bytes(&self.hair)
-                + p.bytes()
+                + p.peak_bytes()
         });
         volume.max(transfer).max(planes)
     }

@@ -103,6 +103,12 @@ fn lit(s: SurfaceOut, f: MarchFrame, m: Marched, k: HairLight) -> vec4<f32> {
                      m.color.a);
 }
 
+// The mip level of a tile-wide texture `texels` across at the footprint `grad` (screen
+// derivatives of the tile UV).
+fn footprint_lod(grad: vec4<f32>, texels: f32) -> f32 {
+    return log2(max(max(length(grad.xy), length(grad.zw)) * texels, 1.0));
+}
+
 // A hull fragment: its surface, tile-UV derivatives, frame and view ray. Called first in a
 // fragment shader: the derivatives need uniform control flow, before any discard.
 struct HullFragment {

@@ -53,7 +53,7 @@ fn slice_texel(layer: u32, along: f32, height: f32, run: f32, lod: f32) -> vec4<
 // run of planes overstates the footprint's coverage, which a sharper, noisier read does not.
 fn slice_lod(f: MarchFrame, grad: vec4<f32>, top: f32) -> f32 {
     let size = vec2<f32>(textureDimensions(plane_texture).xy);
-    let along = log2(max(max(length(grad.xy), length(grad.zw)) * size.x, 1.0));
+    let along = footprint_lod(grad, size.x);
     let a = clip_position(f.position);
     let b = clip_position(f.position - f.up * (top * frame.fur.y));
     let pixels = length((a.xy / a.w - b.xy / b.w) * 0.5 * frame.strand.xy);
@@ -97,6 +97,7 @@ fn trace(s: SurfaceOut, f: MarchFrame, ray: Ray, grad: vec4<f32>) -> Marched {
     // Slab depths run per unit of ray.
     let slabs_per_length = length(rate);
     let lod = slice_lod(f, grad, top);
+    let half_z_lod = footprint_lod(grad, f32(textureDimensions(shell_texture).x));
     // The half-z plane (§3.5).
     let nv = clamp(dot(unit_or(f.normal, vec3<f32>(0.0, 0.0, 1.0)), view_vector(f.position)), 0.0, 1.0);
     let half_z_drop = (0.9 * (1.0 - nv) + 0.1) * top;
@@ -116,7 +117,7 @@ fn trace(s: SurfaceOut, f: MarchFrame, ray: Ray, grad: vec4<f32>) -> Marched {
             let uv = s.uv + ray.uv_rate * half_z;
             let height = ray_height(ray, top, half_z);
             let layer = u32(round(height));
-            let texel = textureSampleLevel(shell_texture, tile_sampler, uv, layer, lod) * (nv * nv);
+            let texel = textureSampleLevel(shell_texture, tile_sampler, uv, layer, half_z_lod) * (nv * nv);
             if (texel.a * s.color.a >= frame.fur.w) {
                 out = composite(out, texel * s.color.a, Layers(layer, layer, NO_LAYER), uv, texel.a,
                                 height);

@@ -543,9 +543,11 @@ impl FurScene {
                 "is not the Renderer that uploaded this scene",
             ));
         }
+        let pipelines = renderer.fur_pipelines()?;
         let Some(slices) = slices else {
             self.planes = None;
-            return self.rebind(renderer);
+            self.rebind(renderer, pipelines);
+            return Ok(());
         };
         check_slices(slices)?;
         let limits = renderer.device.limits();
@@ -572,12 +574,12 @@ impl FurScene {
         })??;
         self.uploads.texture_bytes += planes.bytes;
         self.planes = Some(planes);
-        self.rebind(renderer)
+        self.rebind(renderer, pipelines);
+        Ok(())
     }
 
     /// Makes group 0 anew with the current textures.
-    fn rebind(&mut self, renderer: &Renderer) -> Result<()> {
-        let pipelines = renderer.fur_pipelines()?;
+    fn rebind(&mut self, renderer: &Renderer, pipelines: &FurPipelines) {
         let planes = self.planes.as_ref().map_or(&pipelines.no_planes, |p| &p.view);
         self.bind_group = fur_bind_group(
             &renderer.device,
@@ -587,7 +589,6 @@ impl FurScene {
             planes,
             &self.surface.geometry,
         );
-        Ok(())
     }
 
     /// Sets the guard hairs drawn as strands over the shells ([`crate::guard::guard_hairs`] of

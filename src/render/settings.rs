@@ -215,15 +215,12 @@ impl RenderSettings {
                 format!("Banded must have [1, {MAX_STRAND_BANDS}] bands, got {n}"),
             ));
         }
-        if !(1..=MAX_PLANE_LOOP_LIMIT).contains(&self.plane_loop_limit) {
-            return Err(PeltError::parameter(
-                "settings.plane_loop_limit",
-                format!(
-                    "must be in [1, {MAX_PLANE_LOOP_LIMIT}], got {}",
-                    self.plane_loop_limit
-                ),
-            ));
-        }
+        crate::error::check_range(
+            "settings.plane_loop_limit",
+            f64::from(self.plane_loop_limit),
+            1.0,
+            f64::from(MAX_PLANE_LOOP_LIMIT),
+        )?;
         for (i, &c) in self.background.iter().enumerate() {
             check(&format!("settings.background[{i}]"), c, 1.0)?;
         }

@@ -58,9 +58,15 @@ impl PlaneParams {
         check_range("plane_size[1]", self.size[1] as f64, 1.0, MAX_SLICE_SIDE as f64)
     }
 
-    /// Bytes of the slices (what the bake holds at its peak, with one row of pieces per thread).
+    /// Bytes of the slices.
     pub fn bytes(&self) -> f64 {
         2.0 * self.planes as f64 * self.size[0] as f64 * self.size[1] as f64 * 4.0
+    }
+
+    /// Bytes the bake holds at its peak: the rows as made, then the slices they are gathered
+    /// into (besides one row of pieces per thread).
+    pub fn peak_bytes(&self) -> f64 {
+        2.0 * self.bytes()
     }
 }
 
@@ -91,7 +97,7 @@ pub fn bake_slices(
     progress: Option<ProgressCallback<'_>>,
 ) -> Result<PlaneSlices> {
     params.validate()?;
-    crate::memory::check("planes", params.bytes(), || {
+    crate::memory::check("planes", params.peak_bytes(), || {
         format!("`planes` ({}) or `plane_size` ({:?})", params.planes, params.size)
     })?;
     pool().install(|| {
