@@ -153,7 +153,8 @@ bench: setup $(VENV)/.plotting
 	@mkdir -p out
 	./target/release/pelt bench --json out/bench.json --pictures docs/accuracy
 	$(PY) blender_scripts/bench_transfer.py --json out/bench_blender.json
-	$(PY) scripts/bench_report.py out/bench.json out/bench_blender.json > docs/benchmarks.md
+	$(PY) blender_scripts/bench_preview.py --json out/bench_preview.json
+	$(PY) scripts/bench_report.py out/bench.json out/bench_blender.json out/bench_preview.json > docs/benchmarks.md
 	$(PY) scripts/accuracy_report.py docs/accuracy.md docs/accuracy out/bench.json
 
 # matplotlib, for the accuracy plot only (make bench).

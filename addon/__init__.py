@@ -7,9 +7,9 @@ order and attaches ``bpy.types.Object.pelt``; ``unregister()`` undoes it in reve
 
 import bpy
 
-from . import bake, comb, comb_tools, export, ops, paint, panels, preferences, preview, props
+from . import bake, comb, comb_tools, export, live_preview, ops, paint, panels, preferences, preview, props
 
-_MODULES = (preferences, props, ops, paint, comb, comb_tools, bake, preview, export, panels)
+_MODULES = (preferences, props, ops, paint, comb, comb_tools, bake, preview, live_preview, export, panels)
 
 
 def register() -> None:
@@ -23,7 +23,9 @@ def register() -> None:
 
 def unregister() -> None:
     export.unregister_menus()
-    preview.stop_live_preview()
+    live_preview.stop()
+    bake.RECORDS.clear()
+    preview.forget_previews()
     del bpy.types.Object.pelt
     preferences.CACHE.clear()
     for module in reversed(_MODULES):

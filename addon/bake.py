@@ -7,10 +7,13 @@ while a modal timer shows progress in the status bar; Esc cancels. From scripts 
 bake has succeeded, and only stages whose inputs changed run again (``pelt.Pipeline``).
 """
 
+import hashlib
 import math
 import time
+from dataclasses import dataclass
 
 import bpy
+import numpy as np
 import pelt
 
 from . import bake_job, bridge, fur, fur_layout, preferences, topology, writer
@@ -81,6 +84,40 @@ def memory_estimate(obj):
         return None
 
 
+def signature(arrays, options: dict) -> bytes:
+    """A hash of what a bake reads: two reads with the same signature bake the same asset. The
+    painted colors and lengths count only where the bake reads them: the colors' presence (the
+    coat grows under paint), and both by value when guard hairs are placed by them; otherwise
+    the preview takes them without a bake (``pelt.Preview.update``)."""
+    digest = hashlib.blake2b(digest_size=16)
+    painted = (arrays.color, arrays.length)
+    read = (arrays.positions, arrays.triangles, arrays.triangle_polygons, arrays.normals, arrays.comb)
+    for values in read + (painted if options.get("guard_hairs") else ()):
+        digest.update(b"-" if values is None else np.ascontiguousarray(values).tobytes())
+    digest.update(b"c" if arrays.color is not None else b"-")
+    digest.update(repr(sorted(options.items())).encode())
+    return digest.digest()
+
+
+@dataclass
+class Record:
+    """The last bake of an object, by whichever operator ran it: what the live preview draws."""
+
+    asset: pelt.FurAsset
+    # The job's ``bakes_that_ran``: a preview built from an earlier count is stale.
+    bakes_that_ran: int
+    signature: bytes
+
+
+# session_uid -> Record of the object's last successful bake.
+RECORDS: dict[int, Record] = {}
+
+
+def remember(uid: int, job: bake_job.BakeJob) -> None:
+    """Keeps a finished, successful job as the last bake of the object ``uid`` (its session_uid)."""
+    RECORDS[uid] = Record(job.asset, job.bakes_that_ran, job.signature)
+
+
 def start_job(obj, *, apply_topology: bool = False) -> bake_job.BakeJob:
     """Reads ``obj`` and its settings (main thread) and returns the job, not yet started. With
     ``apply_topology`` (Bake) the mesh read is the one with the modifiers at the top of the stack
@@ -94,6 +131,8 @@ def start_job(obj, *, apply_topology: bool = False) -> bake_job.BakeJob:
         raise
     job = bake_job.BakeJob(preferences.CACHE.get(obj.session_uid), arrays.fur_mesh, options)
     job.applied = applied
+    # Of the mesh as the object has it after the bake (the topology modifiers applied).
+    job.signature = signature(arrays, options)
     return job
 
 
@@ -112,6 +151,7 @@ def finish(obj, job: bake_job.BakeJob, build_material=None) -> str:
         topology.revert(obj, applied)
         raise
     topology.commit(obj, applied)
+    remember(obj.session_uid, job)
     changes = []
     if build_material is not None:
         # After everything else succeeded: a failed bake leaves the scene as it was.

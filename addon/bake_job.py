@@ -41,6 +41,8 @@ class BakeJob:
         # The mesh with its topology modifiers applied that the bake read (``topology.Applied``),
         # which ``bake.finish`` gives the object or discards; None when it read the object's.
         self.applied = None
+        # ``bake.signature`` of what the job read.
+        self.signature = b""
 
     def start(self) -> "BakeJob":
         self._thread.start()

@@ -51,6 +51,7 @@ def assets_of(objects) -> list:
         job.wait()
         if job.error is not None:
             raise pelt.PeltError(f"{obj.name}: {job.error}") from job.error
+        bake.remember(obj.session_uid, job)
         assets.append(job.asset)
     return assets
 

@@ -6,7 +6,7 @@ import json
 
 import bpy
 
-from . import bake, comb_tools, point_data, pose, preferences
+from . import bake, comb_tools, live_preview, point_data, pose, preferences
 
 # Statistics rows shown after a check: (key, label).
 STAT_ROWS = (
@@ -186,8 +186,13 @@ class VIEW3D_PT_pelt_preview(_SubPanel, bpy.types.Panel):
 
     def draw_settings(self, layout, settings):
         row = layout.row(align=True)
-        row.operator("pelt.live_preview", icon="HIDE_OFF")
+        live = live_preview.is_on()
+        row.operator("pelt.live_preview", icon="HIDE_ON" if live else "HIDE_OFF", depress=live)
         row.operator("pelt.render_preview", icon="RENDER_STILL")
+        session = live_preview.session_of(bpy.context.active_object) if live else None
+        for line in session.status() if session is not None else ():
+            icon = "ERROR" if line.startswith("Out of date") else "NONE"
+            layout.label(text=line, icon=icon)
 
 
 class VIEW3D_PT_pelt_export(_SubPanel, bpy.types.Panel):

@@ -12,6 +12,7 @@ every modifier before it only moves vertices."""
 
 from contextlib import contextmanager
 
+import bpy
 import numpy as np
 import pelt
 
@@ -51,8 +52,12 @@ def _under_fur_modifier(obj) -> bool:
 
 @contextmanager
 def _evaluated_mesh(obj, depsgraph):
-    """``obj``'s evaluated mesh, freed on leaving."""
+    """``obj``'s evaluated mesh: the depsgraph's own when it is a mesh (no copy: under Pelt's fur
+    it has every shell's vertices too), else a copy freed on leaving."""
     evaluated = obj.evaluated_get(depsgraph)
+    if isinstance(evaluated.data, bpy.types.Mesh):
+        yield evaluated.data
+        return
     try:
         yield evaluated.to_mesh()
     finally:
@@ -61,13 +66,17 @@ def _evaluated_mesh(obj, depsgraph):
 
 def moved(obj) -> bool:
     """Whether anything evaluated may move the mesh's vertices: a modifier shown in the
-    viewport, or shape keys."""
-    return any(m.show_viewport for m in obj.modifiers) or obj.data.shape_keys is not None
+    viewport other than Pelt's fur (which keeps the skin's rows as they are), or shape keys."""
+    fur = geonodes.find_modifier(obj)
+    shown = (m for m in obj.modifiers if m.show_viewport and m != fur)
+    return any(True for _ in shown) or obj.data.shape_keys is not None
 
 
-def evaluated_pose(obj, depsgraph, vertex_count: int) -> tuple[np.ndarray, np.ndarray]:
+def evaluated_pose(obj, depsgraph, vertex_count: int, *, normals: bool = True) -> tuple:
     """Positions and vertex normals ``[V, 3]`` float32 of ``obj``'s evaluated mesh (object
-    space). Raises ``pelt.InvalidMeshError`` when its vertices are not the ``vertex_count`` baked."""
+    space); with ``normals=False`` the normals are None (``pelt.Preview.deform`` then computes
+    them on its own thread). Raises ``pelt.InvalidMeshError`` when its vertices are not the
+    ``vertex_count`` baked."""
     under_fur = _under_fur_modifier(obj)
     with _evaluated_mesh(obj, depsgraph) as mesh:
         count = len(mesh.vertices)
@@ -76,32 +85,33 @@ def evaluated_pose(obj, depsgraph, vertex_count: int) -> tuple[np.ndarray, np.nd
                 f"the modifiers change the topology ({count} vertices evaluated, {vertex_count} baked): "
                 "the preview shows the mesh without them (Bake applies those at the top of the stack)"
             )
-        normals = np.empty(count * 3, np.float32)
-        mesh.vertex_normals.foreach_get("vector", normals)
         rows = slice(0, vertex_count)
-        return bridge.read_positions(mesh)[rows], normals.reshape(count, 3)[rows]
+        positions = bridge.read_positions(mesh)[rows]
+        if not normals:
+            return positions, None
+        values = np.empty(count * 3, np.float32)
+        mesh.vertex_normals.foreach_get("vector", values)
+        return positions, values.reshape(count, 3)[rows]
 
 
-def digest(obj, depsgraph) -> int | None:
-    """A hash of the evaluated positions (``None`` when nothing moves the mesh): what the live
-    preview compares to redraw when the pose changes."""
+def target(asset: pelt.FurAsset, obj, depsgraph, *, normals: bool = True) -> tuple | None:
+    """Positions and normals (``evaluated_pose``) that pose ``obj``'s bake ``asset`` as
+    ``depsgraph`` evaluates ``obj``; None for the rest shape (nothing moves it, or the pose cannot
+    be applied: the reason is then in ``NOTES``)."""
+    NOTES.pop(obj.session_uid, None)
     if not moved(obj):
         return None
-    with _evaluated_mesh(obj, depsgraph) as mesh:
-        # The skin's rows alone: under Pelt's fur modifier the shells and fins follow them.
-        return hash(bridge.read_positions(mesh)[: len(obj.data.vertices)].tobytes())
+    try:
+        return evaluated_pose(obj, depsgraph, asset.mesh.vertex_count, normals=normals)
+    except pelt.PeltError as error:
+        NOTES[obj.session_uid] = str(error)
+        return None
 
 
 def apply(preview: pelt.Preview, asset: pelt.FurAsset, obj, depsgraph) -> None:
     """Poses ``preview`` (of ``obj``'s bake ``asset``) as ``depsgraph`` evaluates ``obj``. A pose
     that cannot be applied leaves the rest shape drawn and its reason in ``NOTES``."""
-    NOTES.pop(obj.session_uid, None)
-    pose = None
-    if moved(obj):
-        try:
-            pose = evaluated_pose(obj, depsgraph, asset.mesh.vertex_count)
-        except pelt.PeltError as error:
-            NOTES[obj.session_uid] = str(error)
+    pose = target(asset, obj, depsgraph)
     if pose is not None:
         preview.deform(*pose)
         _POSED.add(id(preview))

@@ -1,9 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """See the fur: "Render Preview" renders the scene camera's view of the active object with Pelt's
 wgpu renderer into the float image ``Pelt Preview``, scene-linear so that Blender shows it through
-the scene's view transform like its own renders (headless too); "Live Preview" draws the same
-renderer over the 3D viewport, re-rendered when the view or the pose changes. Both draw the
-object as posed (``pose.py``).
+the scene's view transform like its own renders (headless too); "Live Preview" (``live_preview``)
+draws the same renderer over the 3D viewport. Both draw the object as posed (``pose.py``).
 
 One ``pelt.Preview`` (device + uploaded scene) is kept per object and rebuilt only when a bake
 ran a stage; otherwise only the painted colors and lengths are re-sent. Lighting comes from the
@@ -62,6 +61,7 @@ def preview_of(obj) -> tuple[pelt.Preview, pelt.FurAsset]:
     job.wait()
     if job.error is not None:
         raise job.error
+    bake.remember(obj.session_uid, job)
     asset = job.asset
     cached = _PREVIEWS.get(obj.session_uid)
     if cached is None or cached[1] != job.bakes_that_ran:
@@ -150,77 +150,9 @@ class PELT_OT_render_preview(bpy.types.Operator):
         return {"FINISHED"}
 
 
-class _LiveState:
-    """The draw handler and what it last drew, so it renders only when the view changed."""
-
-    handler = None
-    key = None
-    texture = None
-
-
-def _draw_live():
-    context = bpy.context
-    obj = context.active_object
-    region, region_3d = context.region, context.region_data
-    if obj is None or obj.type != "MESH" or region_3d is None or not obj.pelt.enabled:
-        return
-    import gpu
-    from gpu_extras.presets import draw_texture_2d
-
-    width, height = region.width, region.height
-    view = region_3d.view_matrix @ obj.matrix_world
-    depsgraph = context.evaluated_depsgraph_get()
-    key = (tuple(map(tuple, view)), tuple(map(tuple, region_3d.window_matrix)), width, height,
-           pose.digest(obj, depsgraph))  # fmt: skip
-    if key != _LiveState.key:
-        try:
-            preview, asset = preview_of(obj)
-            pose.apply(preview, asset, obj, depsgraph)
-            model = "prt" if obj.pelt.lighting == "PRT" and asset.transfer is not None else "kajiya-kay"
-            pixels = preview.render(
-                np.array(view, np.float32),
-                np.array(region_3d.window_matrix, np.float32),
-                width,
-                height,
-                lighting=object_lighting(context.scene, obj, model, preview.transfer_order),
-                **render_options(obj, asset),
-            )
-        except pelt.PeltError:
-            return
-        # Blender's textures run bottom-up; the buffer takes the numpy array as it is.
-        floats = np.ascontiguousarray(pixels[::-1], np.float32).ravel() / 255.0
-        data = gpu.types.Buffer("FLOAT", floats.size, floats)
-        _LiveState.texture = gpu.types.GPUTexture((width, height), format="RGBA8", data=data)
-        _LiveState.key = key
-    gpu.state.blend_set("ALPHA")
-    draw_texture_2d(_LiveState.texture, (0, 0), width, height)
-    gpu.state.blend_set("NONE")
-
-
-class PELT_OT_live_preview(bpy.types.Operator):
-    """Draw Pelt's real-time fur over the 3D viewport (toggle)"""
-
-    bl_idname = "pelt.live_preview"
-    bl_label = "Live Preview"
-
-    def execute(self, context):
-        if _LiveState.handler is None:
-            _LiveState.handler = bpy.types.SpaceView3D.draw_handler_add(
-                _draw_live, (), "WINDOW", "POST_PIXEL"
-            )
-        else:
-            stop_live_preview()
-        for area in context.screen.areas if context.screen else ():
-            if area.type == "VIEW_3D":
-                area.tag_redraw()
-        return {"FINISHED"}
-
-
-def stop_live_preview() -> None:
-    if _LiveState.handler is not None:
-        bpy.types.SpaceView3D.draw_handler_remove(_LiveState.handler, "WINDOW")
-    _LiveState.handler = _LiveState.key = _LiveState.texture = None
+def forget_previews() -> None:
+    """Frees Render Preview's devices (the add-on is unregistered)."""
     _PREVIEWS.clear()
 
 
-CLASSES = (PELT_OT_render_preview, PELT_OT_live_preview)
+CLASSES = (PELT_OT_render_preview,)

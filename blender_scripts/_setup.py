@@ -1,5 +1,6 @@
 """Shared start-up of the headless scripts: make the repository's add-on importable and registered."""
 
+import json
 import sys
 from pathlib import Path
 
@@ -14,3 +15,13 @@ def register_addon():
 
     addon.register()
     return addon
+
+
+def write_cases(cases: list, path: Path | None) -> None:
+    """Prints benchmark cases and writes them as ``pelt bench`` JSON to ``path`` (when given)."""
+    for case in cases:
+        case.update(peak_bytes=None, error=None, error_metric=None, baseline=None, speedup=None)
+        print(f"{case['name']:<30} {case['seconds'] * 1000:9.2f} ms  {case['size']}")
+    if path:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps({"cases": cases}, indent=2) + "\n")

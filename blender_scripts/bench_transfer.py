@@ -10,14 +10,13 @@ mesh, writing ``PeltUV``, ``pelt_patch``, the images and the material). Writes t
 """
 
 import argparse
-import json
 import statistics
 import time
 from pathlib import Path
 
 import bpy
 import numpy as np
-from _setup import register_addon
+from _setup import register_addon, write_cases
 
 REPEATS = 9
 
@@ -108,12 +107,7 @@ def main() -> None:
         {"name": "blender.transfer.first_call", "size": size, "seconds": first},
     ]
     cases += bake_overhead(addon, bpy.context.active_object, size)
-    for case in cases:
-        case.update(peak_bytes=None, error=None, error_metric=None, baseline=None, speedup=None)
-        print(f"{case['name']:<30} {case['seconds'] * 1000:9.2f} ms  {case['size']}")
-    if args.json:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
-        args.json.write_text(json.dumps({"cases": cases}, indent=2) + "\n")
+    write_cases(cases, args.json)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
-"""Writes docs/benchmarks.md from ``pelt bench --json`` files (and the Blender transfer benchmark).
+"""Writes docs/benchmarks.md from ``pelt bench --json`` files (and the Blender benchmarks').
 
-Usage: python scripts/bench_report.py out/bench.json out/bench_blender.json > docs/benchmarks.md
+Usage: python scripts/bench_report.py out/bench.json out/bench_blender.json out/bench_preview.json \
+    > docs/benchmarks.md
 """
 
 import json
@@ -14,6 +15,9 @@ GOALS = {
     "mesh.build": 0.030,
     "blender.transfer": 0.100,
     "blender.bake.overhead": 0.5,
+    "blender.preview.frame": 0.1,
+    "blender.preview.redraw": 0.005,
+    "blender.preview.groom": 0.1,
     "render.frame@512x512": 0.040,
     "volume.bake.exact@128x128x16": 0.050,
     "volume.bake.exact@1024x1024x64": 2.0,
@@ -49,7 +53,10 @@ def main() -> None:
     reports = [json.loads(Path(p).read_text()) for p in sys.argv[1:]]
     head = reports[0]
     print("# Benchmarks\n")
-    print("Written by `make bench` (`pelt bench` and `blender_scripts/bench_transfer.py`); do not edit.")
+    print(
+        "Written by `make bench` (`pelt bench`, `blender_scripts/bench_transfer.py` and "
+        "`blender_scripts/bench_preview.py`); do not edit."
+    )
     print(
         f"pelt {head.get('pelt', '?')}, {head.get('threads', '?')} threads, "
         f"adapter: {head.get('adapter') or 'none used'}. Seconds are medians of several runs.\n"

@@ -1,0 +1,161 @@
+"""Benchmark: the live preview in Blender, on the adapter the preferences choose (the CPU one
+without a GPU), with a 30k-triangle sphere baked and drawn at 960×540.
+
+- ``blender.preview.frame``: a frame on the worker thread (pose and attributes applied, rendered,
+  turned into the texture's floats), median over an orbit redrawn at 60 Hz; ``.painted`` after red dabs,
+  which keep the renderer on the full mesh (its coarser levels would smear them).
+- ``blender.preview.redraw``: the main thread's share of a redraw (``Session.request`` and
+  ``take_frame``: the view handed over, the pose read when it moved), the worst of the orbit's
+  redraws (made while the worker renders) and a pose's; the GPU texture upload after it needs a
+  window and is not counted.
+- ``blender.preview.groom``: a paint dab's update (the mesh read again, the colors handed over)
+  until its frame is ready, median of several dabs.
+
+Writes the figures as ``pelt bench`` JSON cases (``--json``) and prints them.
+"""
+
+import argparse
+import math
+import statistics
+import time
+from pathlib import Path
+
+import bpy
+import numpy as np
+from _setup import register_addon, write_cases
+from mathutils import Matrix
+
+WIDTH, HEIGHT = 960, 540
+VIEWS = 9
+REDRAWS = 120
+
+
+def projection() -> np.ndarray:
+    near, far, focal = 0.1, 100.0, 1.8
+    return np.array(
+        [
+            [focal * HEIGHT / WIDTH, 0, 0, 0],
+            [0, focal, 0, 0],
+            [0, 0, (far + near) / (near - far), 2 * far * near / (near - far)],
+            [0, 0, -1, 0],
+        ],
+        np.float32,
+    )
+
+
+def view_of(obj, turn: float) -> np.ndarray:
+    camera = (
+        Matrix.Rotation(turn, 4, "Z")
+        @ Matrix.Translation((0, -3.2, 0))
+        @ Matrix.Rotation(math.pi / 2, 4, "X")
+    )
+    return np.array(camera.inverted() @ obj.matrix_world, np.float32)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--json", type=Path)
+    args = parser.parse_args()
+
+    addon = register_addon()
+    live = addon.live_preview
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=192, ring_count=80, radius=1.0)
+    obj = bpy.context.active_object
+    mesh = obj.data
+    n = len(mesh.vertices)
+    mesh.attributes.new("pelt_color", "FLOAT_COLOR", "POINT").data.foreach_set("color", np.ones(4 * n))
+    settings = obj.pelt
+    settings.enabled = True
+    settings.tile_size = 0.3
+    settings.fur_depth = 0.08
+    settings.lighting = "KAJIYA_KAY"
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    mesh.calc_loop_triangles()
+    size = f"{len(mesh.loop_triangles)} triangles, {WIDTH}×{HEIGHT}"
+
+    live.start()
+    session = live.session_of(obj, create=True)
+    scene = bpy.context.scene
+
+    def redraw(turn: float) -> tuple[float, object]:
+        """One draw callback's work on the main thread: (seconds, the frame it took or None)."""
+        # Blender evaluated the depsgraph before it drew the viewport.
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        start = time.perf_counter()
+        session.request(obj, depsgraph, scene, view_of(obj, turn), projection(), WIDTH, HEIGHT)
+        frame = session.take_frame()
+        return time.perf_counter() - start, frame
+
+    # An orbit: a redraw every 1/60 s with a new view while the worker renders.
+    assert session.worker.wait_idle(300.0), session.worker.error
+    redraws, frames = [], []
+    for i in range(REDRAWS):
+        seconds, frame = redraw(0.01 * i)
+        redraws.append(seconds)
+        if frame is not None:
+            frames.append(frame.seconds)
+        time.sleep(1.0 / 60.0)
+    assert session.worker.wait_idle(300.0), session.worker.error
+    session.take_frame()
+    # The pose moves: the redraw reads the evaluated positions and normals.
+    obj.modifiers.new("Breathe", "DISPLACE").strength = 0.05
+    bpy.context.view_layer.update()
+    redraws.append(redraw(0.0)[0])
+    assert session.worker.wait_idle(300.0), session.worker.error
+    session.take_frame()
+    obj.modifiers.remove(obj.modifiers["Breathe"])
+    bpy.context.view_layer.update()
+
+    # Strokes: a dab of red 0.3 across, moving over the front.
+    strokes = []
+    color = mesh.attributes["pelt_color"]
+    painted = np.ones((n, 4), np.float32)
+    positions = addon.bridge.read_positions(mesh)
+    for i in range(5):
+        centre = np.array([0.2 * (i - 2), -1.0, 0.1 * i], np.float32)
+        painted[np.linalg.norm(positions - centre, axis=1) < 0.3, 1:3] = 0.1
+        color.data.foreach_set("color", painted.ravel())
+        bpy.context.view_layer.update()
+        start = time.perf_counter()
+        live.run_checks()
+        redraw(0.0)
+        assert session.worker.wait_idle(300.0), session.worker.error
+        strokes.append(session.take_frame().finished - start)
+    assert not session.out_of_date
+    # Painted, the mesh's coarser levels would smear the colors: every frame draws the full mesh.
+    painted_frames = []
+    for i in range(VIEWS // 2):
+        redraw(0.2 * i + 0.05)
+        assert session.worker.wait_idle(300.0), session.worker.error
+        painted_frames.append(session.take_frame().seconds)
+    adapter = session.worker.adapter
+    live.stop()
+
+    cases = [
+        {
+            "name": "blender.preview.frame",
+            "size": f"{size}, {adapter['name']} ({adapter['device_type']})",
+            "seconds": statistics.median(frames),
+        },
+        {
+            "name": "blender.preview.frame.painted",
+            "size": f"{size}, red dabs painted (the full mesh drawn)",
+            "seconds": statistics.median(painted_frames),
+        },
+        {
+            "name": "blender.preview.redraw",
+            "size": f"{size}: the worst of {len(redraws)} redraws while frames render (a pose among them)",
+            "seconds": max(redraws),
+        },
+        {
+            "name": "blender.preview.groom",
+            "size": f"{size}: a repaint read, handed over and rendered",
+            "seconds": statistics.median(strokes),
+        },
+    ]
+    write_cases(cases, args.json)
+
+
+if __name__ == "__main__":
+    main()

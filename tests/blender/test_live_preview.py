@@ -1,0 +1,226 @@
+"""Live Preview off Blender's main thread, in the real Blender with the real renderer (lavapipe):
+frames render on the worker while the main thread only hands over views; a stale bake is never
+run by the preview (the panel says "out of date"); painted colors reach the picture without a
+bake; the pose follows the evaluated mesh; a device that fails falls back to the CPU. The draw
+callback's GPU upload needs a window (not headless); everything before it runs here."""
+
+import bpy
+import numpy as np
+import pelt
+import pytest
+from conftest import add_suzanne, small_fur
+from mathutils import Matrix
+
+WIDTH, HEIGHT = 96, 80
+
+
+def projection() -> np.ndarray:
+    """A perspective like the viewport's window matrix (OpenGL clip space)."""
+    near, far, focal = 0.1, 100.0, 2.0
+    aspect = WIDTH / HEIGHT
+    return np.array(
+        [
+            [focal / aspect, 0, 0, 0],
+            [0, focal, 0, 0],
+            [0, 0, (far + near) / (near - far), 2 * far * near / (near - far)],
+            [0, 0, -1, 0],
+        ],
+        np.float32,
+    )
+
+
+def view_of(obj, distance=5.0, turn=0.0) -> np.ndarray:
+    """The view matrix × the object's matrix of a camera ``distance`` in front (−Y), turned by
+    ``turn`` radians about Z, as the draw callback computes it."""
+    camera = (
+        Matrix.Rotation(turn, 4, "Z")
+        @ Matrix.Translation((0, -distance, 0))
+        @ Matrix.Rotation(np.pi / 2, 4, "X")
+    )
+    return np.array(camera.inverted() @ obj.matrix_world, np.float32)
+
+
+@pytest.fixture
+def live(addon):
+    addon.live_preview.start()
+    yield addon.live_preview
+    addon.live_preview.stop()
+
+
+def furred_suzanne():
+    obj = add_suzanne()
+    settings = small_fur(obj, fur_depth=0.15)
+    settings.lighting = "KAJIYA_KAY"
+    settings.guard_hairs = False
+    return obj
+
+
+def drawn(live, obj, view=None, timeout=120.0) -> np.ndarray:
+    """Requests a frame as the draw callback does, waits for the worker, returns ``[H, W, 4]``."""
+    session = live.session_of(obj, create=True)
+    for _ in range(2):  # a bake started by the preview is taken by the poll
+        assert session.worker is not None or session.job is not None, session.message
+        if session.job is not None:
+            assert session.job.wait(timeout)
+        live.poll()
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    view = view_of(obj) if view is None else view
+    session.request(obj, depsgraph, bpy.context.scene, view, projection(), WIDTH, HEIGHT)
+    assert session.worker.wait_idle(timeout), session.worker.error
+    assert session.worker.error is None, session.worker.error
+    frame = session.take_frame()
+    assert frame is not None and (frame.width, frame.height) == (WIDTH, HEIGHT)
+    return frame.pixels.reshape(HEIGHT, WIDTH, 4)[::-1]
+
+
+def test_frames_render_on_the_worker_and_the_main_thread_only_hands_over(live):
+    obj = furred_suzanne()
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    pixels = drawn(live, obj)
+    covered = pixels[..., 3] > 0.5
+    assert covered[HEIGHT // 2, WIDTH // 2] and not covered[0, 0]
+    assert 0.05 < covered.mean() < 0.9
+    session = live.session_of(obj)
+    # Nothing changed: the draw callback hands over nothing and no frame comes.
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    session.request(obj, depsgraph, bpy.context.scene, view_of(obj), projection(), WIDTH, HEIGHT)
+    assert session.worker.wait_idle(60.0) and session.take_frame() is None
+    # A turned view renders a new frame; the panel shows the adapter and the frame time.
+    turned = drawn(live, obj, view=view_of(obj, turn=0.5))
+    assert not np.array_equal(turned, pixels)
+    status = session.status()
+    assert any("ms a frame" in line and "cpu" in line.lower() for line in status), status
+    # The worker took the newest view only: of three handed over at once, the last is drawn.
+    for turn in (0.1, 0.2, 0.5):
+        session.request(
+            obj, depsgraph, bpy.context.scene, view_of(obj, turn=turn), projection(), WIDTH, HEIGHT
+        )
+    assert session.worker.wait_idle(60.0)
+    assert np.array_equal(session.take_frame().pixels.reshape(HEIGHT, WIDTH, 4)[::-1], turned)
+
+
+def test_a_stale_bake_is_never_run_by_the_preview(live):
+    obj = furred_suzanne()
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    before = drawn(live, obj)
+    session = live.session_of(obj)
+    record = session.record
+    assert not session.out_of_date
+    obj.pelt.tile_size *= 1.5
+    live.poll()  # the timer sees the setting change and schedules a check
+    live.run_checks()
+    assert session.out_of_date and "Out of date: Bake to update" in session.status()
+    # Drawing goes on with the bake it has: no job started, the same record, the same picture.
+    again = drawn(live, obj, view=view_of(obj, distance=5.01))
+    assert session.job is None and session.record is record
+    assert np.abs(again.astype(np.float32) - before).mean() < 0.05
+    # Bake: the preview draws the new bake and is up to date.
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    live.poll()
+    assert session.record is not record and not session.out_of_date
+    assert not np.array_equal(drawn(live, obj), before)
+
+
+def test_the_preview_bakes_on_its_worker_when_the_object_has_no_bake(live):
+    obj = furred_suzanne()
+    session = live.session_of(obj, create=True)
+    assert session.job is not None and "Baking the preview" in session.status()[0]
+    pixels = drawn(live, obj)
+    assert (pixels[..., 3] > 0.5).mean() > 0.05
+    # That bake wrote nothing into the scene (only Bake does).
+    assert "PeltUV" not in obj.data.uv_layers and not bpy.data.materials
+
+
+def test_painted_colors_reach_the_picture_without_a_bake(live):
+    obj = furred_suzanne()
+    n = len(obj.data.vertices)
+    color = obj.data.attributes.new("pelt_color", "FLOAT_COLOR", "POINT")
+    color.data.foreach_set("color", np.ones(4 * n, np.float32))
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    before = drawn(live, obj)
+    session = live.session_of(obj)
+    record = session.record
+    obj.data.attributes["pelt_color"].data.foreach_set(
+        "color", np.tile([1.0, 0.0, 0.0, 1.0], n).astype(np.float32)
+    )
+    bpy.context.view_layer.update()  # the depsgraph handler hears the edit
+    live.run_checks()
+    after = drawn(live, obj)
+    covered = (before[..., 3] > 0.5) & (after[..., 3] > 0.5)
+    red_before = before[covered, 0] - before[covered, 1]
+    red_after = after[covered, 0] - after[covered, 1]
+    assert red_after.mean() > red_before.mean() + 0.1
+    # Repainting is no reason to bake (no guard hairs placed by the paint): the same record.
+    assert session.record is record and not session.out_of_date
+    # Lengths painted too: shorter fur, still no bake.
+    obj.data.attributes.new("pelt_length", "FLOAT", "POINT").data.foreach_set(
+        "value", np.full(n, 0.2, np.float32)
+    )
+    bpy.context.view_layer.update()
+    live.run_checks()
+    shorter = drawn(live, obj)
+    assert (shorter[..., 3] > 0.5).sum() < (after[..., 3] > 0.5).sum() and not session.out_of_date
+    # Without paint the bake grows the coat as set, not under paint: out of date.
+    obj.data.attributes.remove(obj.data.attributes["pelt_color"])
+    bpy.context.view_layer.update()
+    live.run_checks()
+    assert session.out_of_date
+
+
+def test_the_preview_follows_the_pose(live):
+    obj = furred_suzanne()
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    rest = drawn(live, obj)
+    displace = obj.modifiers.new("Push", "DISPLACE")
+    displace.strength = 0.6
+    bpy.context.view_layer.update()  # the depsgraph handler hears the edit
+    posed = drawn(live, obj)
+    assert (posed[..., 3] > 0.5).sum() > (rest[..., 3] > 0.5).sum() * 1.1
+    # Back to the rest shape when the modifier goes.
+    obj.modifiers.remove(displace)
+    bpy.context.view_layer.update()  # the depsgraph handler hears the edit
+    back = drawn(live, obj)
+    assert np.abs(back.astype(np.float32) - rest).mean() < 1e-3
+
+
+def test_a_missing_gpu_falls_back_to_the_cpu(live, addon):
+    obj = furred_suzanne()
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    try:
+        pelt.Preview(addon.bake.RECORDS[obj.session_uid].asset, adapter="gpu")
+        pytest.skip("this machine has a GPU adapter")
+    except pelt.PeltError:
+        pass
+    # The preference "GPU" on a machine without one: the device cannot be made.
+    session = live._State.sessions[obj.session_uid] = live.Session(obj)
+    session.adapter = "gpu"
+    session.start(obj)
+    session.worker._thread.join(60.0)
+    live.poll()
+    assert session.adapter == "cpu" and "drawing on the CPU" in session.message
+    pixels = drawn(live, obj)
+    assert (pixels[..., 3] > 0.5).mean() > 0.05
+    assert any("drawing on the CPU" in line for line in session.status())
+
+
+def test_switching_off_stops_the_workers(live):
+    obj = furred_suzanne()
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    drawn(live, obj)
+    worker = live.session_of(obj).worker
+    live.stop()
+    worker._thread.join(30.0)
+    assert not worker.alive and not live.is_on() and live.session_of(obj) is None
+    handlers = bpy.app.handlers
+    assert live.on_depsgraph_update not in handlers.depsgraph_update_post
+    assert live.on_load not in handlers.load_pre
+
+
+def test_opening_a_file_switches_the_preview_off(live):
+    obj = furred_suzanne()
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    drawn(live, obj)
+    worker = live.session_of(obj).worker
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    worker._thread.join(30.0)
+    assert not worker.alive and not live.is_on()
