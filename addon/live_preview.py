@@ -2,11 +2,15 @@
 """Live Preview: Pelt's fur drawn over the 3D viewport while Blender stays responsive.
 
 Frames render on a worker thread (``live.Worker``); the viewport's draw callback only hands over
-the view and draws the last finished frame, and a timer redraws the viewport when a new one
-arrives. Nothing here bakes in a draw callback: the preview draws the object's last bake
-(``bake.RECORDS``, whichever operator made it; toggling the preview on starts a bake on its worker
-when there is none), and when a setting or the mesh no longer matches it the panel says
-"out of date" until Bake. Painted colors and lengths need no bake: they are sent to the preview as
+the view and the viewport's depth and draws the last finished frame, and a timer redraws the
+viewport when a new one arrives. The worker renders the fur against that depth
+(``pelt.Preview.render(occluders=...)``), so objects in front hide it and it hides what is
+behind; its own skin and shells, drawn by Blender, are within the bias and do not.
+
+Nothing here bakes in a draw callback: the preview draws the object's last bake (``bake.RECORDS``,
+whichever operator made it; toggling the preview on starts a bake on its worker when there is
+none), and when a setting or the mesh no longer matches it the panel says "out of date" until
+Bake. Painted colors and lengths need no bake: they are sent to the preview as
 they change (``pelt.Preview.update``), and the pose follows the evaluated mesh (``pose``).
 
 A frame that fails on the GPU starts the preview again on the CPU adapter; one that fails there
@@ -149,8 +153,13 @@ class Session:
 
     # Main thread: the draw callback's part (never waits on the worker).
 
-    def request(self, obj, depsgraph, scene, view, projection, width: int, height: int) -> None:
-        """Hands the worker the frame to draw next, when anything it shows changed."""
+    def request(
+        self, obj, depsgraph, scene, view, projection, width: int, height: int, read_depth=None
+    ) -> None:
+        """Hands the worker the frame to draw next, when anything it shows changed.
+        ``read_depth()`` gives the viewport's depth ``[height, width]`` (rows top first) that the
+        fur is composited against (``pelt.Preview.render(occluders=...)``), read only for a
+        frame handed over; None draws the fur over everything."""
         worker, record = self.worker, self.record
         if worker is None or record is None:
             return
@@ -170,9 +179,20 @@ class Session:
         options = render_options(obj, asset)
         view = np.ascontiguousarray(view, np.float32)
         projection = np.ascontiguousarray(projection, np.float32)
-        key = (view.tobytes(), projection.tobytes(), width, height, repr(options), self._lit_at)
+        key = (
+            view.tobytes(),
+            projection.tobytes(),
+            width,
+            height,
+            repr(options),
+            self._lit_at,
+            _State.scene_edits,
+        )
         if key == self._sent_key and target is None and self._attributes is None:
             return
+        depth = read_depth() if read_depth is not None else None
+        if depth is not None:
+            options = {**options, "occluders": depth}
         worker.submit(
             live.Request(
                 key, view, projection, width, height, self._lighting, options, target, self._attributes
@@ -228,6 +248,10 @@ class _State:
     sessions: dict[int, Session] = {}
     # Objects whose mesh is read again when the check timer fires.
     to_check: set[int] = set()
+    # Depsgraph updates seen: another object may have moved in front of the fur.
+    scene_edits = 0
+    # Whether the viewport's depth could be read (False after it failed once: fur over everything).
+    depth_readable = True
 
 
 def is_on() -> bool:
@@ -310,6 +334,7 @@ def on_depsgraph_update(scene, depsgraph) -> None:
     sessions = _State.sessions
     if not sessions:
         return
+    _State.scene_edits += 1
     meshes = {obj.data.session_uid: uid for uid, obj in _objects_by_uid().items() if obj.data is not None}
     lighting = False
     for update in depsgraph.updates:
@@ -346,25 +371,64 @@ def _schedule_check(uid: int) -> None:
     _State.to_check.add(uid)
 
 
+def _viewport_depth(width: int, height: int) -> np.ndarray | None:
+    """The viewport's depth buffer ``[height, width]``, rows top first (the draw callback runs in
+    the 3D view's ``POST_VIEW`` stage, where the scene's depth is bound); None when it cannot be
+    read (the fur is then drawn over everything, as before compositing)."""
+    if not _State.depth_readable:
+        return None
+    import gpu
+
+    try:
+        buffer = gpu.state.active_framebuffer_get().read_depth(0, 0, width, height)
+        try:
+            depth = np.frombuffer(buffer, np.float32)  # the buffer protocol: one copy
+        except (TypeError, ValueError):
+            depth = np.asarray(buffer.to_list(), np.float32)
+        return np.ascontiguousarray(depth.reshape(height, width)[::-1])
+    except (AttributeError, RuntimeError, TypeError, ValueError):
+        _State.depth_readable = False
+        return None
+
+
+def _composite(texture) -> None:
+    """Draws the frame over the whole region with straight alpha, no depth test (the worker
+    already hid the fur behind the viewport's depth)."""
+    import gpu
+    from gpu_extras.presets import draw_texture_2d
+    from mathutils import Matrix
+
+    gpu.state.depth_test_set("NONE")
+    gpu.state.depth_mask_set(False)
+    gpu.state.blend_set("ALPHA")
+    with gpu.matrix.push_pop(), gpu.matrix.push_pop_projection():
+        gpu.matrix.load_identity()
+        gpu.matrix.load_projection_matrix(Matrix.Identity(4))
+        draw_texture_2d(texture, (-1.0, -1.0), 2.0, 2.0)
+    gpu.state.blend_set("NONE")
+
+
 def _draw():
-    """The viewport's draw callback: hands over the view, draws the last finished frame."""
+    """The viewport's draw callback: hands over the view (and its depth), draws the last
+    finished frame."""
     context = bpy.context
     obj = context.active_object
     region, region_3d = context.region, context.region_data
     if obj is None or obj.type != "MESH" or region_3d is None or not obj.pelt.enabled:
         return
     import gpu
-    from gpu_extras.presets import draw_texture_2d
 
     session = session_of(obj, create=True)
+    width, height = region.width, region.height
     session.request(
         obj,
         context.evaluated_depsgraph_get(),
         context.scene,
         region_3d.view_matrix @ obj.matrix_world,
         region_3d.window_matrix,
-        region.width,
-        region.height,
+        width,
+        height,
+        read_depth=lambda: _viewport_depth(width, height),
     )
     frame = session.take_frame()
     if frame is not None:
@@ -372,15 +436,13 @@ def _draw():
         session.texture = gpu.types.GPUTexture((frame.width, frame.height), format="RGBA8", data=data)
     if session.texture is not None:
         # The last frame, stretched while the region was resized.
-        gpu.state.blend_set("ALPHA")
-        draw_texture_2d(session.texture, (0, 0), region.width, region.height)
-        gpu.state.blend_set("NONE")
+        _composite(session.texture)
 
 
 def start() -> None:
     if is_on():
         return
-    _State.handler = bpy.types.SpaceView3D.draw_handler_add(_draw, (), "WINDOW", "POST_PIXEL")
+    _State.handler = bpy.types.SpaceView3D.draw_handler_add(_draw, (), "WINDOW", "POST_VIEW")
     bpy.app.handlers.depsgraph_update_post.append(on_depsgraph_update)
     bpy.app.handlers.frame_change_post.append(on_frame_change)
     bpy.app.handlers.load_pre.append(on_load)

@@ -555,6 +555,8 @@ class Preview:
         strand_bands: int = 4,
         strand_pixels: float = 1.0,
         plane_loop_limit: int = 16,
+        occluders: npt.ArrayLike | None = None,
+        occluder_bias: float | None = None,
     ) -> npt.NDArray[np.uint8] | npt.NDArray[np.float32]:
         """One frame (GIL released): ``[height, width, 4]`` uint8 sRGB, or float32 linear with
         ``linear=True``; straight alpha, top row first.
@@ -587,6 +589,11 @@ class Preview:
         shells), ``"banded"`` (``strand_bands`` height bands between the shells), ``"sorted"``
         (a band per shell: the reference, slowest); ``strand_pixels``: the strand LOD keeps a
         share of the strands thinner than this many pixels, drawn that wide (0: every strand).
+        ``occluders``: another renderer's depth of the same view, ``[height, width]`` window
+        depths in ``[0, 1]`` (OpenGL's depth buffer; 1 where nothing is), rows top first, for
+        compositing the fur into its picture (Blender's viewport): the fur behind those surfaces
+        is hidden, unless it is within ``occluder_bias`` object units behind them (default three
+        fur depths: the fur's own skin and shells in that picture do not hide it).
         Bad input raises :class:`InvalidParameterError` naming it; the
         preview stays usable."""
     def update(self, *, color: npt.ArrayLike | None = None, length: npt.ArrayLike | None = None) -> None:

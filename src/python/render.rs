@@ -16,8 +16,8 @@ use super::pipeline::PyFurAsset;
 use crate::error::PeltError;
 use crate::prt::pack::PackedF16;
 use crate::render::{
-    AdapterChoice, Camera, FrameInfo, FurScene, KajiyaKay, LightModel, Lighting, Prt, RenderSettings,
-    Renderer, ShellMethod, StrandOrder,
+    AdapterChoice, Camera, FrameInfo, FurScene, KajiyaKay, LightModel, Lighting, Occluders, Prt,
+    RenderSettings, Renderer, ShellMethod, StrandOrder,
 };
 
 /// The preview renderer of one baked asset.
@@ -70,6 +70,20 @@ fn number(value: &Bound<'_, PyAny>, name: &str) -> PyResult<f32> {
     value
         .extract::<f32>()
         .map_err(|_| PeltError::parameter(name, "must be a number").into())
+}
+
+/// The occluders' depths `[height, width]` (window depth in `[0, 1]`, rows top first); the
+/// renderer checks the values.
+fn occluder_depth(obj: &Bound<'_, PyAny>, height: usize, width: usize) -> PyResult<Vec<f32>> {
+    let (array, shape) = float_ndarray(obj, "occluders", "[height, width]", |s| s.len() == 2)?;
+    if shape != [height, width] {
+        return Err(PeltError::parameter(
+            "occluders",
+            format!("must be [height, width] = [{height}, {width}] (the frame's), got {shape:?}"),
+        )
+        .into());
+    }
+    Ok(flat(&array)?.to_vec())
 }
 
 /// The lighting of a frame: `None` (PRT when the scene has a transfer, else Kajiya–Kay), a model
@@ -229,7 +243,7 @@ impl PyPreview {
         lod=false, linear=false, fur_depth=None, background=(0.0, 0.0, 0.0, 0.0), min_shells=2,
         max_shells=64, shells_per_pixel=1.0, shell_method="instanced", mesh_error=1.0,
         guard_hairs=true, strand_order="stochastic", strand_bands=4, strand_pixels=1.0,
-        plane_loop_limit=16
+        plane_loop_limit=16, occluders=None, occluder_bias=None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
@@ -256,6 +270,8 @@ impl PyPreview {
         strand_bands: i128,
         strand_pixels: f32,
         plane_loop_limit: i128,
+        occluders: Option<&Bound<'py, PyAny>>,
+        occluder_bias: Option<f32>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let plane_loop_limit: u32 = super::ints::unsigned("plane_loop_limit", plane_loop_limit)?;
         let strand_bands: u32 = super::ints::unsigned("strand_bands", strand_bands)?;
@@ -314,19 +330,26 @@ impl PyPreview {
             ..RenderSettings::default()
         };
         let shape = [camera.height as usize, camera.width as usize, 4];
+        let occluders = match occluders.filter(|o| !o.is_none()) {
+            None => None,
+            Some(depth) => Some(Occluders {
+                depth: occluder_depth(depth, shape[0], shape[1])?,
+                // Three fur heights: the fur's own shells drawn opaque in the other picture
+                // stay behind it where the surface faces the view within about 60°.
+                bias: occluder_bias.unwrap_or(3.0 * settings.fur_depth),
+            }),
+        };
         let (info, pixels) = detached(py, || {
             let scene = self.lock_scene();
             let info = self.renderer.frame_info(&scene, &camera, &settings)?;
-            let pixels = if linear {
-                Err(self
-                    .renderer
-                    .render_linear(&scene, &camera, &lighting, &settings)?
-                    .pixels)
-            } else {
-                Ok(self
-                    .renderer
-                    .render(&scene, &camera, &lighting, &settings)?
-                    .pixels)
+            let r = &self.renderer;
+            let pixels = match (&occluders, linear) {
+                (None, true) => Err(r.render_linear(&scene, &camera, &lighting, &settings)?.pixels),
+                (None, false) => Ok(r.render(&scene, &camera, &lighting, &settings)?.pixels),
+                (Some(o), true) => Err(r
+                    .render_linear_over(&scene, &camera, &lighting, &settings, o)?
+                    .pixels),
+                (Some(o), false) => Ok(r.render_over(&scene, &camera, &lighting, &settings, o)?.pixels),
             };
             Ok((info, pixels))
         })?;

@@ -10,6 +10,8 @@ use crate::error::{PeltError, Result};
 pub(super) struct CameraFrame {
     /// `projection · view`, column-major.
     pub view_proj: [f32; 16],
+    /// Its inverse, column-major (clip space back to object space).
+    pub inverse_view_proj: [f32; 16],
     /// The eye in object space, homogeneous: `w = 1` a position (perspective), `w = 0` the unit
     /// direction toward the viewer (orthographic).
     pub eye: [f32; 4],
@@ -63,12 +65,8 @@ impl Camera {
         let (view, proj) = (rows(&self.view), rows(&self.projection));
         let inverse_view = invert(&view)
             .ok_or_else(|| PeltError::parameter("camera.view", "is singular (not invertible)"))?;
-        if invert(&proj).is_none() {
-            return Err(PeltError::parameter(
-                "camera.projection",
-                "is singular (not invertible)",
-            ));
-        }
+        let inverse_proj = invert(&proj)
+            .ok_or_else(|| PeltError::parameter("camera.projection", "is singular (not invertible)"))?;
         let last = proj[3];
         let eye_view = match (last[0] == 0.0 && last[1] == 0.0, last[2] != 0.0, last[3] != 0.0) {
             (true, true, false) => [0.0, 0.0, 0.0, 1.0],
@@ -95,11 +93,14 @@ impl Camera {
         }
         let vp = mul(&proj, &view);
         let view_proj: [f32; 16] = std::array::from_fn(|i| vp[i % 4][i / 4] as f32);
-        if !view_proj.iter().all(|v| v.is_finite()) {
+        let inverse = mul(&inverse_view, &inverse_proj);
+        let inverse_view_proj: [f32; 16] = std::array::from_fn(|i| inverse[i % 4][i / 4] as f32);
+        if !view_proj.iter().chain(&inverse_view_proj).all(|v| v.is_finite()) {
             return Err(PeltError::parameter("camera", "projection · view overflows f32"));
         }
         Ok(CameraFrame {
             view_proj,
+            inverse_view_proj,
             eye: eye.map(|v| v as f32),
         })
     }

@@ -8,6 +8,7 @@ use super::frame_uniforms::{FrameUniforms, SceneFrame};
 use super::image::{LinearImage, RgbaImage};
 use super::lighting::{Lighting, LightingFrame};
 use super::lod::{self, FrameInfo};
+use super::occluders::Occluders;
 use super::pipelines::{DEPTH_FORMAT, Model, Target};
 use super::prt_light::world_coefficients;
 use super::prt_rotate::RotationUniforms;
@@ -130,7 +131,25 @@ impl Renderer {
         lighting: &Lighting,
         settings: &RenderSettings,
     ) -> Result<RgbaImage> {
-        let bytes = self.render_to(scene, camera, lighting, settings, Target::Srgb8)?;
+        let bytes = self.render_to(scene, camera, lighting, settings, Target::Srgb8, None)?;
+        Ok(RgbaImage::from_premultiplied(camera.width, camera.height, bytes))
+    }
+
+    /// [`Renderer::render`] for compositing into another renderer's picture of the same view:
+    /// the fur behind `occluders` (that picture's depth, pushed back by their bias) is hidden.
+    ///
+    /// # Errors
+    /// As [`Renderer::render`]; [`PeltError::InvalidParameter`] naming `occluders.depth` or
+    /// `occluders.bias` when they do not fit the camera or their ranges.
+    pub fn render_over(
+        &self,
+        scene: &FurScene,
+        camera: &Camera,
+        lighting: &Lighting,
+        settings: &RenderSettings,
+        occluders: &Occluders,
+    ) -> Result<RgbaImage> {
+        let bytes = self.render_to(scene, camera, lighting, settings, Target::Srgb8, Some(occluders))?;
         Ok(RgbaImage::from_premultiplied(camera.width, camera.height, bytes))
     }
 
@@ -146,7 +165,34 @@ impl Renderer {
         lighting: &Lighting,
         settings: &RenderSettings,
     ) -> Result<LinearImage> {
-        let bytes = self.render_to(scene, camera, lighting, settings, Target::Linear16)?;
+        let bytes = self.render_to(scene, camera, lighting, settings, Target::Linear16, None)?;
+        Ok(LinearImage::from_premultiplied_f16(
+            camera.width,
+            camera.height,
+            &bytes,
+        ))
+    }
+
+    /// [`Renderer::render_linear`] behind `occluders`, as [`Renderer::render_over`].
+    ///
+    /// # Errors
+    /// As [`Renderer::render_over`].
+    pub fn render_linear_over(
+        &self,
+        scene: &FurScene,
+        camera: &Camera,
+        lighting: &Lighting,
+        settings: &RenderSettings,
+        occluders: &Occluders,
+    ) -> Result<LinearImage> {
+        let bytes = self.render_to(
+            scene,
+            camera,
+            lighting,
+            settings,
+            Target::Linear16,
+            Some(occluders),
+        )?;
         Ok(LinearImage::from_premultiplied_f16(
             camera.width,
             camera.height,
@@ -234,13 +280,16 @@ impl Renderer {
         lighting: &Lighting,
         settings: &RenderSettings,
         target: Target,
+        occluders: Option<&Occluders>,
     ) -> Result<Vec<u8>> {
-        let (_, texels) = self.draw(scene, camera, lighting, settings, target, None)?;
+        let (_, texels) = self.draw(scene, camera, lighting, settings, target, None, occluders)?;
         texels.ok_or_else(|| PeltError::Render("an offscreen frame was not read back".into()))
     }
 
     /// Draws a frame into `view` (a caller's texture of `target`'s format and the camera's size),
-    /// or without one into the cached offscreen target, whose texels it then reads back.
+    /// or without one into the cached offscreen target, whose texels it then reads back; behind
+    /// `occluders` when given.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn draw(
         &self,
         scene: &FurScene,
@@ -249,8 +298,16 @@ impl Renderer {
         settings: &RenderSettings,
         target: Target,
         view: Option<&wgpu::TextureView>,
+        occluders: Option<&Occluders>,
     ) -> Result<(FrameInfo, Option<Vec<u8>>)> {
         let checked = self.check(scene, camera, lighting, settings)?;
+        if let Some(o) = occluders {
+            o.check(camera.width, camera.height)?;
+        }
+        let occluder_pass = match occluders {
+            Some(_) => Some(self.fur_pipelines()?.occluders(&self.device, target)?),
+            None => None,
+        };
         let pipelines = self
             .fur_pipelines()?
             .passes(&self.device, checked.model, target)?;
@@ -349,6 +406,12 @@ impl Renderer {
                 self.queue
                     .write_buffer(&scene.fins.index, 0, bytemuck::cast_slice(&fin_indices));
             }
+            let occluder_group = occluder_pass.zip(occluders).map(|(pass, o)| {
+                (
+                    pass,
+                    pass.bind(&self.device, &self.queue, &checked.camera, size, o),
+                )
+            });
             let mut encoder = self
                 .device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("fur") });
@@ -392,6 +455,9 @@ impl Renderer {
                     occlusion_query_set: None,
                     multiview_mask: None,
                 });
+                if let Some((occluders, group)) = &occluder_group {
+                    occluders.draw(&mut pass, group);
+                }
                 pass.set_bind_group(0, &scene.bind_group, &[]);
                 if let Some(t) = transfer {
                     pass.set_bind_group(1, &t.render_group, &[]);

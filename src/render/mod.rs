@@ -42,6 +42,7 @@ mod level_hosts;
 mod lighting;
 mod lod;
 mod marched;
+mod occluders;
 mod pipelines;
 mod planes;
 mod prt_light;
@@ -70,6 +71,7 @@ pub use camera::{Camera, MAX_IMAGE_SIDE};
 pub use image::{LinearImage, RgbaImage};
 pub use lighting::{KajiyaKay, LightModel, Lighting, MAX_LIGHT_RADIUS, MAX_POWER, MAX_RADIANCE, Prt};
 pub use lod::FrameInfo;
+pub use occluders::Occluders;
 pub use scene::{FurScene, UploadStats};
 pub use settings::{
     MAX_FUR_DEPTH, MAX_PLANE_LOOP_LIMIT, MAX_SHELLS_PER_PIXEL, MAX_STRAND_BANDS, MAX_STRAND_PIXELS,

@@ -9,12 +9,16 @@
 //!
 //! The strand pass adds group 2 (the guard strands, their points and root frames).
 //!
+//! The occluders' pass (`occluders.rs`), drawn first when the fur is composited into another
+//! picture, has its own layout.
+//!
 //! Pipelines exist per lighting model and target format and are built on first use.
 
 use std::num::NonZeroU64;
 use std::sync::OnceLock;
 
 use super::frame_uniforms::FrameUniforms;
+use super::occluders::OccluderPass;
 use super::prt_rotate::RotatePipeline;
 use super::{fins, marched, planes, shells, skin, strands};
 use crate::error::{PeltError, Result};
@@ -166,6 +170,8 @@ pub(super) struct FurPipelines {
     prt: OnceLock<PrtShared>,
     /// Indexed by [`variant`].
     passes: [OnceLock<PassPipelines>; 6],
+    /// Indexed by the target ([`variant`] under Kajiya–Kay).
+    occluders: [OnceLock<OccluderPass>; 3],
 }
 
 fn variant(model: Model, target: Target) -> usize {
@@ -296,6 +302,7 @@ impl FurPipelines {
                 no_planes: super::planes::empty_planes(device),
                 prt: OnceLock::new(),
                 passes: Default::default(),
+                occluders: Default::default(),
             })
         })
     }
@@ -376,6 +383,23 @@ impl FurPipelines {
                 strands: pipeline(device, strand_layout, &strands::state(model, false), format),
                 strands_sorted: pipeline(device, strand_layout, &strands::state(model, true), format),
             })
+        })?;
+        Ok(slot.get_or_init(|| built))
+    }
+}
+
+impl FurPipelines {
+    /// The pass writing another renderer's depth into `target`'s frames, built on first use.
+    ///
+    /// # Errors
+    /// [`PeltError::Render`] when the device rejects it.
+    pub fn occluders(&self, device: &wgpu::Device, target: Target) -> Result<&OccluderPass> {
+        let slot = &self.occluders[variant(Model::KajiyaKay, target)];
+        if let Some(p) = slot.get() {
+            return Ok(p);
+        }
+        let built = validated(device, "the occluders' pipeline", || {
+            Ok(OccluderPass::new(device, target.format()))
         })?;
         Ok(slot.get_or_init(|| built))
     }

@@ -86,7 +86,7 @@ impl Renderer {
                 ..Default::default()
             })
         })?;
-        let (info, _) = self.draw(scene, camera, lighting, settings, target, Some(&view))?;
+        let (info, _) = self.draw(scene, camera, lighting, settings, target, Some(&view), None)?;
         Ok(info)
     }
 

@@ -99,6 +99,35 @@ def test_frames_render_on_the_worker_and_the_main_thread_only_hands_over(live):
     assert np.array_equal(session.take_frame().pixels.reshape(HEIGHT, WIDTH, 4)[::-1], turned)
 
 
+def test_the_viewport_depth_hides_the_fur_behind_other_objects(live):
+    obj = furred_suzanne()
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    plain = drawn(live, obj)
+    session = live.session_of(obj)
+    # Another object's depth one unit in front of the camera over the left half, as the draw
+    # callback reads it from the viewport (window depth, rows top first).
+    clip = projection().astype(np.float64) @ np.array([0.0, 0.0, -1.0, 1.0])
+    wall = np.ones((HEIGHT, WIDTH), np.float32)
+    wall[:, : WIDTH // 2] = 0.5 * clip[2] / clip[3] + 0.5
+    reads = []
+
+    def read_depth():
+        reads.append(1)
+        return wall
+
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    view = view_of(obj, distance=5.001)
+    session.request(obj, depsgraph, bpy.context.scene, view, projection(), WIDTH, HEIGHT, read_depth)
+    assert session.worker.wait_idle(60.0)
+    walled = session.take_frame().pixels.reshape(HEIGHT, WIDTH, 4)[::-1]
+    assert (plain[:, : WIDTH // 2, 3] > 0.5).sum() > 20
+    assert (walled[:, : WIDTH // 2, 3] == 0).all()
+    assert (walled[:, WIDTH // 2 :, 3] > 0.5).sum() > 20
+    # The depth is read only for a frame handed over: a redraw of the same view reads nothing.
+    session.request(obj, depsgraph, bpy.context.scene, view, projection(), WIDTH, HEIGHT, read_depth)
+    assert reads == [1]
+
+
 def test_a_stale_bake_is_never_run_by_the_preview(live):
     obj = furred_suzanne()
     assert bpy.ops.pelt.bake() == {"FINISHED"}

@@ -182,6 +182,40 @@ def test_opengl_depth_is_remapped_to_wgpu():
     assert math.pi / 9 * 0.95 < covered < math.pi * 1.2**2 / 9
 
 
+def gl_window_depth(projection, view_distance):
+    """OpenGL window depth (0..1, as a depth buffer holds it) of a point ``view_distance`` in
+    front of the camera, from the projection's definition."""
+    clip = np.asarray(projection, np.float64) @ np.array([0.0, 0.0, -view_distance, 1.0])
+    return 0.5 * clip[2] / clip[3] + 0.5
+
+
+def test_occluders_hide_the_fur_behind_them(preview):
+    plain = preview.render(VIEW, PROJECTION, SIDE, SIDE)
+    # A wall one unit in front of the camera over the image's left half (rows top first).
+    depth = np.ones((SIDE, SIDE), np.float32)
+    depth[:, : SIDE // 2] = gl_window_depth(PROJECTION, 1.0)
+    walled = preview.render(VIEW, PROJECTION, SIDE, SIDE, occluders=depth)
+    assert (plain[:, : SIDE // 2, 3] > 0).sum() > 50
+    assert (walled[:, : SIDE // 2, 3] == 0).all()
+    assert np.array_equal(walled[:, SIDE // 2 :], plain[:, SIDE // 2 :])
+    # The same wall far behind the sphere (the camera is 4.1 units from its centre) hides nothing.
+    depth[:, : SIDE // 2] = gl_window_depth(PROJECTION, 8.0)
+    assert np.array_equal(preview.render(VIEW, PROJECTION, SIDE, SIDE, occluders=depth), plain)
+    # A wall through the sphere's middle hides its back fur only: where the front fur stands
+    # within the bias of it (three fur depths by default) it stays; without a bias it goes.
+    depth[:] = gl_window_depth(PROJECTION, np.linalg.norm([4.0, 1.0]) - 0.95)
+    kept = preview.render(VIEW, PROJECTION, SIDE, SIDE, occluders=depth)
+    cut = preview.render(VIEW, PROJECTION, SIDE, SIDE, occluders=depth, occluder_bias=0.0)
+    assert (cut[..., 3] > 0).sum() < (kept[..., 3] > 0).sum() <= (plain[..., 3] > 0).sum()
+    # A depth of the wrong shape or out of range is named.
+    with pytest.raises(pelt.InvalidParameterError, match="occluders"):
+        preview.render(VIEW, PROJECTION, SIDE, SIDE, occluders=np.ones((SIDE, SIDE + 1), np.float32))
+    with pytest.raises(pelt.InvalidParameterError, match=r"occluders\.depth"):
+        preview.render(VIEW, PROJECTION, SIDE, SIDE, occluders=np.full((SIDE, SIDE), np.nan, np.float32))
+    with pytest.raises(pelt.InvalidParameterError, match=r"occluders\.bias"):
+        preview.render(VIEW, PROJECTION, SIDE, SIDE, occluders=depth, occluder_bias=-1.0)
+
+
 def test_lod_reports_the_level_it_drew(preview):
     near = preview.render(VIEW, PROJECTION, SIDE, SIDE, lod=True, min_shells=1)
     info = preview.last_frame
