@@ -6,6 +6,11 @@ any pose or painted attributes to apply first) and takes back finished frames (`
 waits on a render. Only the newest request is kept: a view that moved on while a frame rendered is
 not drawn, but the pose and the attributes of a dropped request are carried into the next, so no
 update is lost. ``pelt.Preview.render`` releases the GIL, so Blender keeps running while it works.
+
+Where a full frame takes longer than ``Worker.budget`` (a CPU adapter at a large viewport), each
+new request is drawn first at half the size, stretched over the viewport, and then, if no newer
+request came meanwhile, at full size: a stroke or an orbit reaches the screen in about half the
+time, and the picture sharpens when the user stops.
 """
 
 import threading
@@ -50,6 +55,21 @@ class Frame:
     # time.perf_counter() when the request was made, and when the frame was ready.
     requested: float
     finished: float
+    # The frame's size over the request's (1 at full size).
+    scale: float = 1.0
+
+
+def scaled_size(width: int, height: int, scale: float) -> tuple[int, int]:
+    return max(1, round(width * scale)), max(1, round(height * scale))
+
+
+def scaled_depth(depth: np.ndarray, width: int, height: int) -> np.ndarray:
+    """``depth`` ``[H, W]`` at ``[height, width]``: the nearest of the pixels each new pixel
+    covers (an occluder in any of them hides the fur there)."""
+    rows = np.minimum((np.arange(height + 1) * depth.shape[0]) // height, depth.shape[0])
+    cols = np.minimum((np.arange(width + 1) * depth.shape[1]) // width, depth.shape[1])
+    by_row = np.minimum.reduceat(depth, rows[:-1], axis=0)
+    return np.ascontiguousarray(np.minimum.reduceat(by_row, cols[:-1], axis=1))
 
 
 def texture_pixels(rgba: np.ndarray) -> np.ndarray:
@@ -65,8 +85,13 @@ class Worker:
     (device creation and upload take a while too). After a failure the worker stops and keeps the
     error in ``error``; the caller decides whether to start another (on the CPU adapter)."""
 
+    # Seconds a full frame may take before new requests are drawn at half size first.
+    budget = 1.0 / 15.0
+    interactive_scale = 0.5
+
     def __init__(self, build: Callable[[], pelt.Preview]):
         self._build = build
+        self._slow = False
         self._condition = threading.Condition()
         self._pending: Request | None = None
         self._frame: Frame | None = None
@@ -156,32 +181,41 @@ class Worker:
         with self._condition:
             self._condition.notify_all()
         while (request := self._next()) is not None:
-            start = time.perf_counter()
             try:
                 if request.pose is not None:
                     preview.deform(*request.pose)
                 if request.attributes:
                     preview.update(**request.attributes)
-                rgba = preview.render(
-                    request.view,
-                    request.projection,
-                    request.width,
-                    request.height,
-                    lighting=request.lighting,
-                    **request.options,
-                )
-                pixels = texture_pixels(rgba)
+                scales = (self.interactive_scale, 1.0) if self._slow else (1.0,)
+                for scale in scales:
+                    if scale == 1.0 and len(scales) > 1 and self._pending is not None:
+                        break  # a newer request: draw it rather than sharpen this one
+                    self._publish(self._render(preview, request, scale), last=scale == 1.0)
             except BaseException as error:
                 self.error = error
                 break
-            finished = time.perf_counter()
-            frame = Frame(
-                request.key, pixels, request.width, request.height, finished - start, request.made, finished
-            )
-            with self._condition:
-                self._frame, self._frame_is_new, self._busy = frame, True, False
-                self._condition.notify_all()
         self._finish()
+
+    def _render(self, preview: pelt.Preview, request: Request, scale: float) -> Frame:
+        start = time.perf_counter()
+        width, height = scaled_size(request.width, request.height, scale)
+        options = request.options
+        if scale != 1.0 and options.get("occluders") is not None:
+            options = {**options, "occluders": scaled_depth(options["occluders"], width, height)}
+        rgba = preview.render(
+            request.view, request.projection, width, height, lighting=request.lighting, **options
+        )
+        pixels = texture_pixels(rgba)
+        finished = time.perf_counter()
+        if scale == 1.0:
+            self._slow = finished - start > self.budget
+        return Frame(request.key, pixels, width, height, finished - start, request.made, finished, scale)
+
+    def _publish(self, frame: Frame, *, last: bool) -> None:
+        with self._condition:
+            # Busy until the full-size frame (or a newer request) follows a half-size one.
+            self._frame, self._frame_is_new, self._busy = frame, True, not last
+            self._condition.notify_all()
 
     def _finish(self) -> None:
         with self._condition:

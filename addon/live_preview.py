@@ -10,8 +10,9 @@ behind; its own skin and shells, drawn by Blender, are within the bias and do no
 Nothing here bakes in a draw callback: the preview draws the object's last bake (``bake.RECORDS``,
 whichever operator made it; toggling the preview on starts a bake on its worker when there is
 none), and when a setting or the mesh no longer matches it the panel says "out of date" until
-Bake. Painted colors and lengths need no bake: they are sent to the preview as
-they change (``pelt.Preview.update``), and the pose follows the evaluated mesh (``pose``).
+Bake. Painted colors, lengths and comb need no bake to show: they are sent to the preview as they
+change (``pelt.Preview.update``; the comb shears the shells and fins, and the patches follow it
+at the next Bake), and the pose follows the evaluated mesh (``pose``).
 
 A frame that fails on the GPU starts the preview again on the CPU adapter; one that fails there
 stops the live preview with its reason in the panel. Blender keeps running either way.
@@ -130,7 +131,8 @@ class Session:
 
     def check(self, obj) -> None:
         """Reads the mesh and the settings again after an edit: out of date when a bake would
-        change the asset, painted colors and lengths sent to the preview when they changed."""
+        change the asset; painted colors, lengths and comb sent to the preview when they
+        changed."""
         if self.record is None or obj.mode == "EDIT":
             return  # leaving Edit Mode is an edit too
         try:
@@ -140,11 +142,9 @@ class Session:
             self.out_of_date, self.message = True, str(error)
             return
         self.out_of_date = bake.signature(arrays, options) != self.record.signature
-        attributes = {
-            name: values
-            for name, values in (("color", arrays.color), ("length", arrays.length))
-            if values is not None
-        }
+        # The comb shears the shells and fins at once (the patches follow it at the next Bake).
+        painted = (("color", arrays.color), ("length", arrays.length), ("comb", arrays.comb))
+        attributes = {name: values for name, values in painted if values is not None}
         digest = hash(tuple((name, values.tobytes()) for name, values in attributes.items()))
         if digest != self._attributes_digest:
             if self._attributes_digest is not None or attributes:

@@ -1,15 +1,17 @@
 """Benchmark: the live preview in Blender, on the adapter the preferences choose (the CPU one
 without a GPU), with a 30k-triangle sphere baked and drawn at 960×540.
 
-- ``blender.preview.frame``: a frame on the worker thread (pose and attributes applied, rendered,
-  turned into the texture's floats), median over an orbit redrawn at 60 Hz; ``.painted`` after red dabs,
-  which keep the renderer on the full mesh (its coarser levels would smear them).
+- ``blender.preview.frame``: a full-size frame on the worker thread (pose and attributes
+  applied, rendered, turned into the texture's floats), median over views drawn one at a time;
+  ``.interactive``: a frame during an orbit redrawn at 60 Hz (half size first where a full frame
+  is over the worker's budget); ``.painted``: full size after red dabs, which keep the renderer
+  on the full mesh (its coarser levels would smear them).
 - ``blender.preview.redraw``: the main thread's share of a redraw (``Session.request`` and
   ``take_frame``: the view handed over, the pose read when it moved), the worst of the orbit's
   redraws (made while the worker renders) and a pose's; the GPU texture upload after it needs a
   window and is not counted.
 - ``blender.preview.groom``: a paint dab's update (the mesh read again, the colors handed over)
-  until its frame is ready, median of several dabs.
+  until its first frame is ready (polled as the add-on's timer does), median of several dabs.
 
 Writes the figures as ``pelt bench`` JSON cases (``--json``) and prints them.
 """
@@ -87,18 +89,39 @@ def main() -> None:
         frame = session.take_frame()
         return time.perf_counter() - start, frame
 
-    # An orbit: a redraw every 1/60 s with a new view while the worker renders.
+    def full_frames(turns) -> list:
+        """Each view drawn alone, the worker idle between: its full-size frame's seconds."""
+        seconds = []
+        for turn in turns:
+            redraw(turn)
+            assert session.worker.wait_idle(300.0), session.worker.error
+            frame = session.take_frame()
+            assert frame.scale == 1.0
+            seconds.append(frame.seconds)
+        return seconds
+
+    def first_frame(start: float):
+        """Polls as the main thread's timer does until a frame arrives: (frame, its latency)."""
+        while (frame := session.take_frame()) is None:
+            assert session.worker.error is None, session.worker.error
+            time.sleep(0.001)
+        return frame, frame.finished - start
+
     assert session.worker.wait_idle(300.0), session.worker.error
-    redraws, frames = [], []
+    session.take_frame()
+    frames = full_frames([0.2 * i for i in range(VIEWS)])
+    # An orbit: a redraw every 1/60 s with a new view while the worker renders (at half size
+    # first where a full frame is over its budget).
+    redraws, interactive = [], []
     for i in range(REDRAWS):
         seconds, frame = redraw(0.01 * i)
         redraws.append(seconds)
         if frame is not None:
-            frames.append(frame.seconds)
+            interactive.append(frame)
         time.sleep(1.0 / 60.0)
     assert session.worker.wait_idle(300.0), session.worker.error
     session.take_frame()
-    # The pose moves: the redraw reads the evaluated positions and normals.
+    # The pose moves: the redraw reads the evaluated positions.
     obj.modifiers.new("Breathe", "DISPLACE").strength = 0.05
     bpy.context.view_layer.update()
     redraws.append(redraw(0.0)[0])
@@ -107,7 +130,8 @@ def main() -> None:
     obj.modifiers.remove(obj.modifiers["Breathe"])
     bpy.context.view_layer.update()
 
-    # Strokes: a dab of red 0.3 across, moving over the front.
+    # Strokes: a dab of red 0.3 across, moving over the front; each until its first frame is
+    # ready (then its full-size frame is waited for).
     strokes = []
     color = mesh.attributes["pelt_color"]
     painted = np.ones((n, 4), np.float32)
@@ -120,27 +144,31 @@ def main() -> None:
         start = time.perf_counter()
         live.run_checks()
         redraw(0.0)
+        strokes.append(first_frame(start))
         assert session.worker.wait_idle(300.0), session.worker.error
-        strokes.append(session.take_frame().finished - start)
+        session.take_frame()
     assert not session.out_of_date
     # Painted, the mesh's coarser levels would smear the colors: every frame draws the full mesh.
-    painted_frames = []
-    for i in range(VIEWS // 2):
-        redraw(0.2 * i + 0.05)
-        assert session.worker.wait_idle(300.0), session.worker.error
-        painted_frames.append(session.take_frame().seconds)
+    painted_frames = full_frames([0.2 * i + 0.05 for i in range(VIEWS // 2)])
     adapter = session.worker.adapter
     live.stop()
+    device = f"{adapter['name']} ({adapter['device_type']})"
+    scales = sorted({frame.scale for frame, _ in strokes} | {frame.scale for frame in interactive})
 
     cases = [
         {
             "name": "blender.preview.frame",
-            "size": f"{size}, {adapter['name']} ({adapter['device_type']})",
+            "size": f"{size}, {device}: a full-size frame",
             "seconds": statistics.median(frames),
         },
         {
+            "name": "blender.preview.frame.interactive",
+            "size": f"{size}: a frame during an orbit redrawn at 60 Hz (sizes drawn: {scales})",
+            "seconds": statistics.median(frame.seconds for frame in interactive),
+        },
+        {
             "name": "blender.preview.frame.painted",
-            "size": f"{size}, red dabs painted (the full mesh drawn)",
+            "size": f"{size}, red dabs painted (the full mesh drawn): a full-size frame",
             "seconds": statistics.median(painted_frames),
         },
         {
@@ -150,8 +178,8 @@ def main() -> None:
         },
         {
             "name": "blender.preview.groom",
-            "size": f"{size}: a repaint read, handed over and rendered",
-            "seconds": statistics.median(strokes),
+            "size": f"{size}: a repaint read, handed over and its first frame ready",
+            "seconds": statistics.median(latency for _, latency in strokes),
         },
     ]
     write_cases(cases, args.json)

@@ -184,3 +184,54 @@ fn poses_start_from_the_rest_and_bad_poses_change_nothing() {
     scene.deform(positions, None).unwrap();
     assert_eq!(render(&scene, &camera, &light).pixels, rest.pixels);
 }
+
+#[test]
+fn a_new_comb_draws_what_a_scene_built_with_it_draws_in_any_pose() {
+    let f = fixture();
+    let combed = combed_torus();
+    let comb = combed.comb().unwrap().to_vec();
+    let built = FurScene::new(&f.renderer, &combed, &f.uvs, &f.volume).unwrap();
+    let mut updated = f.scene();
+    let before = f.scene().uploads();
+    updated.update_comb(&comb).unwrap();
+    assert_eq!(
+        updated.uploads().geometry_bytes,
+        before.geometry_bytes,
+        "no geometry re-sent"
+    );
+    let camera = camera(oblique_view());
+    let light = Lighting::default();
+    let expected = render(&built, &camera, &light);
+    // The comb rebuilt from its frame components rounds in the last bits.
+    assert!(differing(&expected, &render(&updated, &camera, &light), 2) < 0.001);
+    assert!(
+        differing(&expected, &render(&f.scene(), &camera, &light), 12) > 0.02,
+        "the comb shows"
+    );
+
+    // In a pose: combing after the pose and before it draw the same.
+    let positions = moved(f.mesh.positions(), bend);
+    let mut combed_then_posed = f.scene();
+    combed_then_posed.update_comb(&comb).unwrap();
+    combed_then_posed.deform(&positions, None).unwrap();
+    let mut posed_then_combed = f.scene();
+    posed_then_combed.deform(&positions, None).unwrap();
+    posed_then_combed.update_comb(&comb).unwrap();
+    let a = render(&combed_then_posed, &camera, &light);
+    assert!(differing(&a, &render(&posed_then_combed, &camera, &light), 2) < 0.001);
+
+    // A bad comb is named and changes nothing.
+    let err = updated.update_comb(&comb[1..]).unwrap_err();
+    assert!(
+        matches!(&err, PeltError::InvalidParameter { name, .. } if name == "comb"),
+        "{err}"
+    );
+    let mut nan = comb.clone();
+    nan[5][1] = f32::NAN;
+    let err = updated.update_comb(&nan).unwrap_err();
+    assert!(
+        matches!(&err, PeltError::InvalidParameter { name, .. } if name == "comb[5]"),
+        "{err}"
+    );
+    assert!(differing(&expected, &render(&updated, &camera, &light), 2) < 0.001);
+}

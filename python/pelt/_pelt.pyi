@@ -596,9 +596,18 @@ class Preview:
         fur depths: the fur's own skin and shells in that picture do not hide it).
         Bad input raises :class:`InvalidParameterError` naming it; the
         preview stays usable."""
-    def update(self, *, color: npt.ArrayLike | None = None, length: npt.ArrayLike | None = None) -> None:
-        """Rewrite the per-vertex colors (``[V, 4]`` or ``[V, 3]``, linear) and/or length
-        multipliers (``[V]``, 0..1000) in place; nothing else is uploaded (see :attr:`uploads`)."""
+    def update(
+        self,
+        *,
+        color: npt.ArrayLike | None = None,
+        length: npt.ArrayLike | None = None,
+        comb: npt.ArrayLike | None = None,
+    ) -> None:
+        """Rewrite the per-vertex colors (``[V, 4]`` or ``[V, 3]``, linear), length multipliers
+        (``[V]``, 0..1000) and/or comb vectors (``[V, 3]``, object space at rest: the shells and
+        fins lean with them, in the current pose; the patches keep the bake's orientation) in
+        place; nothing else is uploaded (see :attr:`uploads`). A bad array raises
+        :class:`InvalidParameterError` naming it and changes nothing."""
     def deform(self, positions: npt.ArrayLike, normals: npt.ArrayLike | None = None) -> None:
         """Pose the fur: the bake's mesh with its vertices at ``positions`` (``[V, 3]``, object
         space; an armature's or shape keys' result, the same vertices and triangles) and unit

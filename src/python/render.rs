@@ -360,14 +360,15 @@ impl PyPreview {
         })
     }
 
-    /// Rewrites the per-vertex colors (`[V, 4]` or `[V, 3]`, linear) and/or lengths (`[V]`) in
-    /// place; nothing else is uploaded. See the stub.
-    #[pyo3(signature = (*, color=None, length=None))]
+    /// Rewrites the per-vertex colors (`[V, 4]` or `[V, 3]`, linear), lengths (`[V]`) and/or
+    /// comb vectors (`[V, 3]`) in place; nothing else is uploaded. See the stub.
+    #[pyo3(signature = (*, color=None, length=None, comb=None))]
     fn update(
         &self,
         py: Python<'_>,
         color: Option<&Bound<'_, PyAny>>,
         length: Option<&Bound<'_, PyAny>>,
+        comb: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<()> {
         let color: Option<Vec<[f32; 4]>> = match color {
             None => None,
@@ -395,9 +396,19 @@ impl PyPreview {
                 Some(flat(&array)?.to_vec())
             }
         };
+        let comb = comb.map(|c| float_array(c, "comb", Some(3))).transpose()?;
+        let comb = comb.as_ref().map(rows::<f32, 3>).transpose()?;
         detached(py, || {
-            self.lock_scene()
-                .update_attributes(color.as_deref(), length.as_deref())
+            let mut scene = self.lock_scene();
+            // Checked before anything is written, so a bad comb leaves the colors as they were.
+            if let Some(c) = comb {
+                scene.check_comb(c)?;
+            }
+            scene.update_attributes(color.as_deref(), length.as_deref())?;
+            match comb {
+                Some(c) => scene.update_comb(c),
+                None => Ok(()),
+            }
         })
     }
 

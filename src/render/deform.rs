@@ -26,6 +26,8 @@ pub(super) struct Deformer {
     uv_scale: f64,
     /// Each surface vertex's comb vector in its rest frame `(t, b, n)`, `t` along `∂P/∂u`.
     comb_in_frame: Vec<[f32; 3]>,
+    /// Those rest frames, to take a new comb in ([`Deformer::set_comb`]).
+    rest_frames: Vec<[Vec3; 3]>,
     /// The last pose's skin vertices and its triangles' derivatives: kept, so that a pose
     /// allocates neither again (fresh pages cost as much as the arithmetic here).
     surface: Vec<SurfaceVertex>,
@@ -43,13 +45,16 @@ fn frame(normal: [f32; 3], dpdu: [f32; 3]) -> [Vec3; 3] {
 impl Deformer {
     /// Keeps what posing needs of `mesh` as `surface` split it.
     pub fn new(mesh: &FurMesh, surface: &SurfaceMesh) -> Self {
+        let rest_frames: Vec<[Vec3; 3]> = surface
+            .vertices
+            .par_iter()
+            .map(|v| frame(v.normal, v.dpdu))
+            .collect();
         let comb_in_frame = surface
             .vertices
             .par_iter()
-            .map(|v| {
-                let c = Vec3::from(v.comb);
-                frame(v.normal, v.dpdu).map(|axis| axis.dot(c))
-            })
+            .zip(&rest_frames)
+            .map(|(v, axes)| axes.map(|axis| axis.dot(Vec3::from(v.comb))))
             .collect();
         Deformer {
             rest: mesh.clone(),
@@ -60,6 +65,7 @@ impl Deformer {
             ),
             uv_scale: surface.uv_scale,
             comb_in_frame,
+            rest_frames,
             surface: surface.vertices.clone(),
             faces: FaceDerivatives::default(),
         }
@@ -94,6 +100,7 @@ impl Deformer {
             comb_in_frame,
             surface,
             faces,
+            ..
         } = self;
         let normals = rest.pose_normals(positions, normals)?;
         layout.derivatives_into(
@@ -116,5 +123,26 @@ impl Deformer {
             },
         );
         Ok((surface, normals))
+    }
+
+    /// Takes `comb` (one row per mesh vertex, object space at rest, checked finite) as the
+    /// comb painted on the rest shape, and returns the skin's GPU vertices of the current pose
+    /// with it: each vertex's comb turned with its frame, as [`Deformer::pose`] turns it (the
+    /// shear of Lengyel et al. 2001, §3, with no patch re-run).
+    pub fn set_comb(&mut self, comb: &[[f32; 3]]) -> &[SurfaceVertex] {
+        let source = &self.layout.source;
+        self.comb_in_frame
+            .par_iter_mut()
+            .zip(&self.rest_frames)
+            .zip(&mut self.surface)
+            .enumerate()
+            .for_each(|(i, ((in_frame, rest), vertex))| {
+                let c = Vec3::from(comb[source[i] as usize]);
+                *in_frame = rest.map(|axis| axis.dot(c));
+                let [t, b, n] = frame(vertex.normal, vertex.dpdu);
+                let [ct, cb, cn] = *in_frame;
+                vertex.comb = (ct * t + cb * b + cn * n).into();
+            });
+        &self.surface
     }
 }

@@ -45,7 +45,7 @@ pub struct UploadStats {
     /// Colors and lengths, summed over the initial upload and every update.
     pub attribute_bytes: u64,
     /// Skin vertices (which the shells and fins are drawn from) rewritten by
-    /// [`FurScene::deform`], summed over every pose.
+    /// [`FurScene::deform`] and [`FurScene::update_comb`], summed over every pose and comb.
     pub pose_bytes: u64,
 }
 
@@ -761,6 +761,49 @@ impl FurScene {
             self.attributes.1.copy_from_slice(l);
         }
         self.drawable = scene_levels::drawable(&self.level_hosts, &self.attributes.0, &self.attributes.1);
+        Ok(())
+    }
+
+    /// Checks comb vectors for [`FurScene::update_comb`] without changing anything.
+    ///
+    /// # Errors
+    /// As [`FurScene::update_comb`].
+    pub fn check_comb(&self, comb: &[[f32; 3]]) -> Result<()> {
+        if comb.len() != self.mesh_vertices {
+            return Err(PeltError::parameter(
+                "comb",
+                format!(
+                    "must have one row per vertex ({}), got {}",
+                    self.mesh_vertices,
+                    comb.len()
+                ),
+            ));
+        }
+        match comb.iter().position(|c| !c.iter().all(|v| v.is_finite())) {
+            Some(i) => Err(PeltError::parameter(
+                format!("comb[{i}]"),
+                format!("must be finite, got {:?}", comb[i]),
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// Rewrites the comb vectors (one row per mesh vertex, object space at rest) in place: the
+    /// shells and fins lean with the new comb (Lengyel et al. 2001, §3: the shear), in the
+    /// current pose; the patches keep the orientation of the comb they were baked with.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming `comb` (wrong row count) or `comb[i]` (not
+    /// finite); nothing changes then.
+    pub fn update_comb(&mut self, comb: &[[f32; 3]]) -> Result<()> {
+        self.check_comb(comb)?;
+        let deformer = &mut self.deformer;
+        let surface = pool().install(|| deformer.set_comb(comb));
+        let vertices = bytemuck::cast_slice::<_, u8>(surface);
+        self.queue.write_buffer(&self.surface.geometry, 0, vertices);
+        // Sent now, as a pose is.
+        self.queue.submit(std::iter::empty());
+        self.uploads.pose_bytes += vertices.len() as u64;
         Ok(())
     }
 

@@ -196,6 +196,33 @@ def test_painted_colors_reach_the_picture_without_a_bake(live):
     assert session.out_of_date
 
 
+def test_a_comb_stroke_leans_the_fur_at_once_and_asks_for_a_bake(live):
+    obj = furred_suzanne()
+    n = len(obj.data.vertices)
+    comb = obj.data.attributes.new("pelt_comb", "FLOAT_VECTOR", "POINT")
+    comb.data.foreach_set("vector", np.zeros(3 * n, np.float32))
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    before = drawn(live, obj)
+    session = live.session_of(obj)
+    record = session.record
+    # Combed hard sideways (+X): the fur leans and the coverage moves toward +X on screen.
+    obj.data.attributes["pelt_comb"].data.foreach_set(
+        "vector", np.tile([3.0, 0.0, 0.0], n).astype(np.float32)
+    )
+    bpy.context.view_layer.update()
+    live.run_checks()
+    after = drawn(live, obj)
+
+    def lean(pixels):
+        """Covered pixels right of the middle column minus those left of it."""
+        covered = pixels[..., 3] > 0
+        return int(covered[:, WIDTH // 2 :].sum()) - int(covered[:, : WIDTH // 2].sum())
+
+    assert lean(after) > lean(before) + 10
+    # No bake ran; the patches follow the comb at the next Bake, so the panel asks for one.
+    assert session.record is record and session.out_of_date
+
+
 def test_the_preview_follows_the_pose(live):
     obj = furred_suzanne()
     assert bpy.ops.pelt.bake() == {"FINISHED"}
@@ -253,3 +280,42 @@ def test_opening_a_file_switches_the_preview_off(live):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     worker._thread.join(30.0)
     assert not worker.alive and not live.is_on()
+
+
+def test_a_slow_worker_draws_half_size_first_then_sharpens(live):
+    obj = furred_suzanne()
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    drawn(live, obj)
+    session = live.session_of(obj)
+    worker = session.worker
+    worker.budget = 0.0  # every full frame is over it
+    drawn(live, obj, view=view_of(obj, turn=0.1))  # a full frame that sets the worker slow
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    session.request(obj, depsgraph, bpy.context.scene, view_of(obj, turn=0.3), projection(), WIDTH, HEIGHT)
+    frames = []
+    while len(frames) < 2:
+        assert worker.error is None and worker.alive
+        frame = session.take_frame()
+        if frame is not None:
+            frames.append(frame)
+    half, full = frames
+    assert (half.scale, half.width, half.height) == (0.5, WIDTH // 2, HEIGHT // 2)
+    assert (full.scale, full.width, full.height) == (1.0, WIDTH, HEIGHT)
+    # The half-size frame is the full one seen at half the resolution: coverage agrees.
+    half_alpha = half.pixels.reshape(HEIGHT // 2, WIDTH // 2, 4)[..., 3]
+    full_alpha = (
+        full.pixels.reshape(HEIGHT, WIDTH, 4)[..., 3].reshape(HEIGHT // 2, 2, WIDTH // 2, 2).mean((1, 3))
+    )
+    assert np.abs(half_alpha.mean() - full_alpha.mean()) < 0.03
+
+
+def test_depth_at_half_size_keeps_the_nearest_of_each_block(addon):
+    rng = np.random.default_rng(3)
+    depth = rng.random((9, 13)).astype(np.float32)
+    small = addon.live.scaled_depth(depth, 6, 4)
+    assert small.shape == (4, 6)
+    rows = [0, 2, 4, 6, 9]  # floor(k · 9 / 4)
+    cols = [0, 2, 4, 6, 8, 10, 13]  # floor(k · 13 / 6)
+    for r in range(4):
+        for c in range(6):
+            assert small[r, c] == depth[rows[r] : rows[r + 1], cols[c] : cols[c + 1]].min()

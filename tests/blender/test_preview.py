@@ -282,6 +282,34 @@ def test_updates_rewrite_only_colors_and_lengths(asset):
     skin = preview.render(VIEW, PROJECTION, SIDE, SIDE, shells=0, fins=False)
     preview.update(length=np.zeros(vertices, np.float32))
     assert np.array_equal(preview.render(VIEW, PROJECTION, SIDE, SIDE), skin)
+
+
+def test_a_comb_update_leans_the_fur_and_a_bad_one_changes_nothing(asset):
+    preview = pelt.Preview(asset, adapter="cpu")
+    vertices = asset.mesh.vertex_count
+    upright = preview.render(VIEW, PROJECTION, SIDE, SIDE, lighting="kajiya-kay")
+    before = preview.uploads
+    # Combed hard along +X (right on screen, the camera looking along +Y): the fringe moves right.
+    preview.update(comb=np.tile(np.array([[3.0, 0.0, 0.0]], np.float32), (vertices, 1)))
+    assert preview.uploads["texture_bytes"] == before["texture_bytes"]
+    assert preview.uploads["pose_bytes"] > before["pose_bytes"]
+    leaning = preview.render(VIEW, PROJECTION, SIDE, SIDE, lighting="kajiya-kay")
+
+    def lean(image):
+        """Covered pixels right of the middle column minus those left of it."""
+        covered = image[..., 3] > 0
+        return int(covered[:, SIDE // 2 :].sum()) - int(covered[:, : SIDE // 2].sum())
+
+    assert lean(leaning) > lean(upright) + 10
+    # A bad comb (with good colors) is named and changes neither.
+    red = np.tile(np.array([[1.0, 0.0, 0.0]], np.float32), (vertices, 1))
+    with pytest.raises(pelt.InvalidParameterError, match="comb"):
+        preview.update(color=red, comb=np.zeros((vertices - 1, 3), np.float32))
+    bad = np.zeros((vertices, 3), np.float32)
+    bad[2, 0] = np.inf
+    with pytest.raises(pelt.InvalidParameterError, match=r"comb\[2\]"):
+        preview.update(color=red, comb=bad)
+    assert np.array_equal(preview.render(VIEW, PROJECTION, SIDE, SIDE, lighting="kajiya-kay"), leaning)
     assert preview.uploads["texture_bytes"] == before["texture_bytes"]
 
 
