@@ -520,6 +520,9 @@ fn guard_hairs_export_as_lines_for_engines_and_ribbons_as_geometry() {
                 assert_eq!(lines["mode"], 1, "LINES");
                 assert_eq!(accessor_count(lines, "POSITION"), guard.points.len());
                 assert_eq!(accessor_count(lines, "_PELT_RADIUS"), guard.points.len());
+                // The root's surface normal per point, which lights the runtime's ribbons (the
+                // validator checks that each is unit length).
+                assert_eq!(accessor_count(lines, "NORMAL"), guard.points.len());
                 let segments = guard.points.len() - guard.spans.len();
                 let indices = lines["indices"].as_u64().unwrap() as usize;
                 assert_eq!(json["accessors"][indices]["count"], 2 * segments);

@@ -6,6 +6,7 @@
 //   drawCalls      {total, fur} of a frame (fur: with the fur minus without it)
 //   frameTimeMs    mean time of a frame over FRAME_SAMPLES renders, GPU included
 //   toggleFur(on)  shows or hides every fur
+//   toggleGuardHairs(on)  shows or hides the guard hairs' ribbons only
 //   setZoom(z)     zooms the fixed camera (1: the object fills the view; less: it recedes)
 //   drawnShells()  the shells each fur drew in the last frame (the distance LOD's choice)
 // `?skin=gltf` keeps the skin's glTF material instead of the fur's skin shading.
@@ -65,6 +66,13 @@ function render() {
 function toggleFur( on ) {
 
 	for ( const fur of plugin.furs ) fur.visible = on;
+
+}
+
+// Shows or hides only the guard hairs' ribbons (the rest of the fur as it is).
+function toggleGuardHairs( on ) {
+
+	for ( const fur of plugin.furs ) if ( fur.strands ) fur.strands.visible = on;
 
 }
 
@@ -165,6 +173,7 @@ async function load() {
 		animation: gltf.animations[ 0 ]?.name ?? null,
 		duration: gltf.animations[ 0 ]?.duration ?? 0,
 		hidden: plugin.hidden.map( ( m ) => m.name ),
+		hiddenLines: plugin.hidden.filter( ( m ) => m.isLine ).length,
 		materials: visibleMaterials( gltf.scene ),
 		furs: plugin.furs.map( ( f ) => ( {
 			name: f.skin.name,
@@ -173,6 +182,7 @@ async function load() {
 			drawnShells: f.drawnShells,
 			fins: f.fins ? f.fins.geometry.userData.fins : 0,
 			prt: f.prt,
+			guardHairSegments: f.strands ? f.strands.geometry.index.count / 6 : 0,
 			hiddenFallback: plugin.hidden.filter( ( m ) => m.parent === f.skin.parent ).length,
 		} ) ),
 		drawCalls: window.pelt.drawCalls,
@@ -210,6 +220,7 @@ window.pelt = {
 	drawCalls: { total: 0, fur: 0 },
 	frameTimeMs: NaN,
 	toggleFur,
+	toggleGuardHairs,
 	setZoom( zoom ) {
 
 		camera.zoom = zoom;

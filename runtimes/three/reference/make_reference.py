@@ -9,7 +9,9 @@ renders it with the test's camera and light. Writes, into the folder given:
 - `character.glb`: the export the browser loads;
 - `scene.json`: time, image size, camera (view and projection, column-major, OpenGL clip
   space), light (the preview's Kajiya–Kay parameters, object space = world space here);
-- `preview.png`: the preview's frame (sRGB) on black.
+- `preview.png`: the preview's frame (sRGB) on black;
+- `strands_character.glb`, `strands_scene.json`, `strands_preview.png`: the same with a longer
+  coat whose guard hairs are strands (the runtime's ribbons against the preview's strands).
 
 Run with the project's virtual environment: `python make_reference.py OUT_DIR`.
 """
@@ -101,13 +103,23 @@ def perspective(fov_y, aspect, near, far):
 def main(out: Path) -> None:
     out.mkdir(parents=True, exist_ok=True)
     positions, triangles = suzanne()
+    write_scene(out, "", positions, triangles, guard_hairs=False)
+    write_scene(out, "strands_", positions, triangles, guard_hairs=True)
+
+
+def write_scene(out: Path, prefix: str, positions, triangles, *, guard_hairs: bool) -> None:
+    """The scene's files under ``out``, named with ``prefix``: with ``guard_hairs``, a longer coat
+    whose guard hairs are strands (the preview composites them in its "depth" order, as the
+    three.js runtime draws them)."""
     count = len(positions)
     comb = np.tile(np.array([0.0, 0.0, -0.4], np.float32), (count, 1))
     color = np.tile(np.array([0.85, 0.6, 0.35, 1.0], np.float32), (count, 1))
     mesh = pelt.FurMesh(positions, triangles, comb=comb, color=color)
+    strands = {"guard_hairs": True, "guard_share": 0.5} if guard_hairs else {}
+    hair = pelt.HairParams(density=2500, guard_fraction=0.1 if guard_hairs else 0.05)
     asset = pelt.Pipeline().bake(
-        mesh, tile_size=0.3, fur_depth=0.08, layers=16, resolution=64, hair=pelt.HairParams(density=2500),
-        transfer=False, seed=7,
+        mesh, tile_size=0.3, fur_depth=0.15 if guard_hairs else 0.08, layers=16, resolution=64, hair=hair,
+        transfer=False, seed=7, **strands,
     )  # fmt: skip
 
     names, parents, rest, times, poses = skeleton()
@@ -116,7 +128,7 @@ def main(out: Path) -> None:
     weights = np.stack([1.0 - head, head], axis=1).astype(np.float32)
     pelt.export_gltf(
         asset,
-        out / "character.glb",
+        out / f"{prefix}character.glb",
         mode="engine",
         name="Character",
         transform=np.eye(4),
@@ -144,10 +156,12 @@ def main(out: Path) -> None:
     preview = pelt.Preview(asset, adapter="cpu")
     preview.deform(posed)
     black = (0.0, 0.0, 0.0, 1.0)
-    frame = preview.render(view, projection, SIZE, SIZE, lighting=lighting, fins=True, background=black)
-    pelt.save_png(out / "preview.png", frame)
+    frame = preview.render(
+        view, projection, SIZE, SIZE, lighting=lighting, fins=True, background=black, strand_order="depth"
+    )
+    pelt.save_png(out / f"{prefix}preview.png", frame)
     scene = {
-        "model": "character.glb",
+        "model": f"{prefix}character.glb",
         "time": TIME,
         "width": SIZE,
         "height": SIZE,
@@ -156,7 +170,9 @@ def main(out: Path) -> None:
         "lighting": {"direction": lighting["direction"], "color": lighting["color"]},
         "shells": int(asset.layers - 1),
     }
-    (out / "scene.json").write_text(json.dumps(scene, indent=1))
+    if guard_hairs:
+        scene["guard_strands"] = int(preview.guard_strands)
+    (out / f"{prefix}scene.json").write_text(json.dumps(scene, indent=1))
 
 
 if __name__ == "__main__":

@@ -102,6 +102,13 @@ export function checkExtension( ext, where ) {
 	}
 
 	if ( ! Array.isArray( ext.fallback ) ) fail( where, 'fallback must be a list' );
+	const g = ext.guardHairs;
+	if ( g !== undefined && ( ! Number.isInteger( g?.primitive ) || typeof g.radius !== 'string' || ! Number.isInteger( g.strands ) ) ) {
+
+		fail( where, 'guardHairs must give the LINES primitive, the strand count and the radius attribute' );
+
+	}
+
 	return ext;
 
 }

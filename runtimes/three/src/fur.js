@@ -1,13 +1,15 @@
 // The fur of one skin primitive's three.js mesh (docs/export.md, "Drawing"): the shells in one
 // instanced draw and the fins in one draw, both skinned like the skin when it is a SkinnedMesh,
-// alpha-blended after the opaque pass. The fins are created first: three.js draws transparent
+// alpha-blended after the opaque pass; with guard hairs, their ribbons in one more draw
+// (strands.js). The ribbons are created first, then the fins: three.js draws transparent
 // objects at the same depth in creation order, and the renderer draws the fins (pass b) before
 // the shells (pass c).
 
 import { Mesh, SkinnedMesh, Sphere, Vector2 } from 'three';
 
 import { aliasFurAttributes, finGeometry, furAttributes, shellGeometry } from './geometry.js';
-import { finMaterial, surfaceMaterial } from './materials.js';
+import { finMaterial, strandMaterial, surfaceMaterial } from './materials.js';
+import { ribbonGeometry } from './strands.js';
 import { lodShells, pixelsPerUnit } from './stack.js';
 
 const _size = new Vector2();
@@ -18,9 +20,10 @@ export class PeltFur {
 	/**
 	 * `skin`: the skin primitive's Mesh or SkinnedMesh; `ext`: its extension object; `textures`:
 	 * loadFurTextures' result; `light`: lightingValues' result; `prt`: whether PRT lights it;
-	 * `layerMeans`: the fins' mean transfer texture under PRT; `options`: the plugin's.
+	 * `layerMeans`: the fins' mean transfer texture under PRT; `guardHairs`: the three.js lines of
+	 * the extension's guard-hair primitive, when it has one; `options`: the plugin's.
 	 */
-	constructor( { skin, ext, textures, light, prt, layerMeans = null, options = {} } ) {
+	constructor( { skin, ext, textures, light, prt, layerMeans = null, guardHairs = null, options = {} } ) {
 
 		const stack = ext.stack;
 		this.skin = skin;
@@ -53,6 +56,22 @@ export class PeltFur {
 
 		};
 
+		this.strands = null;
+		if ( guardHairs && options.guardHairs !== false ) {
+
+			const geometry = ribbonGeometry( guardHairs.geometry, ext.guardHairs.radius, stack.fur_depth );
+			this.strands = make( geometry, strandMaterial( common ), 'guard hairs' );
+			this.strands.onBeforeRender = ( renderer ) => {
+
+				const target = renderer.getRenderTarget();
+				if ( target ) _size.set( target.width, target.height );
+				else renderer.getDrawingBufferSize( _size );
+				this.strands.material.uniforms.peltPixelHeight.value = _size.y;
+
+			};
+
+		}
+
 		this.fins = null;
 		const finsGeometry = options.fins === false ? null : finGeometry( skin.geometry, attributes, stack );
 		if ( finsGeometry ) {
@@ -77,10 +96,10 @@ export class PeltFur {
 
 	}
 
-	/** Draw calls the fur adds to the skin's: one for the shells, one for the fins. */
+	/** Draw calls the fur adds to the skin's: one for the shells, one for the fins, one for the guard hairs. */
 	get drawCalls() {
 
-		return this.visible ? 1 + ( this.fins ? 1 : 0 ) : 0;
+		return this.visible ? 1 + ( this.fins ? 1 : 0 ) + ( this.strands ? 1 : 0 ) : 0;
 
 	}
 
@@ -94,13 +113,14 @@ export class PeltFur {
 
 		this.shells.visible = value;
 		if ( this.fins ) this.fins.visible = value;
+		if ( this.strands ) this.strands.visible = value;
 
 	}
 
 	/** The three.js objects the fur added. */
 	get meshes() {
 
-		return this.fins ? [ this.fins, this.shells ] : [ this.shells ];
+		return [ this.strands, this.fins, this.shells ].filter( ( mesh ) => mesh !== null );
 
 	}
 
@@ -142,6 +162,7 @@ export class PeltFur {
 
 		// The shells' geometry owns no buffers (disposing it would free the skin's).
 		if ( this.fins ) this.fins.geometry.dispose();
+		if ( this.strands ) this.strands.geometry.dispose();
 
 		if ( this.skin.material !== this.originalSkinMaterial ) {
 

@@ -13,6 +13,7 @@ import {
 } from 'three';
 
 import { finFragment, finVertex } from './glsl/fins.js';
+import { strandFragment, strandVertex } from './glsl/strands.js';
 import { surfaceFragment, surfaceVertex } from './glsl/surface.js';
 
 /** Uniforms every fur material shares: the stack's placement and the lighting. */
@@ -133,6 +134,26 @@ export function finMaterial( { stack, textures, light, prt, finOpacity, layerMea
 		side: DoubleSide,
 		transparent: true,
 		depthWrite: false,
+		blending: NormalBlending,
+	} );
+
+}
+
+/**
+ * The guard hairs' ribbons (glsl/strands.js), Kajiya–Kay lit under either model; drawn before
+ * the shells and writing depth, so the shells in front blend over them (the preview's "depth"
+ * strand order).
+ */
+export function strandMaterial( { stack, light } ) {
+
+	return new ShaderMaterial( {
+		name: 'PELT_shell_fur guard hairs',
+		uniforms: { ...sharedUniforms( stack, light ), peltPixelHeight: { value: 1 } },
+		vertexShader: strandVertex,
+		fragmentShader: strandFragment,
+		side: DoubleSide,
+		transparent: true,
+		depthWrite: true,
 		blending: NormalBlending,
 	} );
 

@@ -6,7 +6,8 @@
 //   loader.register( ( parser ) => new PeltShellFurPlugin( parser, options ) );
 //
 // Options: `lighting` (lighting.js DEFAULT_LIGHTING's fields), `lod` ({shellsPerPixel,
-// minShare}, or false for every shell always), `fins` (false for none), `finOpacity`,
+// minShare}, or false for every shell always), `fins` (false for none), `guardHairs` (false:
+// leave the guard hairs' lines as three.js loaded them), `finOpacity`,
 // `alphaTest`, `shadeSkin` (true: the skin too is drawn with the renderer's skin shading instead
 // of its glTF material), `onFur(fur)` (called for each fur built).
 
@@ -72,7 +73,7 @@ export class PeltShellFurPlugin {
 
 			scene.traverse( ( object ) => {
 
-				const ref = object.isMesh ? parser.associations.get( object ) : undefined;
+				const ref = object.isMesh || object.isLine ? parser.associations.get( object ) : undefined;
 				if ( ref?.meshes === undefined || ref.primitives === undefined ) return;
 				const key = `${ref.meshes}:${ref.primitives}`;
 				if ( ! byPrimitive.has( key ) ) byPrimitive.set( key, [] );
@@ -104,7 +105,18 @@ export class PeltShellFurPlugin {
 
 				}
 
-				const fur = new PeltFur( { skin, ext, textures, light, prt, layerMeans: means, options: this.options } );
+				// The guard hairs' lines beside this skin, drawn as ribbons by the fur instead.
+				const lines = ext.guardHairs && this.options.guardHairs !== false
+					? ( byPrimitive.get( `${m}:${ext.guardHairs.primitive}` ) || [] ).find( ( l ) => l.parent === skin.parent )
+					: undefined;
+				if ( lines ) {
+
+					lines.visible = false;
+					this.hidden.push( lines );
+
+				}
+
+				const fur = new PeltFur( { skin, ext, textures, light, prt, layerMeans: means, guardHairs: lines, options: this.options } );
 				this.furs.push( fur );
 				this.options.onFur?.( fur );
 

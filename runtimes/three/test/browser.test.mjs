@@ -2,8 +2,8 @@
 // extension, hides the fallback, draws the fur in two draw calls per object, the fur adds
 // coverage around the silhouette, the animation moves it and the distance LOD thins it; and the
 // frame the wgpu preview drew of a nodding Suzanne (reference/make_reference.py) comes out with
-// the same mean luminance within 10 % (make check-three then bounds their ꟻLIP difference with
-// reference/compare.py); and the character Blender's add-on exported (eyes and all) draws and
+// the same mean luminance within 10 %, with guard hairs too, drawn as ribbons (make check-three
+// then bounds their ꟻLIP differences with reference/compare.py); and the character Blender's add-on exported (eyes and all) draws and
 // bends. Screenshots go to test/out/. The browser is the system's
 // (PELT_CHROMIUM, default /usr/bin/chromium); nothing is downloaded. A missing model, reference
 // or browser fails the tests.
@@ -94,12 +94,16 @@ async function openExample( query, model = '/model.glb' ) {
 
 }
 
-/** Renders the frame at `time` with the fur on or off; its RGBA bytes and a PNG data URL. */
-async function frame( page, time, fur ) {
+/**
+ * Renders the frame at `time` with the fur on or off (and its guard hairs unless `strands` is
+ * false); its RGBA bytes and a PNG data URL.
+ */
+async function frame( page, time, fur, strands = true ) {
 
-	const { rgba, png } = await page.evaluate( ( time, fur ) => {
+	const { rgba, png } = await page.evaluate( ( time, fur, strands ) => {
 
 		window.pelt.toggleFur( fur );
+		if ( ! strands ) window.pelt.toggleGuardHairs( false );
 		window.pelt.setTime( time );
 		const canvas = document.getElementById( 'view' );
 		const copy = new OffscreenCanvas( canvas.width, canvas.height ).getContext( '2d' );
@@ -109,7 +113,7 @@ async function frame( page, time, fur ) {
 		for ( let i = 0; i < bytes.length; i += 0x8000 ) binary += String.fromCharCode( ...bytes.subarray( i, i + 0x8000 ) );
 		return { rgba: btoa( binary ), png: canvas.toDataURL( 'image/png' ) };
 
-	}, time, fur );
+	}, time, fur, strands );
 	return { rgba: Buffer.from( rgba, 'base64' ), png };
 
 }
@@ -321,6 +325,46 @@ function luminance( rgba, i ) {
 
 }
 
+/** The RGBA bytes of a PNG the server serves, decoded by the page as they are stored. */
+async function servedImage( page, url ) {
+
+	return Buffer.from( await page.evaluate( async ( url ) => {
+
+		const blob = await ( await fetch( url ) ).blob();
+		const bitmap = await createImageBitmap( blob, { premultiplyAlpha: 'none', colorSpaceConversion: 'none' } );
+		const copy = new OffscreenCanvas( bitmap.width, bitmap.height ).getContext( '2d' );
+		copy.drawImage( bitmap, 0, 0 );
+		const bytes = copy.getImageData( 0, 0, bitmap.width, bitmap.height ).data;
+		let binary = '';
+		for ( let i = 0; i < bytes.length; i += 0x8000 ) binary += String.fromCharCode( ...bytes.subarray( i, i + 0x8000 ) );
+		return btoa( binary );
+
+	}, url ), 'base64' );
+
+}
+
+/** Mean luminance of `three` over `preview` over the pixels the preview draws (on black): the pixel count and the ratio. */
+function luminanceRatio( t, preview, three ) {
+
+	assert.equal( preview.length, three.length, 'the same image size' );
+	let covered = 0;
+	let previewSum = 0;
+	let threeSum = 0;
+	for ( let i = 0; i < preview.length; i += 4 ) {
+
+		if ( Math.max( preview[ i ], preview[ i + 1 ], preview[ i + 2 ] ) <= 2 ) continue;
+		covered ++;
+		previewSum += luminance( preview, i );
+		threeSum += luminance( three, i );
+
+	}
+
+	const ratio = threeSum / previewSum;
+	t.diagnostic( `mean luminance over ${covered} px: preview ${( previewSum / covered ).toFixed( 4 )}, three.js ${( threeSum / covered ).toFixed( 4 )} (ratio ${ratio.toFixed( 3 )}, must be within ${LUMINANCE_TOLERANCE})` );
+	return { covered, ratio };
+
+}
+
 test( 'the example draws the frame the wgpu preview draws', { timeout: 120_000 }, async ( t ) => {
 
 	const description = JSON.parse( readFileSync( join( REFERENCE, 'scene.json' ), 'utf8' ) );
@@ -330,37 +374,42 @@ test( 'the example draws the frame the wgpu preview draws', { timeout: 120_000 }
 	assert.equal( summary.furs[ 0 ].drawnShells, description.shells, 'every shell, as the preview' );
 	const three = await frame( page, description.time, true );
 	save( 'reference_three.png', three );
-	const preview = Buffer.from( await page.evaluate( async () => {
-
-		const blob = await ( await fetch( '/reference/preview.png' ) ).blob();
-		const bitmap = await createImageBitmap( blob, { premultiplyAlpha: 'none', colorSpaceConversion: 'none' } );
-		const copy = new OffscreenCanvas( bitmap.width, bitmap.height ).getContext( '2d' );
-		copy.drawImage( bitmap, 0, 0 );
-		const bytes = copy.getImageData( 0, 0, bitmap.width, bitmap.height ).data;
-		let binary = '';
-		for ( let i = 0; i < bytes.length; i += 0x8000 ) binary += String.fromCharCode( ...bytes.subarray( i, i + 0x8000 ) );
-		return btoa( binary );
-
-	} ), 'base64' );
-	assert.equal( preview.length, three.rgba.length, 'the same image size' );
-	// Over the pixels the preview draws (the object and its fur, on black).
-	let covered = 0;
-	let previewSum = 0;
-	let threeSum = 0;
-	for ( let i = 0; i < preview.length; i += 4 ) {
-
-		if ( Math.max( preview[ i ], preview[ i + 1 ], preview[ i + 2 ] ) <= 2 ) continue;
-		covered ++;
-		previewSum += luminance( preview, i );
-		threeSum += luminance( three.rgba, i );
-
-	}
-
+	const preview = await servedImage( page, '/reference/preview.png' );
+	const { covered, ratio } = luminanceRatio( t, preview, three.rgba );
 	assert.ok( covered > 20_000, `the preview covers ${covered} px` );
-	const ratio = threeSum / previewSum;
-	t.diagnostic( `mean luminance over ${covered} px: preview ${( previewSum / covered ).toFixed( 4 )}, three.js ${( threeSum / covered ).toFixed( 4 )} (ratio ${ratio.toFixed( 3 )}, must be within ${LUMINANCE_TOLERANCE})` );
 	const time = await page.evaluate( () => window.pelt.frameTimeMs );
 	t.diagnostic( `frame time ${time.toFixed( 1 )} ms at ${description.width} × ${description.height}` );
+	assert.ok( Math.abs( ratio - 1 ) <= LUMINANCE_TOLERANCE, `luminance ratio ${ratio.toFixed( 3 )}` );
+	assert.deepEqual( problems, [] );
+	await page.close();
+
+} );
+
+test( 'the guard hairs draw as ribbons, as the preview draws its strands', { timeout: 180_000 }, async ( t ) => {
+
+	const description = JSON.parse( readFileSync( join( REFERENCE, 'strands_scene.json' ), 'utf8' ) );
+	const { page, problems, summary } = await openExample( 'scene=/reference/strands_scene.json' );
+	assert.deepEqual( problems, [] );
+	const fur = summary.furs[ 0 ];
+	t.diagnostic( `${description.guard_strands} guard strands, ${fur.guardHairSegments} ribbon segments, ${summary.drawCalls.fur} fur draw calls` );
+	assert.ok( fur.guardHairSegments >= description.guard_strands, 'a segment or more per strand' );
+	assert.equal( summary.drawCalls.fur, 3, 'shells, fins and the ribbons: one draw each' );
+	// The lines three.js loaded are hidden: the ribbons stand in for them.
+	assert.equal( summary.hiddenLines, 1 );
+	const three = await frame( page, description.time, true );
+	save( 'strands_three.png', three );
+	const bare = await frame( page, description.time, true, false );
+	save( 'strands_three_without.png', bare );
+	// The ribbons draw: they change a good share of the fur's pixels and reach past the shells.
+	const c = coverage( bare, three );
+	const moved = changedPixels( bare, three );
+	t.diagnostic( `the ribbons change ${moved} px and add ${c.added} px past the shells' fringe` );
+	assert.ok( moved > 5_000 && c.added > 200, `ribbons change ${moved} px, add ${c.added} px` );
+	const preview = await servedImage( page, '/reference/strands_preview.png' );
+	const { covered, ratio } = luminanceRatio( t, preview, three.rgba );
+	assert.ok( covered > 20_000, `the preview covers ${covered} px` );
+	const time = await page.evaluate( () => window.pelt.frameTimeMs );
+	t.diagnostic( `frame time ${time.toFixed( 1 )} ms at ${description.width} × ${description.height} with the ribbons` );
 	assert.ok( Math.abs( ratio - 1 ) <= LUMINANCE_TOLERANCE, `luminance ratio ${ratio.toFixed( 3 )}` );
 	assert.deepEqual( problems, [] );
 	await page.close();

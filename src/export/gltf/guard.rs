@@ -2,6 +2,7 @@
 //! guard hairs as explicit strands, the undercoat as a volume).
 //!
 //! - `engine` mode: one `LINES` primitive of the strands' segments, per point `POSITION`,
+//!   `NORMAL` (the surface's at the strand's root, which lights it as the shells there are lit),
 //!   `COLOR_0` (root color to tip color along the strand) and `_PELT_RADIUS` (object units), so a
 //!   plain viewer draws thin lines and an engine its own tapered, camera-facing ribbons;
 //!   `PELT_shell_fur.guardHairs` names the primitive and the radius attribute.
@@ -152,7 +153,7 @@ pub(super) fn primitive_of(
     };
     let colors = point_colors(guard, &strand, &along);
     let (mut attributes, indices, per_point, kind) = match mode {
-        super::GltfMode::Engine => lines(builder, guard, &colors),
+        super::GltfMode::Engine => lines(builder, guard, &colors, &root_normals(input, guard, &strand)),
         super::GltfMode::Geometry => ribbons(builder, guard, &colors)?,
     };
     let count = per_point * guard.points.len();
@@ -178,8 +179,31 @@ type Geometry = (
     json::mesh::Mode,
 );
 
-/// The strands' segments as lines: per point its position, color and radius.
-fn lines(builder: &mut GlbBuilder, guard: &PlacedStrands, colors: &[[f32; 4]]) -> Geometry {
+/// Per point, the unit surface normal at its strand's root: the root triangle's vertex normals
+/// weighted by the root's barycentric weights (the renderer's strand lighting uses it).
+fn root_normals(input: &ExportInput<'_>, guard: &PlacedStrands, strand: &[usize]) -> Vec<[f32; 3]> {
+    let (normals, triangles) = (input.mesh.normals(), input.mesh.triangles());
+    let roots: Vec<[f32; 3]> = guard
+        .spans
+        .iter()
+        .map(|span| {
+            let corners = triangles[span.triangle as usize];
+            let n = (0..3).fold(glam::Vec3::ZERO, |sum, k| {
+                sum + span.weights[k] * glam::Vec3::from(normals[corners[k] as usize])
+            });
+            n.normalize_or(glam::Vec3::Z).to_array()
+        })
+        .collect();
+    strand.iter().map(|&s| roots[s]).collect()
+}
+
+/// The strands' segments as lines: per point its position, root normal, color and radius.
+fn lines(
+    builder: &mut GlbBuilder,
+    guard: &PlacedStrands,
+    colors: &[[f32; 4]],
+    normals: &[[f32; 3]],
+) -> Geometry {
     let positions: Vec<[f32; 3]> = guard.points.iter().map(|p| [p[0], p[1], p[2]]).collect();
     let radii: Vec<[f32; 1]> = guard.points.iter().map(|p| [p[3]]).collect();
     let indices: Vec<u32> = guard
@@ -189,6 +213,7 @@ fn lines(builder: &mut GlbBuilder, guard: &PlacedStrands, colors: &[[f32; 4]]) -
         .collect();
     let attributes = vec![
         (Semantic::Positions, builder.attribute(&positions, true)),
+        (Semantic::Normals, builder.attribute(normals, false)),
         (Semantic::Colors(0), builder.attribute(colors, false)),
         (
             Semantic::Extras(RADIUS_ATTRIBUTE[1..].into()),
