@@ -1,5 +1,5 @@
-//! Named fur presets for bakes without Blender (`pelt bake --preset mink`): the same values as the
-//! add-on's `addon/presets.py` (a test keeps the two equal). Hair lengths are shares of the fur
+//! Named fur presets: their one home, read by `pelt bake --preset mink` and, as `pelt.PRESETS`,
+//! by the add-on's preset menu. Hair lengths are shares of the fur
 //! depth and widths tile units ([`HairParams`]); `fur_depth` and `tile_size` are object units,
 //! chosen for an object about 2 units across.
 

@@ -323,51 +323,6 @@ fn bad_input_exits_with_a_message_and_no_panic() {
 }
 
 #[test]
-fn presets_equal_the_add_ons() {
-    let output = pelt(&["presets", "--json"], 1);
-    assert_ok(&output);
-    let ours: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
-    // addon/presets.py is plain data without imports, so the standard Python can load it.
-    let script = "import json, runpy, sys; \
-                  print(json.dumps(runpy.run_path(sys.argv[1])['PRESETS']))";
-    let presets = Path::new(env!("CARGO_MANIFEST_DIR")).join("addon/presets.py");
-    let python = Command::new("python3")
-        .args(["-c", script, presets.to_str().unwrap()])
-        .output()
-        .expect("python3 runs");
-    assert_ok(&python);
-    let theirs: serde_json::Value = serde_json::from_slice(&python.stdout).unwrap();
-    let theirs = theirs.as_object().unwrap();
-    let ours = ours.as_array().unwrap();
-    assert_eq!(ours.len(), theirs.len());
-    for preset in ours {
-        let name = preset["name"].as_str().unwrap();
-        let addon = &theirs[name];
-        for (key, value) in addon.as_object().unwrap() {
-            let mine = &preset[key];
-            match (value.as_array(), mine.as_array()) {
-                (Some(a), Some(b)) => {
-                    let a: Vec<f64> = a.iter().map(|v| v.as_f64().unwrap()).collect();
-                    let b: Vec<f64> = b.iter().map(|v| v.as_f64().unwrap()).collect();
-                    // Colors are f32 in Pelt.
-                    assert!(
-                        a.iter().zip(&b).all(|(x, y)| (x - y).abs() < 1e-6),
-                        "{name}.{key}"
-                    );
-                }
-                _ if value.is_number() => {
-                    assert!(
-                        (value.as_f64().unwrap() - mine.as_f64().unwrap()).abs() < 1e-12,
-                        "{name}.{key}"
-                    )
-                }
-                _ => assert_eq!(value, mine, "{name}.{key}"),
-            }
-        }
-    }
-}
-
-#[test]
 fn reference_renders_a_baked_folder_and_writes_nothing_on_bad_input() {
     let dir = out_dir("reference");
     // A tile as wide as Suzanne's ears keeps the strands few.

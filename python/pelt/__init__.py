@@ -6,6 +6,7 @@ numpy (float32 / uint32, C-contiguous; other numeric dtypes are converted). Ever
 """
 
 from ._pelt import (
+    PRESETS,
     STAGES,
     BakeCancelled,
     FurAsset,
@@ -42,6 +43,7 @@ from ._pelt import (
 )
 
 __all__ = [
+    "PRESETS",
     "STAGES",
     "BakeCancelled",
     "FurAsset",

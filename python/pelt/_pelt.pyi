@@ -10,6 +10,10 @@ import numpy.typing as npt
 __version__: str
 STAGES: tuple[str, ...]
 """The bake's stages in the order they run (``Pipeline.bake``'s report follows it)."""
+PRESETS: dict[str, dict[str, str | int | float | list[float]]]
+"""The fur presets by name (``SHORT_VELVET``, ``MINK``, ...): ``label``, ``description`` and the
+settings each writes (hair parameters, ``fur_depth`` and ``tile_size`` in object units for an
+object about 2 units across); the values ``pelt bake --preset`` uses."""
 
 class PeltError(Exception):
     """Base class of every error Pelt raises."""

@@ -102,6 +102,24 @@ fn _panic_for_test(py: Python<'_>, message: String) -> PyResult<()> {
     detached(py, move || -> crate::Result<()> { panic!("{message}") })
 }
 
+/// The fur presets (their one home is [`crate::presets::PRESETS`]) as `{name: {label,
+/// description, setting: value, ...}}`, in the add-on's order, ranges and colors as lists.
+fn presets(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
+    let text = serde_json::to_string(&crate::presets::PRESETS)
+        .map_err(|e| crate::PeltError::Internal(format!("presets: {e}")))?;
+    let list = py.import("json")?.call_method1("loads", (text,))?;
+    let out = pyo3::types::PyDict::new(py);
+    for item in list.try_iter()? {
+        let preset = item?.cast_into::<pyo3::types::PyDict>()?;
+        let name = preset
+            .get_item("name")?
+            .ok_or_else(|| crate::PeltError::Internal("a preset without a name".into()))?;
+        preset.del_item("name")?;
+        out.set_item(name, preset)?;
+    }
+    Ok(out)
+}
+
 #[pymodule]
 fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", crate::VERSION)?;
@@ -110,6 +128,7 @@ fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
         "STAGES",
         pyo3::types::PyTuple::new(m.py(), crate::pipeline::STAGES)?,
     )?;
+    m.add("PRESETS", presets(m.py())?)?;
     errors::register(m)?;
     m.add_class::<mesh::PyFurMesh>()?;
     m.add_class::<volume::PyHairParams>()?;

@@ -206,3 +206,20 @@ def test_stages_are_the_pipelines_in_the_order_a_bake_reports_them():
     reported = [s["stage"] for s in asset.report]
     assert reported == [s for s in pelt.STAGES if s in reported]
     assert reported == ["patches", "volume", "planes", "transfer"]
+
+
+def test_presets_are_hair_parameters_with_their_sizes():
+    assert list(pelt.PRESETS) == ["SHORT_VELVET", "MINK", "LONG_SHAGGY", "CURLY"]
+    for name, preset in pelt.PRESETS.items():
+        assert preset["label"] and preset["description"], name
+        assert preset["fur_depth"] > 0 and preset["tile_size"] > 0, name
+        # Everything else is a HairParams field, which takes it as it is.
+        hair = {
+            key: value
+            for key, value in preset.items()
+            if key not in ("label", "description", "fur_depth", "tile_size")
+        }
+        for coat in ("undercoat", "overcoat"):
+            hair[coat] = {"length": hair.pop(f"{coat}_length"), "width": hair.pop(f"{coat}_width")}
+        params = pelt.HairParams(**hair)
+        assert params.density == preset["density"] and params.curl == pytest.approx(preset["curl"]), name
