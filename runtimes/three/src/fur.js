@@ -60,7 +60,7 @@ export class PeltFur {
 		if ( guardHairs && options.guardHairs !== false ) {
 
 			const geometry = ribbonGeometry( guardHairs.geometry, ext.guardHairs.radius, stack.fur_depth );
-			this.strands = make( geometry, strandMaterial( common ), 'guard hairs' );
+			this.strands = make( geometry, strandMaterial( { ...common, strandPixels: options.strandPixels ?? 1 } ), 'guard hairs' );
 			this.strands.onBeforeRender = ( renderer ) => {
 
 				const target = renderer.getRenderTarget();

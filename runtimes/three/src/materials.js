@@ -142,13 +142,20 @@ export function finMaterial( { stack, textures, light, prt, finOpacity, layerMea
 /**
  * The guard hairs' ribbons (glsl/strands.js), Kajiya–Kay lit under either model; drawn before
  * the shells and writing depth, so the shells in front blend over them (the preview's "depth"
- * strand order).
+ * strand order). `strandPixels`: the strand LOD keeps a share of the strands thinner than this
+ * many pixels, drawn that wide (0: every strand at its width, its coverage as opacity).
  */
-export function strandMaterial( { stack, light } ) {
+export function strandMaterial( { stack, light, strandPixels = 1 } ) {
 
 	return new ShaderMaterial( {
 		name: 'PELT_shell_fur guard hairs',
-		uniforms: { ...sharedUniforms( stack, light ), peltPixelHeight: { value: 1 } },
+		uniforms: {
+			...sharedUniforms( stack, light ),
+			peltPixelHeight: { value: 1 },
+			// src/render: RenderSettings::strand_pixels' default, strands.rs MIN_KEPT.
+			peltStrandPixels: { value: strandPixels },
+			peltMinKept: { value: 1 / 16 },
+		},
 		vertexShader: strandVertex,
 		fragmentShader: strandFragment,
 		side: DoubleSide,

@@ -7,7 +7,9 @@
 //
 // Options: `lighting` (lighting.js DEFAULT_LIGHTING's fields), `lod` ({shellsPerPixel,
 // minShare}, or false for every shell always), `fins` (false for none), `guardHairs` (false:
-// leave the guard hairs' lines as three.js loaded them), `finOpacity`,
+// leave the guard hairs' lines as three.js loaded them), `strandPixels` (the strand LOD: a share
+// of the strands thinner than this many pixels drawn that wide, as the renderer's
+// `strand_pixels`; 0 for every strand at its width), `finOpacity`,
 // `alphaTest`, `shadeSkin` (true: the skin too is drawn with the renderer's skin shading instead
 // of its glTF material), `onFur(fur)` (called for each fur built).
 

@@ -1,6 +1,6 @@
 // The guard hairs of a fur (docs/export.md, "Guard hairs"): the extension's `LINES` primitive,
 // which three.js loads as plain lines, drawn instead as ribbons facing the eye (glsl/strands.js),
-// skinned like the skin. Each segment becomes a quad of four corners that carry both its ends, so
+// skinned like the skin; every corner also carries its strand's root and LOD rank. Each segment becomes a quad of four corners that carry both its ends, so
 // the vertex shader turns it toward the eye; no geometry shader (WebGL has none).
 
 import { BufferAttribute, BufferGeometry } from 'three';
@@ -46,6 +46,19 @@ export function strandShape( positions, pairs, count ) {
 	}
 
 	return { height, direction, rootOf };
+
+}
+
+/**
+ * A strand's rank for the strand LOD, uniform in [0, 1) and fixed by its root point's index
+ * (the PCG output function over it): the LOD keeps the strands of rank below a share.
+ */
+export function strandRank( root ) {
+
+	let h = Math.imul( root >>> 0, 747796405 ) + 2891336453 >>> 0;
+	h = Math.imul( ( h >>> ( ( h >>> 28 ) + 4 ) ) ^ h, 277803737 ) >>> 0;
+	h = ( ( h >>> 22 ) ^ h ) >>> 0;
+	return ( h >>> 8 ) / 16777216;
 
 }
 
@@ -98,6 +111,8 @@ export function ribbonGeometry( lines, radius, furDepth = 1 ) {
 		peltColor: new Float32Array( 4 * corners ),
 		peltRootNormal: new Float32Array( 3 * corners ),
 		peltHeight: new Float32Array( corners ),
+		peltRoot: new Float32Array( 4 * corners ),
+		peltRootRadius: new Float32Array( corners ),
 	};
 	if ( skinIndex && skinWeight ) {
 
@@ -122,6 +137,9 @@ export function ribbonGeometry( lines, radius, furDepth = 1 ) {
 			out.peltColor.set( [ color.getX( p ), color.getY( p ), color.getZ( p ), color.itemSize > 3 ? color.getW( p ) : 1 ], 4 * v );
 			out.peltRootNormal.set( rootNormal.subarray( 3 * p, 3 * p + 3 ), 3 * v );
 			out.peltHeight[ v ] = height[ p ];
+			const root = shape.rootOf[ p ];
+			out.peltRoot.set( [ points[ 3 * root ], points[ 3 * root + 1 ], points[ 3 * root + 2 ], strandRank( root ) ], 4 * v );
+			out.peltRootRadius[ v ] = radii.getX( root );
 			if ( out.skinIndex ) {
 
 				out.skinIndex.set( [ skinIndex.getX( p ), skinIndex.getY( p ), skinIndex.getZ( p ), skinIndex.getW( p ) ], 4 * v );
@@ -136,7 +154,7 @@ export function ribbonGeometry( lines, radius, furDepth = 1 ) {
 	}
 
 	const geometry = new BufferGeometry();
-	const sizes = { position: 3, peltSegment: 3, peltSide: 1, peltRadius: 1, peltColor: 4, peltRootNormal: 3, peltHeight: 1, skinIndex: 4, skinWeight: 4 };
+	const sizes = { position: 3, peltSegment: 3, peltSide: 1, peltRadius: 1, peltColor: 4, peltRootNormal: 3, peltHeight: 1, peltRoot: 4, peltRootRadius: 1, skinIndex: 4, skinWeight: 4 };
 	for ( const [ name, array ] of Object.entries( out ) ) geometry.setAttribute( name, new BufferAttribute( array, sizes[ name ] ) );
 	geometry.setIndex( new BufferAttribute( index, 1 ) );
 	return geometry;

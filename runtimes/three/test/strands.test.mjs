@@ -6,7 +6,7 @@ import { test } from 'node:test';
 
 import { BufferAttribute, BufferGeometry } from 'three';
 
-import { ribbonGeometry, strandShape } from '../src/strands.js';
+import { ribbonGeometry, strandRank, strandShape } from '../src/strands.js';
 
 // Two strands as the exporter writes them: points root first, each paired with the next.
 // Strand A: 0 → 1 → 2 straight up z; strand B: 3 → 4 along x.
@@ -50,5 +50,17 @@ test( 'each segment becomes four corners with both ends and two triangles', () =
 	// Without the radius attribute the file is refused by name.
 	lines.deleteAttribute( '_pelt_radius' );
 	assert.throws( () => ribbonGeometry( lines, '_PELT_RADIUS' ), /_PELT_RADIUS/ );
+
+} );
+
+test( 'strand ranks are fixed by the root and spread evenly over [0, 1)', () => {
+
+	const ranks = Array.from( { length: 20_000 }, ( _, i ) => strandRank( i ) );
+	assert.ok( ranks.every( ( r ) => r >= 0 && r < 1 ) );
+	assert.equal( strandRank( 17 ), strandRank( 17 ) );
+	// Each tenth of [0, 1) holds a tenth of them, to 5 %.
+	const tenths = new Array( 10 ).fill( 0 );
+	for ( const r of ranks ) tenths[ Math.floor( r * 10 ) ] ++;
+	for ( const count of tenths ) assert.ok( Math.abs( count - 2000 ) < 100, `${tenths}` );
 
 } );

@@ -31,9 +31,16 @@ attribute float peltRadius;
 attribute vec4 peltColor;
 attribute vec3 peltRootNormal;
 attribute float peltHeight;
+// The strand's root (object space) and its LOD rank in [0, 1), and its radius there.
+attribute vec4 peltRoot;
+attribute float peltRootRadius;
 
 // The viewport's height in pixels.
 uniform float peltPixelHeight;
+// The strand LOD (strands.wgsl vs_main): a strand thinner at its root than this many pixels is
+// kept with probability its width over it (at least peltMinKept) and drawn that much wider.
+uniform float peltStrandPixels;
+uniform float peltMinKept;
 
 ${varyings}
 
@@ -41,11 +48,13 @@ void main() {
 	vec3 transformed = vec3( position );
 	vec3 segment = peltSegment;
 	vec3 objectNormal = peltRootNormal;
+	vec3 root = peltRoot.xyz;
 #ifdef USE_SKINNING
 	// Every point of a strand carries its root's joints: the strand turns rigidly with them.
 	#include <skinbase_vertex>
 	#include <skinnormal_vertex>
 	segment = ( skinMatrix * vec4( segment, 0.0 ) ).xyz;
+	root = ( bindMatrixInverse * ( skinMatrix * ( bindMatrix * vec4( root, 1.0 ) ) ) ).xyz;
 	#include <skinning_vertex>
 #endif
 	vec4 world = modelMatrix * vec4( transformed, 1.0 );
@@ -56,7 +65,21 @@ void main() {
 	// Pixels per world unit here: the ribbon is at least a pixel wide.
 	float depth = isOrthographic ? 1.0 : max( - ( viewMatrix * world ).z, 1e-6 );
 	float pixelsPerUnit = 0.5 * peltPixelHeight * projectionMatrix[ 1 ][ 1 ] / depth;
-	float width = 2.0 * peltRadius * length( toWorld[ 0 ] ) * pixelsPerUnit;
+	float scale = length( toWorld[ 0 ] );
+	// The strand LOD, measured at the root so that every corner of the strand agrees.
+	float widen = 1.0;
+	if ( peltStrandPixels > 0.0 ) {
+		vec4 rootWorld = modelMatrix * vec4( root, 1.0 );
+		float rootDepth = isOrthographic ? 1.0 : max( - ( viewMatrix * rootWorld ).z, 1e-6 );
+		float rootWidth = peltRootRadius * scale * peltPixelHeight * projectionMatrix[ 1 ][ 1 ] / rootDepth;
+		float keep = clamp( rootWidth / peltStrandPixels, peltMinKept, 1.0 );
+		if ( peltRoot.w >= keep ) {
+			gl_Position = vec4( 2.0, 2.0, 2.0, 1.0 );  // outside the view: dropped
+			return;
+		}
+		widen = 1.0 / keep;
+	}
+	float width = 2.0 * peltRadius * widen * scale * pixelsPerUnit;
 	float drawn = max( width, 1.0 );
 	vCoverage = width / drawn;
 	vec3 edge = world.xyz + across * ( peltSide * 0.5 * drawn / pixelsPerUnit );
