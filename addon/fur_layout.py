@@ -58,14 +58,6 @@ class FurSettings:
         return cls(layers=layers, shells=layers if shells is None else shells, depth=kept_depth, **rest)
 
 
-def shell_layers(layers: int, shells: int) -> np.ndarray:
-    """The layer drawn by each shell ``1..shells-1`` (the skin, layer 0, not included)."""
-    j = np.arange(1, shells, dtype=np.int64)
-    if shells <= 1:
-        return j
-    return (2 * j * (layers - 1) + (shells - 1)) // (2 * (shells - 1))
-
-
 def atlas_uv(uv: np.ndarray, layer: np.ndarray, columns: int, rows: int, resolution: int) -> np.ndarray:
     """Where the fur material samples the atlas (Blender image coordinates, ``v`` up) for tile
     coordinates ``uv`` (``PeltUV``, ``[..., 2]``, ``v`` down the tile as Pelt stores it) on

@@ -393,16 +393,6 @@ def test_settings_for_a_trimmed_volume_keep_the_layer_spacing(addon):
     assert settings.depth / settings.layers == pytest.approx(0.4 / 8)
 
 
-def test_shell_layers_match_the_wgpu_choice(addon):
-    shell_layers = addon.fur_layout.shell_layers
-    assert [list(shell_layers(16, s)) for s in (16, 5, 2, 1)] == [
-        list(range(1, 16)),
-        expected_layers(16, 5),
-        [15],
-        [],
-    ]
-
-
 # --- renders -------------------------------------------------------------------------------
 
 
