@@ -183,6 +183,7 @@ async function load() {
 			fins: f.fins ? f.fins.geometry.userData.fins : 0,
 			prt: f.prt,
 			guardHairSegments: f.strands ? f.strands.geometry.index.count / 6 : 0,
+			guardHairSegmentsDrawn: f.drawnStrandSegments,
 			hiddenFallback: plugin.hidden.filter( ( m ) => m.parent === f.skin.parent ).length,
 		} ) ),
 		drawCalls: window.pelt.drawCalls,

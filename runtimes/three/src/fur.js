@@ -5,15 +5,16 @@
 // objects at the same depth in creation order, and the renderer draws the fins (pass b) before
 // the shells (pass c).
 
-import { Mesh, SkinnedMesh, Sphere, Vector2 } from 'three';
+import { Mesh, SkinnedMesh, Sphere, Vector2, Vector3 } from 'three';
 
 import { aliasFurAttributes, finGeometry, furAttributes, shellGeometry } from './geometry.js';
 import { finMaterial, strandMaterial, surfaceMaterial } from './materials.js';
-import { ribbonGeometry } from './strands.js';
+import { keptIndices, ribbonGeometry } from './strands.js';
 import { lodShells, pixelsPerUnit } from './stack.js';
 
 const _size = new Vector2();
 const _sphere = new Sphere();
+const _eye = new Vector3();
 
 export class PeltFur {
 
@@ -57,18 +58,13 @@ export class PeltFur {
 		};
 
 		this.strands = null;
+		this.drawnStrandSegments = 0;
 		if ( guardHairs && options.guardHairs !== false ) {
 
 			const geometry = ribbonGeometry( guardHairs.geometry, ext.guardHairs.radius, stack.fur_depth );
 			this.strands = make( geometry, strandMaterial( { ...common, strandPixels: options.strandPixels ?? 1 } ), 'guard hairs' );
-			this.strands.onBeforeRender = ( renderer ) => {
-
-				const target = renderer.getRenderTarget();
-				if ( target ) _size.set( target.width, target.height );
-				else renderer.getDrawingBufferSize( _size );
-				this.strands.material.uniforms.peltPixelHeight.value = _size.y;
-
-			};
+			this.strands.onBeforeRender = ( renderer, scene, camera ) => this.updateStrands( renderer, camera );
+			this.drawnStrandSegments = geometry.index.count / 6;
 
 		}
 
@@ -147,6 +143,31 @@ export class PeltFur {
 		this.drawnShells = drawn;
 		this.shells.geometry.instanceCount = drawn;
 		this.shells.material.uniforms.peltDrawn.value = drawn;
+
+	}
+
+	/**
+	 * The ribbons' viewport height, and the strand LOD's draw range: only the strands the shader
+	 * may keep at the fur's nearest point to the eye are drawn (the shader decides each one).
+	 */
+	updateStrands( renderer, camera ) {
+
+		const target = renderer.getRenderTarget();
+		if ( target ) _size.set( target.width, target.height );
+		else renderer.getDrawingBufferSize( _size );
+		const uniforms = this.strands.material.uniforms;
+		uniforms.peltPixelHeight.value = _size.y;
+		_sphere.copy( this.restSphere ).applyMatrix4( this.strands.matrixWorld );
+		// The sphere's point nearest the eye.
+		_eye.setFromMatrixPosition( camera.matrixWorld ).sub( _sphere.center );
+		const distance = _eye.length();
+		const nearest = distance > _sphere.radius ? _sphere.center.clone().addScaledVector( _eye, _sphere.radius / distance ) : null;
+		const scale = this.strands.matrixWorld.getMaxScaleOnAxis();
+		const ppu = nearest ? scale * pixelsPerUnit( nearest.toArray(), camera.matrixWorldInverse, camera.projectionMatrix, _size.x, _size.y ) : Infinity;
+		const geometry = this.strands.geometry;
+		const count = keptIndices( geometry.userData.strandLod, ppu, uniforms.peltStrandPixels.value, uniforms.peltMinKept.value );
+		geometry.setDrawRange( 0, count );
+		this.drawnStrandSegments = count / 6;
 
 	}
 

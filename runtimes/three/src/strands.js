@@ -121,14 +121,32 @@ export function ribbonGeometry( lines, radius, furDepth = 1 ) {
 
 	}
 
+	// Segments in order of their strand's LOD rank, so that the strands a frame keeps are one
+	// range of the index buffer (`strandLod`: each strand's rank and where its segments end).
+	const rankOf = ( s ) => strandRank( shape.rootOf[ pairs[ 2 * s ] ] );
+	const order = Uint32Array.from( { length: segments }, ( _, s ) => s );
+	const ranks = Float32Array.from( order, rankOf );
+	order.sort( ( a, b ) => ranks[ a ] - ranks[ b ] || a - b );
+	const lod = { ranks: [], ends: [], maxRootRadius: 0 };
 	const index = new Uint32Array( 6 * segments );
-	for ( let s = 0; s < segments; s ++ ) {
+	for ( let i = 0; i < segments; i ++ ) {
 
+		const s = order[ i ];
 		const ends = [ pairs[ 2 * s ], pairs[ 2 * s + 1 ] ];
+		const strandRoot = shape.rootOf[ ends[ 0 ] ];
+		if ( lod.ranks.length === 0 || shape.rootOf[ pairs[ 2 * order[ i - 1 ] ] ] !== strandRoot ) {
+
+			lod.ranks.push( ranks[ s ] );
+			lod.ends.push( 0 );
+			lod.maxRootRadius = Math.max( lod.maxRootRadius, radii.getX( strandRoot ) );
+
+		}
+
+		lod.ends[ lod.ends.length - 1 ] = 6 * ( i + 1 );
 		const segment = [ 0, 1, 2 ].map( ( c ) => points[ 3 * ends[ 1 ] + c ] - points[ 3 * ends[ 0 ] + c ] );
 		for ( let k = 0; k < 4; k ++ ) {
 
-			const v = 4 * s + k;
+			const v = 4 * i + k;
 			const p = ends[ k >> 1 ];
 			out.position.set( points.subarray( 3 * p, 3 * p + 3 ), 3 * v );
 			out.peltSegment.set( segment, 3 * v );
@@ -149,7 +167,7 @@ export function ribbonGeometry( lines, radius, furDepth = 1 ) {
 
 		}
 
-		index.set( [ 4 * s, 4 * s + 1, 4 * s + 2, 4 * s + 2, 4 * s + 1, 4 * s + 3 ], 6 * s );
+		index.set( [ 4 * i, 4 * i + 1, 4 * i + 2, 4 * i + 2, 4 * i + 1, 4 * i + 3 ], 6 * i );
 
 	}
 
@@ -157,6 +175,22 @@ export function ribbonGeometry( lines, radius, furDepth = 1 ) {
 	const sizes = { position: 3, peltSegment: 3, peltSide: 1, peltRadius: 1, peltColor: 4, peltRootNormal: 3, peltHeight: 1, peltRoot: 4, peltRootRadius: 1, skinIndex: 4, skinWeight: 4 };
 	for ( const [ name, array ] of Object.entries( out ) ) geometry.setAttribute( name, new BufferAttribute( array, sizes[ name ] ) );
 	geometry.setIndex( new BufferAttribute( index, 1 ) );
+	geometry.userData.strandLod = { ranks: Float32Array.from( lod.ranks ), ends: Uint32Array.from( lod.ends ), maxRootRadius: lod.maxRootRadius };
 	return geometry;
+
+}
+
+/**
+ * Indices to draw of `lod` (ribbonGeometry's `strandLod`) when the nearest of the strands' roots
+ * is `pixelsPerUnit` pixels per object unit (src/render/strands.rs kept_strands): the strands of
+ * rank below what the shader may keep there, a quarter more for its own measure.
+ */
+export function keptIndices( lod, pixelsPerUnit, strandPixels, minKept ) {
+
+	if ( ! ( strandPixels > 0 ) || ! Number.isFinite( pixelsPerUnit ) ) return lod.ends.length ? lod.ends[ lod.ends.length - 1 ] : 0;
+	const keep = 1.25 * Math.max( 2 * lod.maxRootRadius * pixelsPerUnit / strandPixels, minKept );
+	let kept = 0;
+	while ( kept < lod.ranks.length && lod.ranks[ kept ] < keep ) kept ++;
+	return kept === 0 ? 0 : lod.ends[ kept - 1 ];
 
 }

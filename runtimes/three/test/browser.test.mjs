@@ -391,8 +391,10 @@ test( 'the guard hairs draw as ribbons, as the preview draws its strands', { tim
 	const { page, problems, summary } = await openExample( 'scene=/reference/strands_scene.json' );
 	assert.deepEqual( problems, [] );
 	const fur = summary.furs[ 0 ];
-	t.diagnostic( `${description.guard_strands} guard strands, ${fur.guardHairSegments} ribbon segments, ${summary.drawCalls.fur} fur draw calls` );
+	t.diagnostic( `${description.guard_strands} guard strands, ${fur.guardHairSegments} ribbon segments (${fur.guardHairSegmentsDrawn} drawn by the strand LOD), ${summary.drawCalls.fur} fur draw calls` );
 	assert.ok( fur.guardHairSegments >= description.guard_strands, 'a segment or more per strand' );
+	// Sub-pixel strands at this distance: the LOD draws a share of them, not none.
+	assert.ok( fur.guardHairSegmentsDrawn > 0 && fur.guardHairSegmentsDrawn < fur.guardHairSegments );
 	assert.equal( summary.drawCalls.fur, 3, 'shells, fins and the ribbons: one draw each' );
 	// The lines three.js loaded are hidden: the ribbons stand in for them.
 	assert.equal( summary.hiddenLines, 1 );

@@ -6,7 +6,7 @@ import { test } from 'node:test';
 
 import { BufferAttribute, BufferGeometry } from 'three';
 
-import { ribbonGeometry, strandRank, strandShape } from '../src/strands.js';
+import { keptIndices, ribbonGeometry, strandRank, strandShape } from '../src/strands.js';
 
 // Two strands as the exporter writes them: points root first, each paired with the next.
 // Strand A: 0 → 1 → 2 straight up z; strand B: 3 → 4 along x.
@@ -62,5 +62,27 @@ test( 'strand ranks are fixed by the root and spread evenly over [0, 1)', () => 
 	const tenths = new Array( 10 ).fill( 0 );
 	for ( const r of ranks ) tenths[ Math.floor( r * 10 ) ] ++;
 	for ( const count of tenths ) assert.ok( Math.abs( count - 2000 ) < 100, `${tenths}` );
+
+} );
+
+test( 'segments run in order of their strand\'s rank, and the LOD draws a prefix of them', () => {
+
+	const lines = new BufferGeometry();
+	lines.setAttribute( 'position', new BufferAttribute( POSITIONS, 3 ) );
+	lines.setAttribute( 'color', new BufferAttribute( new Float32Array( 20 ).fill( 0.5 ), 4 ) );
+	lines.setAttribute( '_pelt_radius', new BufferAttribute( new Float32Array( [ 0.1, 0.05, 0.01, 0.2, 0.1 ] ), 1 ) );
+	lines.setIndex( new BufferAttribute( PAIRS, 1 ) );
+	const lod = ribbonGeometry( lines, '_PELT_RADIUS' ).userData.strandLod;
+	const [ a, b ] = [ strandRank( 0 ), strandRank( 3 ) ];
+	// Strand A (root 0, two segments) and strand B (root 3, one), by rank.
+	assert.deepEqual( [ ...lod.ranks ], [ Math.fround( Math.min( a, b ) ), Math.fround( Math.max( a, b ) ) ] );
+	assert.deepEqual( [ ...lod.ends ], a < b ? [ 12, 18 ] : [ 6, 18 ] );
+	assert.equal( lod.maxRootRadius, Math.fround( 0.2 ) );
+	// Thick on screen: every strand; no LOD: every strand; far: the lower-ranked strand or none.
+	assert.equal( keptIndices( lod, 100, 1, 1 / 16 ), 18 );
+	assert.equal( keptIndices( lod, 1e-6, 0, 1 / 16 ), 18 );
+	const far = keptIndices( lod, 1e-6, 1, 1 / 16 );
+	const expected = [ a, b ].filter( ( r ) => r < 1.25 / 16 ).length;
+	assert.equal( far, [ 0, lod.ends[ 0 ], 18 ][ expected ] );
 
 } );
