@@ -13,6 +13,18 @@ import { keptIndices, ribbonGeometry, strandRank, strandShape } from '../src/str
 const POSITIONS = new Float32Array( [ 0, 0, 0, 0, 0, 1, 0, 0, 2, 5, 0, 0, 7, 0, 0 ] );
 const PAIRS = new Uint32Array( [ 0, 1, 1, 2, 3, 4 ] );
 
+/** The two strands as three.js loads the exporter's LINES primitive. */
+function linesGeometry() {
+
+	const lines = new BufferGeometry();
+	lines.setAttribute( 'position', new BufferAttribute( POSITIONS, 3 ) );
+	lines.setAttribute( 'color', new BufferAttribute( new Float32Array( 20 ).fill( 0.5 ), 4 ) );
+	lines.setAttribute( '_pelt_radius', new BufferAttribute( new Float32Array( [ 0.1, 0.05, 0.01, 0.2, 0.1 ] ), 1 ) );
+	lines.setIndex( new BufferAttribute( PAIRS, 1 ) );
+	return lines;
+
+}
+
 test( 'heights run from 0 at the root to 1 at the tip, directions root to tip', () => {
 
 	const { height, direction } = strandShape( POSITIONS, PAIRS, 5 );
@@ -31,11 +43,7 @@ test( 'a malformed chain (a loop) ends instead of hanging', () => {
 
 test( 'each segment becomes four corners with both ends and two triangles', () => {
 
-	const lines = new BufferGeometry();
-	lines.setAttribute( 'position', new BufferAttribute( POSITIONS, 3 ) );
-	lines.setAttribute( 'color', new BufferAttribute( new Float32Array( 20 ).fill( 0.5 ), 4 ) );
-	lines.setAttribute( '_pelt_radius', new BufferAttribute( new Float32Array( [ 0.1, 0.05, 0.01, 0.2, 0.1 ] ), 1 ) );
-	lines.setIndex( new BufferAttribute( PAIRS, 1 ) );
+	const lines = linesGeometry();
 	const ribbons = ribbonGeometry( lines, '_PELT_RADIUS' );
 	assert.equal( ribbons.getAttribute( 'position' ).count, 12 );
 	assert.equal( ribbons.index.count, 18 );
@@ -67,11 +75,7 @@ test( 'strand ranks are fixed by the root and spread evenly over [0, 1)', () => 
 
 test( 'segments run in order of their strand\'s rank, and the LOD draws a prefix of them', () => {
 
-	const lines = new BufferGeometry();
-	lines.setAttribute( 'position', new BufferAttribute( POSITIONS, 3 ) );
-	lines.setAttribute( 'color', new BufferAttribute( new Float32Array( 20 ).fill( 0.5 ), 4 ) );
-	lines.setAttribute( '_pelt_radius', new BufferAttribute( new Float32Array( [ 0.1, 0.05, 0.01, 0.2, 0.1 ] ), 1 ) );
-	lines.setIndex( new BufferAttribute( PAIRS, 1 ) );
+	const lines = linesGeometry();
 	const lod = ribbonGeometry( lines, '_PELT_RADIUS' ).userData.strandLod;
 	const [ a, b ] = [ strandRank( 0 ), strandRank( 3 ) ];
 	// Strand A (root 0, two segments) and strand B (root 3, one), by rank.
