@@ -53,6 +53,7 @@ class Session:
         self._lit_at = -1
         self._lighting: dict | None = None
         self._order: int | None = None  # the bake's transfer order, None without a transfer
+        self._has_planes = False  # whether the bake has the virtual planes' slices
         self._sent_key = None
         self._attributes: dict | None = None
         self._attributes_digest = None
@@ -85,6 +86,7 @@ class Session:
             self._start_worker()
         transfer = record.asset.transfer  # a copy of its arrays: read once per bake
         self._order = transfer["order"] if transfer is not None else None
+        self._has_planes = record.asset.planes is not None
         self.out_of_date = False
         self._attributes_digest = None
 
@@ -120,7 +122,11 @@ class Session:
         return worker is not None and worker.has_new_frame
 
     def _fail(self, error: BaseException) -> None:
-        if self.adapter != "cpu":
+        if isinstance(error, pelt.InvalidParameterError):
+            # A setting the renderer refuses: no other device would take it.
+            self.message = f"Live preview stopped: {error}"
+            self.worker = None
+        elif self.adapter != "cpu":
             self.message = f"The GPU preview failed ({error}); drawing on the CPU"
             self.adapter = "cpu"
             self._start_worker()
@@ -177,6 +183,10 @@ class Session:
             target = posed if posed is not None else rest
             self._posed = posed is not None
         options = render_options(obj, asset)
+        if options["shell_method"] == "planes" and not self._has_planes:
+            # Virtual Planes asked for before a bake made their slices: the bake's shells until
+            # then (the panel says "out of date").
+            options["shell_method"] = "auto"
         view = np.ascontiguousarray(view, np.float32)
         projection = np.ascontiguousarray(projection, np.float32)
         key = (

@@ -128,6 +128,26 @@ def test_the_viewport_depth_hides_the_fur_behind_other_objects(live):
     assert reads == [1]
 
 
+def test_virtual_planes_before_their_bake_draw_the_shells_until_bake(live):
+    obj = furred_suzanne()
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    shells = drawn(live, obj)
+    session = live.session_of(obj)
+    obj.pelt.shell_method = "PLANES"
+    live.poll()
+    live.run_checks()
+    # The bake has no slices yet: the preview keeps drawing its shells and asks for a bake.
+    assert session.out_of_date
+    again = drawn(live, obj, view=view_of(obj, distance=5.01))
+    assert session.worker.error is None and session.message is None
+    assert np.abs(again.astype(np.float32) - shells).mean() < 0.05
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    live.poll()
+    assert not session.out_of_date
+    planes = drawn(live, obj)
+    assert (planes[..., 3] > 0.5).mean() > 0.05
+
+
 def test_a_stale_bake_is_never_run_by_the_preview(live):
     obj = furred_suzanne()
     assert bpy.ops.pelt.bake() == {"FINISHED"}
