@@ -15,7 +15,8 @@
 //! §2.4). The smoke pass proves the device works end to end.
 //!
 //! Files: `camera.rs`, `lighting.rs`, `settings.rs` (the per-frame inputs, validated);
-//! `surface_mesh.rs`, `fin_mesh.rs` (CPU geometry), `deform.rs` (the same in a pose); `geometry_lod.rs` (simplified levels of the
+//! `surface_mesh.rs`, `fin_mesh.rs` (CPU geometry), `deform.rs` (the same in a pose, or with a
+//! new comb); `geometry_lod.rs` (simplified levels of the
 //! mesh), `scene_levels.rs` (their indices and fins) and `level_hosts.rs` (whether they hold
 //! after a repaint); `textures.rs` (volume upload, premultiplied),
 //! `transfer.rs` (PRT textures); `scene.rs`; `pipelines.rs` (shared layouts, pipelines per
@@ -24,8 +25,9 @@
 //! `common.wgsl`, `surface.wgsl` and the model's WGSL (`lighting.wgsl`, `surface_kk.wgsl`,
 //! `fin_kk.wgsl` for Kajiya–Kay; `prt.wgsl`, `surface_prt.wgsl`, `fin_prt.wgsl` for PRT) shared
 //! by their shaders; `prt_light.rs` (world SH) and `prt_rotate.rs` (the rotation compute pass);
-//! `frame.rs` (one frame), `readback.rs`, `texture_target.rs` (a caller's texture) and
-//! `window.rs` (a window's surface).
+//! `frame.rs` (one frame), `occluders.rs` (another picture's depth starting a frame's, for
+//! compositing into it: [`Renderer::render_over`]), `readback.rs`, `texture_target.rs` (a
+//! caller's texture) and `window.rs` (a window's surface).
 
 mod camera;
 mod deform;
