@@ -131,11 +131,6 @@ class Worker:
         return self._frame_is_new
 
     @property
-    def ready(self) -> bool:
-        """Whether the preview is built (frames can render)."""
-        return self.preview is not None
-
-    @property
     def alive(self) -> bool:
         return self._thread.is_alive()
 

@@ -277,9 +277,22 @@ def session_of(obj, *, create: bool = False) -> Session | None:
     return session
 
 
+def _object_of(uid: int, session: Session):
+    """The session's object: by its name, else (renamed) by a look through the objects, whose
+    name the session then keeps; None when the object is gone."""
+    obj = bpy.data.objects.get(session.name)
+    if obj is not None and obj.session_uid == uid:
+        return obj
+    obj = next((o for o in bpy.data.objects if o.session_uid == uid), None)
+    if obj is not None:
+        session.name = obj.name
+    return obj
+
+
 def _objects_by_uid() -> dict:
-    wanted = _State.sessions.keys()
-    return {obj.session_uid: obj for obj in bpy.data.objects if obj.session_uid in wanted}
+    """Each session's object by its session_uid (the sessions whose object is gone left out)."""
+    objects = ((uid, _object_of(uid, session)) for uid, session in _State.sessions.items())
+    return {uid: obj for uid, obj in objects if obj is not None}
 
 
 def _redraw_viewports() -> None:
@@ -307,15 +320,19 @@ def poll() -> float | None:
         return None
     redraw = False
     for uid, session in list(_State.sessions.items()):
+        obj = _object_of(uid, session)
+        if obj is None:
+            # The object was deleted: its worker and device go too.
+            session.stop()
+            del _State.sessions[uid]
+            continue
         redraw |= session.poll()
-        obj = bpy.data.objects.get(session.name)
-        if obj is not None and obj.session_uid == uid:
-            digest = settings_digest(obj.pelt)
-            if digest != session.settings:
-                session.settings = digest
-                session.lighting_edits += 1  # the lighting model is a setting too
-                _schedule_check(uid)
-                redraw = True
+        digest = settings_digest(obj.pelt)
+        if digest != session.settings:
+            session.settings = digest
+            session.lighting_edits += 1  # the lighting model is a setting too
+            _schedule_check(uid)
+            redraw = True
     if redraw:
         _redraw_viewports()
     return POLL_SECONDS

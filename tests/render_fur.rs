@@ -60,12 +60,7 @@ const TOP_HALF: f64 = 1.6;
 fn orthographic(eye: [f64; 3], up: [f64; 3], half: f64, size: u32) -> Camera {
     Camera {
         view: look_at(eye, up),
-        projection: column_major([
-            [1.0 / half, 0.0, 0.0, 0.0],
-            [0.0, 1.0 / half, 0.0, 0.0],
-            [0.0, 0.0, -0.2, -0.1],
-            [0.0, 0.0, 0.0, 1.0],
-        ]),
+        projection: common::orthographic(half, 0.5, 5.5),
         width: size,
         height: size,
     }

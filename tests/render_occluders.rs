@@ -10,7 +10,7 @@ use std::sync::OnceLock;
 use pelt::render::{Camera, Lighting, Occluders, RenderSettings, RgbaImage};
 
 use common::torus::{FurredTorus, covered, differing};
-use common::{column_major, look_at, parameter_name};
+use common::{look_at, orthographic, parameter_name};
 
 const SIZE: u32 = 96;
 /// Fur height, object units (the painted lengths are all 1).
@@ -31,12 +31,7 @@ fn fixture() -> &'static FurredTorus {
 fn top() -> Camera {
     Camera {
         view: look_at([0.0, 0.0, 3.0], [0.0, 1.0, 0.0]),
-        projection: column_major([
-            [1.0 / HALF, 0.0, 0.0, 0.0],
-            [0.0, 1.0 / HALF, 0.0, 0.0],
-            [0.0, 0.0, -0.2, -0.1],
-            [0.0, 0.0, 0.0, 1.0],
-        ]),
+        projection: orthographic(HALF, 0.5, 5.5),
         width: SIZE,
         height: SIZE,
     }
@@ -84,7 +79,7 @@ fn render(occluders: Option<&Occluders>) -> RgbaImage {
         None => f.render(&scene, &top(), &settings()),
         Some(o) => f
             .renderer
-            .render_over(&scene, &top(), &Lighting::default(), &settings(), o)
+            .render_over(&scene, &top(), &Lighting::default(), &settings(), Some(o))
             .unwrap(),
     }
 }
@@ -229,7 +224,13 @@ fn occluders_that_do_not_fit_the_frame_are_named() {
     let bad = |occluders: Occluders| {
         parameter_name(
             f.renderer
-                .render_over(&scene, &top(), &Lighting::default(), &settings(), &occluders)
+                .render_over(
+                    &scene,
+                    &top(),
+                    &Lighting::default(),
+                    &settings(),
+                    Some(&occluders),
+                )
                 .unwrap_err(),
         )
     };

@@ -342,14 +342,13 @@ impl PyPreview {
         let (info, pixels) = detached(py, || {
             let scene = self.lock_scene();
             let info = self.renderer.frame_info(&scene, &camera, &settings)?;
-            let r = &self.renderer;
-            let pixels = match (&occluders, linear) {
-                (None, true) => Err(r.render_linear(&scene, &camera, &lighting, &settings)?.pixels),
-                (None, false) => Ok(r.render(&scene, &camera, &lighting, &settings)?.pixels),
-                (Some(o), true) => Err(r
+            let (r, o) = (&self.renderer, occluders.as_ref());
+            let pixels = if linear {
+                Err(r
                     .render_linear_over(&scene, &camera, &lighting, &settings, o)?
-                    .pixels),
-                (Some(o), false) => Ok(r.render_over(&scene, &camera, &lighting, &settings, o)?.pixels),
+                    .pixels)
+            } else {
+                Ok(r.render_over(&scene, &camera, &lighting, &settings, o)?.pixels)
             };
             Ok((info, pixels))
         })?;

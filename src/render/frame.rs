@@ -131,12 +131,12 @@ impl Renderer {
         lighting: &Lighting,
         settings: &RenderSettings,
     ) -> Result<RgbaImage> {
-        let bytes = self.render_to(scene, camera, lighting, settings, Target::Srgb8, None)?;
-        Ok(RgbaImage::from_premultiplied(camera.width, camera.height, bytes))
+        self.render_over(scene, camera, lighting, settings, None)
     }
 
     /// [`Renderer::render`] for compositing into another renderer's picture of the same view:
-    /// the fur behind `occluders` (that picture's depth, pushed back by their bias) is hidden.
+    /// the fur behind `occluders` (that picture's depth, pushed back by their bias) is hidden;
+    /// `None` draws it over everything, as [`Renderer::render`].
     ///
     /// # Errors
     /// As [`Renderer::render`]; [`PeltError::InvalidParameter`] naming `occluders.depth` or
@@ -147,9 +147,9 @@ impl Renderer {
         camera: &Camera,
         lighting: &Lighting,
         settings: &RenderSettings,
-        occluders: &Occluders,
+        occluders: Option<&Occluders>,
     ) -> Result<RgbaImage> {
-        let bytes = self.render_to(scene, camera, lighting, settings, Target::Srgb8, Some(occluders))?;
+        let bytes = self.render_to(scene, camera, lighting, settings, Target::Srgb8, occluders)?;
         Ok(RgbaImage::from_premultiplied(camera.width, camera.height, bytes))
     }
 
@@ -165,12 +165,7 @@ impl Renderer {
         lighting: &Lighting,
         settings: &RenderSettings,
     ) -> Result<LinearImage> {
-        let bytes = self.render_to(scene, camera, lighting, settings, Target::Linear16, None)?;
-        Ok(LinearImage::from_premultiplied_f16(
-            camera.width,
-            camera.height,
-            &bytes,
-        ))
+        self.render_linear_over(scene, camera, lighting, settings, None)
     }
 
     /// [`Renderer::render_linear`] behind `occluders`, as [`Renderer::render_over`].
@@ -183,16 +178,9 @@ impl Renderer {
         camera: &Camera,
         lighting: &Lighting,
         settings: &RenderSettings,
-        occluders: &Occluders,
+        occluders: Option<&Occluders>,
     ) -> Result<LinearImage> {
-        let bytes = self.render_to(
-            scene,
-            camera,
-            lighting,
-            settings,
-            Target::Linear16,
-            Some(occluders),
-        )?;
+        let bytes = self.render_to(scene, camera, lighting, settings, Target::Linear16, occluders)?;
         Ok(LinearImage::from_premultiplied_f16(
             camera.width,
             camera.height,

@@ -55,6 +55,13 @@ def furred_suzanne():
     return obj
 
 
+def heard(live) -> None:
+    """The edit reaches the preview as in Blender: the depsgraph handler hears it, then the check
+    timer (which does not run headless) reads the mesh again."""
+    bpy.context.view_layer.update()
+    live.run_checks()
+
+
 def drawn(live, obj, view=None, timeout=120.0) -> np.ndarray:
     """Requests a frame as the draw callback does, waits for the worker, returns ``[H, W, 4]``."""
     session = live.session_of(obj, create=True)
@@ -192,8 +199,7 @@ def test_painted_colors_reach_the_picture_without_a_bake(live):
     obj.data.attributes["pelt_color"].data.foreach_set(
         "color", np.tile([1.0, 0.0, 0.0, 1.0], n).astype(np.float32)
     )
-    bpy.context.view_layer.update()  # the depsgraph handler hears the edit
-    live.run_checks()
+    heard(live)
     after = drawn(live, obj)
     covered = (before[..., 3] > 0.5) & (after[..., 3] > 0.5)
     red_before = before[covered, 0] - before[covered, 1]
@@ -205,14 +211,12 @@ def test_painted_colors_reach_the_picture_without_a_bake(live):
     obj.data.attributes.new("pelt_length", "FLOAT", "POINT").data.foreach_set(
         "value", np.full(n, 0.2, np.float32)
     )
-    bpy.context.view_layer.update()
-    live.run_checks()
+    heard(live)
     shorter = drawn(live, obj)
     assert (shorter[..., 3] > 0.5).sum() < (after[..., 3] > 0.5).sum() and not session.out_of_date
     # Without paint the bake grows the coat as set, not under paint: out of date.
     obj.data.attributes.remove(obj.data.attributes["pelt_color"])
-    bpy.context.view_layer.update()
-    live.run_checks()
+    heard(live)
     assert session.out_of_date
 
 
@@ -229,8 +233,7 @@ def test_a_comb_stroke_leans_the_fur_at_once_and_asks_for_a_bake(live):
     obj.data.attributes["pelt_comb"].data.foreach_set(
         "vector", np.tile([3.0, 0.0, 0.0], n).astype(np.float32)
     )
-    bpy.context.view_layer.update()
-    live.run_checks()
+    heard(live)
     after = drawn(live, obj)
 
     def lean(pixels):
@@ -339,3 +342,20 @@ def test_depth_at_half_size_keeps_the_nearest_of_each_block(addon):
     for r in range(4):
         for c in range(6):
             assert small[r, c] == depth[rows[r] : rows[r + 1], cols[c] : cols[c + 1]].min()
+
+
+def test_a_renamed_object_keeps_its_preview_and_a_deleted_one_frees_it(live):
+    obj = furred_suzanne()
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    drawn(live, obj)
+    session = live.session_of(obj)
+    obj.name = "Renamed"
+    obj.pelt.tile_size *= 1.5
+    live.poll()  # the settings are still followed under the new name
+    live.run_checks()
+    assert session.name == "Renamed" and session.out_of_date
+    worker = session.worker
+    bpy.data.objects.remove(obj)
+    live.poll()
+    worker._thread.join(30.0)
+    assert not worker.alive and not live._State.sessions
