@@ -32,9 +32,9 @@ ADDON_SOURCES := $(shell find addon -type f -not -path '*/__pycache__/*' 2>/dev/
 WHEEL_STAMP := build/wheels/.stamp
 INSTALL_STAMP := $(VENV)/.pelt-installed
 ZIP := dist/pelt-$(VERSION)-linux_x64.zip
-# Pelt's node trees built once, which the add-on appends on a first bake (addon/templates.py).
+# Pelt's node trees built once, which the add-on appends on a first bake (addon/blender/templates.py).
 TEMPLATES := addon/assets/node_templates.blend
-TEMPLATE_SOURCES := $(addprefix addon/,node_graph.py materials.py geonodes.py templates.py)
+TEMPLATE_SOURCES := $(addprefix addon/blender/,node_graph.py materials.py geonodes.py templates.py) addon/io/names.py
 
 # Mesa prints a warning without a runtime folder; the tests and the renderer do not need a real one.
 export XDG_RUNTIME_DIR ?= /tmp/pelt-runtime-$(shell id -u)

@@ -27,11 +27,11 @@ def bake_file(addon, blend: Path, out: Path, modes: list[str], formats: list[str
         print(f"{blend.name}: no furred objects", flush=True)
     for obj in objects:
         start = time.perf_counter()
-        folder = out / blend.stem / addon.export.file_stem(obj.name)
+        folder = out / blend.stem / addon.blender.export.file_stem(obj.name)
         try:
             for mode in modes:
-                path = folder / f"{addon.export.file_stem(obj.name)}_{mode}.glb"
-                _, notes = addon.export.export_objects(
+                path = folder / f"{addon.blender.export.file_stem(obj.name)}_{mode}.glb"
+                _, notes = addon.blender.export.export_objects(
                     [obj], path, mode=mode, formats=formats if mode == modes[0] else []
                 )
             for note in notes:

@@ -60,7 +60,7 @@ def main() -> None:
     args = parser.parse_args()
 
     addon = register_addon()
-    live = addon.live_preview
+    live = addon.blender.live_preview
     bpy.ops.wm.read_factory_settings(use_empty=True)
     bpy.ops.mesh.primitive_uv_sphere_add(segments=192, ring_count=80, radius=1.0)
     obj = bpy.context.active_object
@@ -135,7 +135,7 @@ def main() -> None:
     strokes = []
     color = mesh.attributes["pelt_color"]
     painted = np.ones((n, 4), np.float32)
-    positions = addon.bridge.read_positions(mesh)
+    positions = addon.io.bridge.read_positions(mesh)
     for i in range(5):
         centre = np.array([0.2 * (i - 2), -1.0, 0.1 * i], np.float32)
         painted[np.linalg.norm(positions - centre, axis=1) < 0.3, 1:3] = 0.1

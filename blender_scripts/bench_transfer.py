@@ -35,11 +35,11 @@ def bake_overhead(addon, obj, size: str) -> list:
     object (Pelt's materials and node tree built from nothing) and the median of three more
     with fresh pipelines (every stage runs again; the node trees are kept, their inputs being
     unchanged)."""
-    bake, writer = addon.bake, addon.writer
+    bake, writer = addon.blender.bake, addon.blender.writer
     obj.pelt.tile_size = 0.05
     pipeline_times, overhead_times = [], []
     for _ in range(4):
-        addon.preferences.CACHE.clear()
+        addon.blender.preferences.CACHE.clear()
         start = time.perf_counter()
         job = bake.start_job(obj)
         read = time.perf_counter() - start
@@ -77,7 +77,7 @@ def main() -> None:
     args = parser.parse_args()
 
     addon = register_addon()
-    bridge = addon.bridge
+    bridge = addon.io.bridge
     bpy.ops.wm.read_factory_settings(use_empty=True)
     bpy.ops.mesh.primitive_grid_add(x_subdivisions=317, y_subdivisions=317, size=2.0)
     mesh = bpy.context.active_object.data

@@ -3,7 +3,7 @@
 Usage: python blender_scripts/build_node_templates.py [OUT.blend]
 
 The add-on appends these instead of building the trees node by node on a first bake (see
-``addon/templates.py``); ``make`` runs this whenever the code that builds them changes.
+``addon/blender/templates.py``); ``make`` runs this whenever the code that builds them changes.
 """
 
 import sys
@@ -15,7 +15,7 @@ from _setup import register_addon
 
 def main() -> None:
     register_addon()
-    from addon import fur, templates
+    from addon.blender import fur, templates
 
     out = Path(sys.argv[1]) if len(sys.argv) > 1 else templates.PATH
     bpy.ops.wm.read_factory_settings(use_empty=True)

@@ -171,7 +171,7 @@ def main() -> None:
     bake_report = json.loads(settings.last_bake)
 
     # The asset of that bake: the cached pipeline answers at once (every stage reused).
-    asset = addon.bake.start_job(obj).start()
+    asset = addon.blender.bake.start_job(obj).start()
     asset.wait()
     asset = asset.asset
     fur = asset.mesh
@@ -187,7 +187,7 @@ def main() -> None:
     scene = bpy.context.scene
     stage_scene(scene)
     layers = volume["layers"]
-    addon.fur.prepare_scene(scene, addon.fur_layout.FurSettings(layers=layers, shells=layers))
+    addon.blender.fur.prepare_scene(scene, addon.io.fur_layout.FurSettings(layers=layers, shells=layers))
     start = time.perf_counter()
     render_cycles(scene, (args.out / "cycles.png").resolve(), args.cycles_size, args.cycles_samples)
     timings["cycles_frame_s"] = time.perf_counter() - start

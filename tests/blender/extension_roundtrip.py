@@ -46,7 +46,7 @@ result["baked_stages"] = [s["stage"] for s in json.loads(obj.pelt.last_bake)["st
 result["uv"] = "PeltUV" in obj.data.uv_layers
 result["images"] = sorted(im["pelt_role"] for im in bpy.data.images if im.get("pelt_owner") == obj.name)
 # The packaged node trees are current for the packaged sources (so a first bake appends them).
-templates = sys.modules["bl_ext.user_default.pelt.templates"]
+templates = sys.modules["bl_ext.user_default.pelt.blender.templates"]
 copies = templates._append(list(templates.ROLES))
 result["templates_current"] = sorted(copies)
 for role, block in copies.items():

@@ -107,7 +107,7 @@ def test_bad_setting_cancels_and_changes_nothing(addon):
 
 
 def test_cancel_mid_bake_writes_nothing(addon):
-    from addon import bake
+    from addon.blender import bake
 
     obj = furred_suzanne()
     obj.pelt.resolution = "512"
@@ -184,7 +184,7 @@ def test_undo_restores_the_scene_before_the_bake(addon):
 
 
 def test_presets_set_every_preset_field(addon):
-    from addon.presets import PRESET_KEYS, PRESETS
+    from addon.io.presets import PRESET_KEYS, PRESETS
 
     obj = add_suzanne()
     for key, preset in PRESETS.items():
@@ -234,9 +234,9 @@ def test_a_bake_above_the_memory_limit_is_refused_and_the_panel_warns_first(addo
     obj.pelt.resolution = "1024"
     obj.pelt.layers = 128
     # The preference's own update: 0.5 GiB, then back to the default (half the memory).
-    addon.preferences._apply_memory(SimpleNamespace(memory_limit_gib=0.5))
+    addon.blender.preferences._apply_memory(SimpleNamespace(memory_limit_gib=0.5))
     try:
-        peak, limit = addon.bake.memory_estimate(obj)
+        peak, limit = addon.blender.bake.memory_estimate(obj)
         assert limit == 2**29 and peak > 128 * 1024**2 * 12
         before = datablock_snapshot()
         with pytest.raises(
@@ -245,9 +245,9 @@ def test_a_bake_above_the_memory_limit_is_refused_and_the_panel_warns_first(addo
             bpy.ops.pelt.bake()
         assert datablock_snapshot() == before
     finally:
-        addon.preferences._apply_memory(SimpleNamespace(memory_limit_gib=0.0))
+        addon.blender.preferences._apply_memory(SimpleNamespace(memory_limit_gib=0.0))
     assert pelt.memory_limit() > 2**29
     obj.pelt.resolution = "64"
     obj.pelt.layers = 8
-    peak, limit = addon.bake.memory_estimate(obj)
+    peak, limit = addon.blender.bake.memory_estimate(obj)
     assert peak < 2**28 < limit

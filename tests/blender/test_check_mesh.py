@@ -80,7 +80,7 @@ def test_check_reads_pelt_point_attributes(addon):
     mesh.attributes.new("pelt_comb", "FLOAT_VECTOR", "POINT").data.foreach_set("vector", np.zeros(3 * n))
     length = np.linspace(0, 2, n)
     mesh.attributes.new("pelt_length", "FLOAT", "POINT").data.foreach_set("value", length)
-    from addon import bridge
+    from addon.io import bridge
 
     fur = bridge.fur_mesh_from_object(obj)
     np.testing.assert_allclose(fur.length, length, rtol=1e-6)

@@ -344,7 +344,7 @@ def expected_dab(obj, region, rv3d, mouse, drag, radius_px):
 
 
 def start_session(addon, obj):
-    from addon import comb
+    from addon.blender import comb
 
     return comb, comb.CombSession(obj)
 
@@ -434,7 +434,7 @@ def test_each_stroke_is_one_undo_step(addon):
 def test_screen_projection_matches_blender(addon):
     obj = add_suzanne()
     region, rv3d = viewport()
-    from addon import comb
+    from addon.blender import comb
 
     view = comb.screen_view(region, rv3d)
     world = vertex_array(obj.data.vertices, "co", 3)[::25]
@@ -455,7 +455,7 @@ def test_screen_projection_matches_blender(addon):
 
 
 def test_the_sidebar_button_combs_in_the_main_viewport(addon):
-    from addon import comb
+    from addon.blender import comb
 
     window = bpy.context.window_manager.windows[0]
     area = next(a for a in window.screen.areas if a.type == "VIEW_3D")

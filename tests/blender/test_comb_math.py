@@ -1,4 +1,4 @@
-"""The pure comb math (``addon/comb_math.py``, ``addon/paint_math.py``): no Blender data involved,
+"""The pure comb math (``addon/io/comb_math.py``, ``addon/io/paint_math.py``): no Blender data involved,
 each result checked against a direct computation or a known value."""
 
 import sys
@@ -10,7 +10,7 @@ from conftest import REPO
 if str(REPO) not in sys.path:
     sys.path.insert(0, str(REPO))
 
-from addon import comb_math, paint_math
+from addon.io import comb_math, paint_math
 
 
 @pytest.fixture

@@ -270,7 +270,7 @@ def test_user_flow_mirrored_armature_character_baked_posed_exported_and_reimport
         pixels = np.empty(4 * image.size[0] * image.size[1], np.float32)
         image.pixels.foreach_get(pixels)
         frames[frame] = pixels.reshape(image.size[1], image.size[0], 4)
-    from addon import pose
+    from addon.blender import pose
 
     assert body.session_uid not in pose.NOTES
     covered = [f[..., 3] > 0.5 for f in frames.values()]

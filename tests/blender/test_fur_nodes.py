@@ -1,6 +1,6 @@
-"""Pelt's Blender fur (``addon/materials.py``, ``addon/geonodes.py``, ``addon/fur.py``) in the real
-bpy: the evaluated shells and fins against numpy from the base mesh, the materials, ownership of
-the datablocks, and small Cycles / EEVEE renders."""
+"""Pelt's Blender fur (``materials.py``, ``geonodes.py``, ``fur.py`` in ``addon/blender/``) in the
+real bpy: the evaluated shells and fins against numpy from the base mesh, the materials, ownership
+of the datablocks, and small Cycles / EEVEE renders."""
 
 import functools
 import math
@@ -21,7 +21,8 @@ TILE = 0.5
 @pytest.fixture
 def addon(addon):
     """The registered add-on with its fur modules imported (they register no classes)."""
-    from addon import bridge, fur, fur_layout, ownership  # noqa: F401
+    from addon.blender import fur  # noqa: F401
+    from addon.io import bridge, fur_layout, ownership  # noqa: F401
 
     return addon
 
@@ -53,7 +54,7 @@ def furred_sphere(addon, *, segments=16, rings=8, length=None, comb=None, color=
     if comb is not None:
         attribute = mesh.attributes.new("pelt_comb", "FLOAT_VECTOR", "POINT")
         attribute.data.foreach_set("vector", comb(position).astype(np.float32).ravel())
-    bridge = addon.bridge
+    bridge = addon.io.bridge
     patches = pelt.build_patches(bridge.read_mesh(mesh).fur_mesh(), tile_size=TILE, seed=1)
     bridge.write_patches(mesh, patches)
     volume, atlas, layout = baked_volume()
@@ -62,18 +63,18 @@ def furred_sphere(addon, *, segments=16, rings=8, length=None, comb=None, color=
         "fin": bridge.write_image(bpy.data.images, f"Pelt Fin {OBJECT}", volume["fin"]),
     }
     for role, image in images.items():
-        addon.ownership.tag(image, OBJECT, role)
+        addon.io.ownership.tag(image, OBJECT, role)
     return obj, images, layout
 
 
 def settings_for(addon, layers=None, **rest):
     volume, _, _ = baked_volume()
     layers = volume["layers"] if layers is None else layers
-    return addon.fur_layout.FurSettings(layers=layers, tile_size=TILE, **{"shells": layers, **rest})
+    return addon.io.fur_layout.FurSettings(layers=layers, tile_size=TILE, **{"shells": layers, **rest})
 
 
 def build(addon, obj, images, layout, settings):
-    return addon.fur.build_fur(obj, images, layout, settings)
+    return addon.blender.fur.build_fur(obj, images, layout, settings)
 
 
 def evaluated(obj):
@@ -303,18 +304,18 @@ def test_users_look_alike_datablocks_are_never_touched(addon):
     user_group = bpy.data.node_groups.new(f"Pelt Fur {OBJECT}", "GeometryNodeTree")
     obj, images, layout = furred_sphere(addon)
     other = bpy.data.materials.new("Pelt Fin Other")
-    addon.ownership.tag(other, "Other", "fin_material")
+    addon.io.ownership.tag(other, "Other", "fin_material")
 
     modifier = build(addon, obj, images, layout, settings_for(addon, shells=2))
     assert user.name == f"Pelt Fur {OBJECT}" and "pelt_owner" not in user
     assert sorted(n.name for n in user.node_tree.nodes) == user_nodes
     assert tuple(user.diffuse_color) == pytest.approx((0.1, 0.9, 0.1, 1.0))
     assert modifier.node_group != user_group and len(user_group.nodes) == 0
-    ours = addon.ownership.find_owned(bpy.data.materials, OBJECT, "fur_material")
+    ours = addon.io.ownership.find_owned(bpy.data.materials, OBJECT, "fur_material")
     assert ours is not user and ours.name.startswith(f"Pelt Fur {OBJECT}.")
     assert set(material_of_faces(evaluated(obj))) == {ours.name, f"Pelt Fin {OBJECT}"}
 
-    fur = addon.fur
+    fur = addon.blender.fur
     fur.remove_fur(obj, images=True)
     assert (
         bpy.data.materials.get(user.name) == user and bpy.data.node_groups.get(user_group.name) == user_group
@@ -323,7 +324,7 @@ def test_users_look_alike_datablocks_are_never_touched(addon):
 
 
 def test_remove_fur_leaves_no_pelt_datablock(addon):
-    fur = addon.fur
+    fur = addon.blender.fur
     obj, images, layout = furred_sphere(addon)
     before = datablock_snapshot()
     build(addon, obj, images, layout, settings_for(addon))
@@ -335,12 +336,12 @@ def test_remove_fur_leaves_no_pelt_datablock(addon):
     )
     fur.remove_fur(obj, images=True)
     for collection in (bpy.data.materials, bpy.data.node_groups, bpy.data.images):
-        assert addon.ownership.all_owned(collection, OBJECT) == []
+        assert addon.io.ownership.all_owned(collection, OBJECT) == []
     assert len(obj.modifiers) == 0 and len(evaluated(obj).polygons) == len(obj.data.polygons)
 
 
 def test_bad_inputs_raise_before_anything_changes(addon):
-    fur = addon.fur
+    fur = addon.blender.fur
     obj, images, layout = furred_sphere(addon)
     before = datablock_snapshot()
     settings = settings_for(addon)
@@ -357,9 +358,9 @@ def test_bad_inputs_raise_before_anything_changes(addon):
     bpy.data.lights.remove(bpy.data.lights["Lamp"])
     assert datablock_snapshot() == before
     with pytest.raises(pelt.InvalidParameterError, match="shells"):
-        addon.fur_layout.FurSettings(layers=4, shells=5)
+        addon.io.fur_layout.FurSettings(layers=4, shells=5)
     with pytest.raises(pelt.InvalidParameterError, match="depth"):
-        addon.fur_layout.FurSettings(depth=float("nan"))
+        addon.io.fur_layout.FurSettings(depth=float("nan"))
 
 
 def test_atlas_uv_reads_every_layer_from_the_blender_image(addon):
@@ -373,14 +374,14 @@ def test_atlas_uv_reads_every_layer_from_the_blender_image(addon):
     for tiles in (0.0, 3.0, -2.0):
         for k in range(layers):
             uv = np.stack([u + tiles, v - tiles], axis=-1)
-            a = addon.fur_layout.atlas_uv(uv, np.full(u.shape, k), layout["columns"], layout["rows"], res)
+            a = addon.io.fur_layout.atlas_uv(uv, np.full(u.shape, k), layout["columns"], layout["rows"], res)
             x = np.floor(a[..., 0] * layout["width"]).astype(int)
             y = np.floor(a[..., 1] * layout["height"]).astype(int)
             np.testing.assert_array_equal(blender_rows[y, x], volume["shells"][k])
     # Exactly on a tile's border (fract = 0), the lookup stays in its own cell.
     edges = np.array([[0.0, 0.0], [1.0, 1.0], [2.0, 0.0]])
     for k in range(layers):
-        a = addon.fur_layout.atlas_uv(edges, np.full(3, k), layout["columns"], layout["rows"], res)
+        a = addon.io.fur_layout.atlas_uv(edges, np.full(3, k), layout["columns"], layout["rows"], res)
         column, row = k % layout["columns"], k // layout["columns"]
         assert np.all(np.floor(a[:, 0] * layout["columns"]) == column)
         assert np.all(np.floor((1.0 - a[:, 1]) * layout["rows"]) == row)
@@ -388,7 +389,7 @@ def test_atlas_uv_reads_every_layer_from_the_blender_image(addon):
 
 def test_settings_for_a_trimmed_volume_keep_the_layer_spacing(addon):
     # 6 layers kept of 8 asked for: layer k still sits at k / 8 of the depth asked for.
-    settings = addon.fur_layout.FurSettings.for_volume({"layers": 6, "layer_spacing": 0.125}, depth=0.4)
+    settings = addon.io.fur_layout.FurSettings.for_volume({"layers": 6, "layer_spacing": 0.125}, depth=0.4)
     assert (settings.layers, settings.shells) == (6, 6)
     assert settings.depth / settings.layers == pytest.approx(0.4 / 8)
 
@@ -441,7 +442,7 @@ def covered(pixels: np.ndarray) -> np.ndarray:
 
 
 def fur_grows_the_silhouette(addon, tmp_path, engine, size, samples):
-    fur = addon.fur
+    fur = addon.blender.fur
 
     # Painted red above the equator, blue below.
     def color(p):

@@ -45,8 +45,8 @@ def test_bake_writes_the_guard_hairs_as_curves_on_the_mesh(addon):
     curves = hair.data
     assert curves.surface == obj
     # The same bake in the library gives the strands the object shows.
-    options = addon.bake.bake_options(obj)
-    mesh = addon.bridge.read_object(obj).fur_mesh()
+    options = addon.blender.bake.bake_options(obj)
+    mesh = addon.io.bridge.read_object(obj).fur_mesh()
     guard = pelt.Pipeline().bake(mesh, **options).guard_hairs
     assert len(curves.curves) == len(guard["counts"]) > 100
     positions = np.empty(3 * len(curves.points), np.float32)

@@ -17,7 +17,7 @@ def world(color, strength):
 
 
 def test_constant_world_is_its_radiance_times_the_integral_of_y00(addon):
-    from addon import lighting
+    from addon.blender import lighting
 
     world((0.2, 0.4, 0.6), 2.0)
     sh = lighting.world_sh(bpy.context.scene, 3)
@@ -27,7 +27,7 @@ def test_constant_world_is_its_radiance_times_the_integral_of_y00(addon):
 
 
 def test_environment_texture_projects_the_image(addon):
-    from addon import lighting
+    from addon.blender import lighting
 
     w = world((0, 0, 0), 1.5)
     height, width = 16, 32
@@ -45,7 +45,7 @@ def test_environment_texture_projects_the_image(addon):
 
 
 def test_a_sun_adds_its_cap_along_its_axis(addon):
-    from addon import lighting
+    from addon.blender import lighting
 
     world((0, 0, 0), 0.0)
     sun = bpy.data.lights.new("Sun", "SUN")
@@ -66,7 +66,7 @@ def test_a_sun_adds_its_cap_along_its_axis(addon):
 def test_kajiya_kay_takes_the_worlds_mean_radiance_as_ambient(addon):
     # A preview lit by a sun under a black World once kept the renderer's default ambient (0.12),
     # lighting the fur a sun leaves in shadow (6.8x the reference under a back light).
-    from addon import preview
+    from addon.blender import preview
 
     obj = bpy.data.objects.new("Furred", bpy.data.meshes.new("Furred"))
     bpy.context.scene.collection.objects.link(obj)

@@ -42,9 +42,9 @@ def view_of(obj, distance=5.0, turn=0.0) -> np.ndarray:
 
 @pytest.fixture
 def live(addon):
-    addon.live_preview.start()
-    yield addon.live_preview
-    addon.live_preview.stop()
+    addon.blender.live_preview.start()
+    yield addon.blender.live_preview
+    addon.blender.live_preview.stop()
 
 
 def furred_suzanne():
@@ -266,7 +266,7 @@ def test_a_missing_gpu_falls_back_to_the_cpu(live, addon):
     obj = furred_suzanne()
     assert bpy.ops.pelt.bake() == {"FINISHED"}
     try:
-        pelt.Preview(addon.bake.RECORDS[obj.session_uid].asset, adapter="gpu")
+        pelt.Preview(addon.blender.bake.RECORDS[obj.session_uid].asset, adapter="gpu")
         pytest.skip("this machine has a GPU adapter")
     except pelt.PeltError:
         pass
@@ -335,7 +335,7 @@ def test_a_slow_worker_draws_half_size_first_then_sharpens(live):
 def test_depth_at_half_size_keeps_the_nearest_of_each_block(addon):
     rng = np.random.default_rng(3)
     depth = rng.random((9, 13)).astype(np.float32)
-    small = addon.live.scaled_depth(depth, 6, 4)
+    small = addon.io.live.scaled_depth(depth, 6, 4)
     assert small.shape == (4, 6)
     rows = [0, 2, 4, 6, 9]  # floor(k · 9 / 4)
     cols = [0, 2, 4, 6, 8, 10, 13]  # floor(k · 13 / 6)

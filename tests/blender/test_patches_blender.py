@@ -23,9 +23,9 @@ def face_patches(mesh):
 def test_quad_mesh_gets_one_uv_per_loop_and_a_patch_per_face(addon):
     bpy.ops.mesh.primitive_grid_add(x_subdivisions=12, y_subdivisions=9, size=2.0)
     mesh = bpy.context.active_object.data
-    arrays = addon.bridge.read_mesh(mesh)
+    arrays = addon.io.bridge.read_mesh(mesh)
     patches = pelt.build_patches(arrays.fur_mesh(), tile_size=0.5, seed=3)
-    addon.bridge.write_patches(mesh, patches)
+    addon.io.bridge.write_patches(mesh, patches)
 
     assert mesh.uv_layers.get("PeltUV") is not None
     uv = loop_uvs(mesh)
@@ -46,7 +46,7 @@ def test_quad_mesh_gets_one_uv_per_loop_and_a_patch_per_face(addon):
 
 def test_suzanne_is_fully_covered_without_flips(addon):
     obj = add_suzanne()
-    arrays = addon.bridge.read_mesh(obj.data)
+    arrays = addon.io.bridge.read_mesh(obj.data)
     patches = pelt.build_patches(arrays.fur_mesh(), tile_size=0.1, seed=1)
     quality = patches.quality
     assert quality["coverage"] == pytest.approx(1.0)
@@ -54,7 +54,7 @@ def test_suzanne_is_fully_covered_without_flips(addon):
     # The quality bar on Suzanne: hair within 3° of the field, little stretch.
     assert quality["mean_alignment_deg"] <= 3.0
     assert quality["stretch_within_fraction"] >= 0.95
-    addon.bridge.write_patches(obj.data, patches)
+    addon.io.bridge.write_patches(obj.data, patches)
     assert np.isfinite(loop_uvs(obj.data)).all()
     assert (face_patches(obj.data) >= 0).all()
 
@@ -62,10 +62,10 @@ def test_suzanne_is_fully_covered_without_flips(addon):
 def test_patches_of_another_mesh_change_nothing(addon):
     bpy.ops.mesh.primitive_grid_add(x_subdivisions=4, y_subdivisions=4)
     small = bpy.context.active_object.data
-    patches = pelt.build_patches(addon.bridge.read_mesh(small).fur_mesh(), tile_size=0.5)
+    patches = pelt.build_patches(addon.io.bridge.read_mesh(small).fur_mesh(), tile_size=0.5)
     obj = add_suzanne()
     with pytest.raises(pelt.InvalidMeshError, match="bake them again"):
-        addon.bridge.write_patches(obj.data, patches)
+        addon.io.bridge.write_patches(obj.data, patches)
     assert obj.data.uv_layers.get("PeltUV") is None
     assert obj.data.attributes.get("pelt_patch") is None
 
@@ -75,7 +75,7 @@ def test_subdivided_suzanne_over_100k_triangles(addon):
     modifier = obj.modifiers.new("Subdivision", "SUBSURF")
     modifier.levels = 4
     bpy.ops.object.modifier_apply(modifier=modifier.name)
-    arrays = addon.bridge.read_mesh(obj.data)
+    arrays = addon.io.bridge.read_mesh(obj.data)
     assert len(arrays.triangles) >= 100_000
     patches = pelt.build_patches(arrays.fur_mesh(), tile_size=0.05, seed=1)
     quality = patches.quality

@@ -94,7 +94,7 @@ def overlap(a: np.ndarray, b: np.ndarray) -> float:
 
 @pytest.mark.parametrize("deformer", ["armature", "shape_key"])
 def test_preview_follows_the_pose_without_a_bake(addon, deformer):
-    from addon import preview
+    from addon.blender import preview
 
     side_camera()
     obj = furred(tube())
@@ -131,7 +131,7 @@ def render_of(obj) -> np.ndarray:
 def test_after_bake_the_pose_is_read_under_pelts_own_fur_modifier(addon):
     # Bake adds Pelt's Geometry Nodes fur (skin, shells, fins) after the armature: the evaluated
     # mesh has more vertices than the bake, the skin's first.
-    from addon import geonodes, pose
+    from addon.blender import geonodes, pose
 
     side_camera()
     obj = furred(tube())
@@ -152,7 +152,7 @@ def test_after_bake_the_pose_is_read_under_pelts_own_fur_modifier(addon):
 
 
 def test_a_modifier_that_changes_the_topology_keeps_the_rest_shape_and_says_why(addon):
-    from addon import panels, pose
+    from addon.blender import panels, pose
 
     side_camera()
     obj = furred(tube())

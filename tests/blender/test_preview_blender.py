@@ -62,7 +62,7 @@ def test_render_preview_draws_the_shells_as_the_object_asks(addon):
         obj.pelt.shell_method = method
         assert bpy.ops.pelt.render_preview() == {"FINISHED"}
         images[method] = preview_pixels()
-    from addon import preview
+    from addon.blender import preview
 
     assert not np.array_equal(images["INSTANCED"], images["MARCHED"])
     # The virtual planes: their slices are baked for them (and only for them), and they cover
@@ -108,7 +108,7 @@ def test_render_preview_without_a_camera_changes_nothing(addon):
 
 
 def test_object_lighting_turns_the_world_into_the_objects_frame(addon):
-    from addon import preview
+    from addon.blender import preview
 
     obj = add_suzanne()
     sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
@@ -153,7 +153,7 @@ def test_the_preview_is_stored_scene_linear_for_the_view_transform(addon):
     image = next(im for im in bpy.data.images if im.get("pelt_role") == "preview")
     assert image.is_float and not image.colorspace_settings.is_data
     assert image.colorspace_settings.name in ("Linear Rec.709", "Linear")
-    from addon import preview
+    from addon.blender import preview
 
     linear = preview.render_camera(bpy.context, obj)
     assert linear.dtype == np.float32

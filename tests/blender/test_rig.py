@@ -1,4 +1,4 @@
-"""The skin of an armature-deformed mesh (``addon/rig.py``), checked against Blender itself: linear
+"""The skin of an armature-deformed mesh (``addon/blender/rig.py``), checked against Blender itself: linear
 blend skinning computed here from the gathered arrays alone must put every vertex where the
 Armature modifier does, at every frame of the action, in glTF's Y-up world."""
 
@@ -13,7 +13,7 @@ from conftest import REPO, datablock_snapshot
 from mathutils import Quaternion
 
 # Loaded as a file of its own: the module must not need the add-on's package.
-_spec = importlib.util.spec_from_file_location("pelt_addon_rig", REPO / "addon" / "rig.py")
+_spec = importlib.util.spec_from_file_location("pelt_addon_rig", REPO / "addon" / "blender" / "rig.py")
 rig = importlib.util.module_from_spec(_spec)
 sys.modules[_spec.name] = rig
 _spec.loader.exec_module(rig)

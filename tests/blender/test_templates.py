@@ -1,4 +1,4 @@
-"""Pelt's shipped node trees (``addon/templates.py``): the copies a bake appends equal the trees the
+"""Pelt's shipped node trees (``addon/blender/templates.py``): the copies a bake appends equal the trees the
 code builds, a first bake takes them instead of building, and stale templates or trees baked by
 older code are replaced by fresh ones without leaving anything behind."""
 
@@ -11,7 +11,8 @@ from conftest import datablock_snapshot
 
 @pytest.fixture
 def modules(addon):
-    from addon import fur, fur_layout, geonodes, materials, ownership, templates
+    from addon.blender import fur, geonodes, materials, templates
+    from addon.io import fur_layout, ownership
 
     assert templates.PATH.is_file(), f"{templates.PATH} is missing: `make setup` writes it"
     return fur, fur_layout, geonodes, materials, ownership, templates

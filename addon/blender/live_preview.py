@@ -23,7 +23,8 @@ import numpy as np
 import pelt
 from bpy.app.handlers import persistent
 
-from . import bake, bridge, live, pose, preferences
+from ..io import bridge, live
+from . import bake, pose, preferences
 from .preview import object_lighting, render_options
 
 # Seconds between the main thread's looks for a finished frame or a finished bake.

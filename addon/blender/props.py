@@ -4,7 +4,7 @@ what looks like fur, hard ranges what the library accepts."""
 
 import bpy
 
-from .presets import PRESET_KEYS, PRESETS
+from ..io.presets import PRESET_KEYS, PRESETS
 
 LIGHTING_ITEMS = (
     ("KAJIYA_KAY", "Kajiya-Kay", "Per-pixel hair highlights from the tangent map, darker toward the skin"),

@@ -14,10 +14,12 @@ import bpy
 import numpy as np
 import pelt
 
-from . import bake, bridge, lighting, pose, preferences
-from .ownership import find_owned, tag
+from ..io import bridge
+from ..io.names import datablock_name
+from ..io.ownership import find_owned, tag
+from . import bake, lighting, pose, preferences
 
-PREVIEW_IMAGE = "Pelt Preview"
+PREVIEW_IMAGE = datablock_name("Preview")
 PREVIEW_ROLE = "preview"
 
 # session_uid -> (pelt.Preview, the pipeline's `bakes_that_ran` it was built at)

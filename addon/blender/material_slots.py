@@ -5,8 +5,8 @@ head's eyes stay eyes), as they do in Blender's renders (``geonodes.py``)."""
 
 import numpy as np
 
-from . import bridge
-from .ownership import OWNER
+from ..io import bridge
+from ..io.names import OWNER
 
 # Principled BSDF inputs read into the glTF material, with the defaults of a material without nodes.
 PRINCIPLED = "BSDF_PRINCIPLED"

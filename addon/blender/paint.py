@@ -11,8 +11,10 @@ import bpy
 import numpy as np
 import pelt
 
-from . import paint_math, point_data
-from .point_data import COLOR, LENGTH, LENGTH_PAINT, TargetError
+from ..io import paint_math
+from ..io.names import COLOR, LENGTH, LENGTH_PAINT
+from . import point_data
+from .point_data import TargetError
 
 
 def _paintable_mesh_object(context):

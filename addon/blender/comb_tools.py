@@ -5,8 +5,10 @@ import bpy
 import numpy as np
 import pelt
 
-from . import comb_math, point_data
-from .point_data import COMB, TargetError
+from ..io import comb_math
+from ..io.names import COMB
+from . import point_data
+from .point_data import TargetError
 
 _ERRORS = (TargetError, pelt.PeltError, RuntimeError)
 

@@ -16,7 +16,8 @@ import bpy
 import numpy as np
 import pelt
 
-from . import bridge, geonodes
+from ..io import bridge
+from . import geonodes
 
 # session_uid -> why the object's preview shows the rest shape instead of its pose
 NOTES: dict[int, str] = {}

@@ -4,10 +4,14 @@
 import bpy
 import pelt
 
-from . import bake_job
+from ..io import bake_job
 
 # One cache of bake pipelines for the whole session.
 CACHE = bake_job.PipelineCache()
+
+# Blender registers an extension under its top package (e.g. ``bl_ext.user_default.pelt``), the
+# parent of this module's package.
+PACKAGE = __package__.rpartition(".")[0]
 
 
 def _apply_threads(prefs, _context=None) -> None:
@@ -24,8 +28,7 @@ def _apply_cache(prefs, _context=None) -> None:
 
 
 class PeltPreferences(bpy.types.AddonPreferences):
-    # Extensions are registered under their package name (e.g. ``bl_ext.user_default.pelt``).
-    bl_idname = __package__
+    bl_idname = PACKAGE
 
     threads: bpy.props.IntProperty(
         name="Threads",
@@ -91,7 +94,7 @@ def format_bytes(n: float) -> str:
 def get(context=None):
     """The preferences, or None while the add-on is not registered under its package name."""
     context = context or bpy.context
-    addon = context.preferences.addons.get(__package__)
+    addon = context.preferences.addons.get(PACKAGE)
     return addon.preferences if addon is not None else None
 
 

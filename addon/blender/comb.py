@@ -14,8 +14,10 @@ import bpy
 import numpy as np
 import pelt
 
-from . import comb_draw, comb_math, point_data
-from .point_data import COMB, TargetError
+from ..io import comb_math
+from ..io.names import COMB
+from . import comb_draw, point_data
+from .point_data import TargetError
 
 # Events the comb lets through to the viewport, so the view can still be turned and zoomed.
 NAVIGATION = {

@@ -19,8 +19,10 @@ from pathlib import Path
 import bpy
 import pelt
 
-from . import bridge, guard_hairs
-from .ownership import OWNER, ROLE, find_owned, tag
+from ..io import bridge
+from ..io.names import OWNER, ROLE, datablock_name
+from ..io.ownership import find_owned, tag
+from . import guard_hairs
 
 # Image roles: (name stem, color data?).
 IMAGE_ROLES = {
@@ -62,7 +64,7 @@ def prepare_images(asset: pelt.FurAsset) -> tuple[dict, dict]:
 
 def _image_name(role: str, obj) -> str:
     stem = IMAGE_ROLES.get(role, (f"Transfer {role.removeprefix('transfer_')}", False))[0]
-    return f"Pelt {stem} {obj.name}"
+    return datablock_name(stem, obj.name)
 
 
 def _image_path(name: str):

@@ -11,11 +11,6 @@ import contextlib
 import bpy
 import numpy as np
 
-COLOR = "pelt_color"
-COMB = "pelt_comb"
-LENGTH = "pelt_length"
-LENGTH_PAINT = "pelt_length_paint"
-
 # data type -> (foreach property, columns)
 _LAYOUT = {"FLOAT": ("value", 1), "FLOAT_VECTOR": ("vector", 3), "FLOAT_COLOR": ("color", 4)}
 

@@ -12,7 +12,7 @@ copy of the one it needs, which takes milliseconds.
 
 Each template records the :data:`SIGNATURE` of the sources that built it. When the file is missing
 or was built by other sources, the tree is built here instead, with the same code, so both ways
-give the same tree. Pelt's datablocks record the signature too (``ownership.BUILT``), so a file
+give the same tree. Pelt's datablocks record the signature too (``names.BUILT``), so a file
 baked with older code gets fresh trees on its next bake.
 """
 
@@ -22,16 +22,23 @@ from pathlib import Path
 
 import bpy
 
-from .ownership import find_owned, mark_built, tag, up_to_date
+from ..io.ownership import find_owned, mark_built, tag, up_to_date
 
-PATH = Path(__file__).parent / "assets" / "node_templates.blend"
+# Beside the manifest: data that ships with the extension, not code.
+PATH = Path(__file__).parents[1] / "assets" / "node_templates.blend"
 # A template's custom properties: the signature of the sources that built it, and its role.
 TEMPLATE = "pelt_template"
 TEMPLATE_ROLE = "pelt_template_role"
 
-# The files whose code decides the trees' shapes.
-_SOURCES = ("node_graph.py", "materials.py", "geonodes.py", "templates.py")
-SIGNATURE = hashlib.sha1(b"".join((Path(__file__).parent / f).read_bytes() for f in _SOURCES)).hexdigest()
+# The files whose code decides the trees' shapes (the attribute names they read among them).
+_SOURCES = (
+    "blender/node_graph.py",
+    "blender/materials.py",
+    "blender/geonodes.py",
+    "blender/templates.py",
+    "io/names.py",
+)
+SIGNATURE = hashlib.sha1(b"".join((Path(__file__).parents[1] / f).read_bytes() for f in _SOURCES)).hexdigest()
 
 # Role (``ownership`` tag) → (the ``bpy.data`` collection, the template's name in the file).
 ROLES = {

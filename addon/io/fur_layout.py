@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The numbers behind Pelt's Blender fur (``materials.py``, ``geonodes.py``), without Blender.
+"""The numbers behind Pelt's Blender fur (``blender/materials.py``, ``blender/geonodes.py``), without Blender.
 
 Lengyel et al. 2001, §2.3: the skin (layer 0 of the shell texture, opaque), ``S - 1`` shells lifted
 off it along the growth direction, and a fin on every edge. Shell ``j`` of ``1..S-1`` shows layer

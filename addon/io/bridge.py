@@ -13,11 +13,13 @@ from dataclasses import dataclass
 import numpy as np
 import pelt
 
+from .names import COLOR, COMB, LENGTH, PATCH_ATTRIBUTE, UV_MAP
+
 # Point attributes of DESIGN.md §3: name -> (accepted data types, foreach_get property, columns).
 POINT_ATTRIBUTES = {
-    "pelt_color": ({"FLOAT_COLOR", "BYTE_COLOR"}, "color", 4),
-    "pelt_comb": ({"FLOAT_VECTOR"}, "vector", 3),
-    "pelt_length": ({"FLOAT"}, "value", 1),
+    COLOR: ({"FLOAT_COLOR", "BYTE_COLOR"}, "color", 4),
+    COMB: ({"FLOAT_VECTOR"}, "vector", 3),
+    LENGTH: ({"FLOAT"}, "value", 1),
 }
 
 
@@ -109,9 +111,9 @@ def read_mesh(mesh) -> MeshArrays:
         triangles=triangles,
         normals=_read(mesh.vertex_normals, "vector", vertex_count, 3, np.float32) if indices_valid else None,
         triangle_polygons=polygons.view(np.uint32),
-        color=_point_attribute(mesh, "pelt_color"),
-        comb=_point_attribute(mesh, "pelt_comb"),
-        length=_point_attribute(mesh, "pelt_length"),
+        color=_point_attribute(mesh, COLOR),
+        comb=_point_attribute(mesh, COMB),
+        length=_point_attribute(mesh, LENGTH),
     )
 
 
@@ -208,10 +210,6 @@ def encode_pngs(images: list) -> list:
         return [pelt.encode_png(rgba, srgb=color) for rgba, color in images]
     with ThreadPoolExecutor(max_workers=min(len(images), os.cpu_count() or 1)) as pool:
         return list(pool.map(lambda item: pelt.encode_png(item[0], srgb=item[1]), images))
-
-
-UV_MAP = "PeltUV"
-PATCH_ATTRIBUTE = "pelt_patch"
 
 
 def write_patches(mesh, patches) -> None:

@@ -1,13 +1,13 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Pelt's Blender fur of one object as a whole: build it (materials + Geometry Nodes), remove it,
 and set up a scene to render it. Only datablocks tagged as Pelt's for the object are touched
-(``ownership.py``)."""
+(``io/ownership.py``)."""
 
 import bpy
 
+from ..io.fur_layout import FurSettings
+from ..io.ownership import all_owned
 from . import geonodes, materials, templates
-from .fur_layout import FurSettings
-from .ownership import all_owned
 
 
 def build_fur(

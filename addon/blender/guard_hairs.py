@@ -22,9 +22,10 @@ evaluated surface to keep the mesh's topology, and Pelt's fur modifier adds the 
 import bpy
 import numpy as np
 
-from . import bridge
+from ..io import bridge
+from ..io.names import datablock_name
+from ..io.ownership import find_owned, tag
 from .node_graph import NodeGraph
-from .ownership import find_owned, tag
 
 ROLE = "guard_hairs"
 MATERIAL_ROLE = "guard_hair_material"
@@ -50,7 +51,7 @@ def prepare(obj, guard: dict | None):
         return None
     counts = np.asarray(guard["counts"], np.int64)
     corners = root_corners(obj.data, guard["root_triangles"])
-    curves = bpy.data.hair_curves.new(f"Pelt Guard Hairs {obj.name}")
+    curves = bpy.data.hair_curves.new(datablock_name("Guard Hairs", obj.name))
     tag(curves, obj.name, ROLE)
     try:
         curves.add_curves(counts.tolist())
@@ -121,7 +122,7 @@ def _follow_group(obj):
     group = find_owned(bpy.data.node_groups, obj.name, DEFORM_ROLE)
     if group is not None:
         return group
-    group = bpy.data.node_groups.new(f"Pelt Follow Surface {obj.name}", "GeometryNodeTree")
+    group = bpy.data.node_groups.new(datablock_name("Follow Surface", obj.name), "GeometryNodeTree")
     tag(group, obj.name, DEFORM_ROLE)
     group.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
     group.interface.new_socket("Surface", in_out="INPUT", socket_type="NodeSocketObject")
@@ -179,7 +180,7 @@ def _material(obj):
     material = find_owned(bpy.data.materials, obj.name, MATERIAL_ROLE)
     if material is not None:
         return material
-    material = bpy.data.materials.new(f"Pelt Guard Hairs {obj.name}")
+    material = bpy.data.materials.new(datablock_name("Guard Hairs", obj.name))
     tag(material, obj.name, MATERIAL_ROLE)
     tree = material.node_tree
     tree.nodes.clear()

@@ -8,8 +8,7 @@ a user's datablock that merely looks like Pelt's ("Pelt Fur Sphere" without the 
 reused, changed or removed. This module never imports bpy: it works on any ID collection.
 """
 
-OWNER = "pelt_owner"
-ROLE = "pelt_role"
+from .names import BUILT, OWNER, ROLE
 
 
 def tag(datablock, owner_name: str, role: str) -> None:
@@ -34,9 +33,6 @@ def find_owned(collection, owner_name: str, role: str):
 def all_owned(collection, owner_name: str) -> list:
     """Every datablock of ``collection`` that Pelt made for ``owner_name``."""
     return [item for item in collection if is_owned(item, owner_name)]
-
-
-BUILT = "pelt_built"
 
 
 def up_to_date(datablock, signature: str) -> bool:

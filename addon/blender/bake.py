@@ -16,7 +16,8 @@ import bpy
 import numpy as np
 import pelt
 
-from . import bake_job, bridge, fur, fur_layout, preferences, topology, writer
+from ..io import bake_job, bridge, fur_layout
+from . import fur, preferences, topology, writer
 
 # Stages of a bake, in order (for the progress bar).
 STAGES = pelt.STAGES

@@ -6,7 +6,8 @@ import json
 
 import bpy
 
-from . import bake, comb_tools, live_preview, point_data, pose, preferences
+from ..io.names import LENGTH_PAINT
+from . import bake, comb_tools, live_preview, pose, preferences
 
 # Statistics rows shown after a check: (key, label).
 STAT_ROWS = (
@@ -97,7 +98,7 @@ class VIEW3D_PT_pelt_paint_comb(_PeltPanel, bpy.types.Panel):
         column.operator("pelt.paint_color", icon="VPAINT_HLT")
         column.operator("pelt.paint_length", icon="VPAINT_HLT")
         row = column.row(align=True)
-        row.enabled = point_data.LENGTH_PAINT in obj.data.attributes
+        row.enabled = LENGTH_PAINT in obj.data.attributes
         row.operator("pelt.apply_length_paint", icon="CHECKMARK")
         column = layout.column(align=True)
         column.operator("pelt.comb", icon="CURVE_PATH")

@@ -6,7 +6,7 @@ import json
 import bpy
 import pelt
 
-from . import bridge
+from ..io import bridge
 
 
 class PELT_OT_check_mesh(bpy.types.Operator):

@@ -27,6 +27,7 @@ surfaces a ray crosses (``fur.prepare_scene``).
 import bpy
 import pelt
 
+from ..io.names import COLOR, UV_MAP, datablock_name
 from . import templates
 from .node_graph import NodeGraph, output
 
@@ -35,8 +36,6 @@ FIN_ROLE = "fin_material"
 LAYER_ATTRIBUTE = "pelt_layer"
 FIN_UV_ATTRIBUTE = "pelt_fin_uv"
 FIN_NORMAL_ATTRIBUTE = "pelt_fin_normal"
-COLOR_ATTRIBUTE = "pelt_color"
-UV_MAP = "PeltUV"
 RENDER_METHODS = ("DITHERED", "BLENDED")
 # The nodes that hold what differs per object (``templates.set_values``).
 ATLAS_NODE = "Pelt Atlas"
@@ -48,11 +47,11 @@ FIN_INSET_NODE = "Pelt Fin Inset"
 
 
 def fur_material_name(obj) -> str:
-    return f"Pelt Fur {obj.name}"
+    return datablock_name("Fur", obj.name)
 
 
 def fin_material_name(obj) -> str:
-    return f"Pelt Fin {obj.name}"
+    return datablock_name("Fin", obj.name)
 
 
 def build_fur_material(obj, images: dict, layout: dict, *, render_method: str = "DITHERED"):
@@ -208,7 +207,7 @@ def _inside(g: NodeGraph, coordinate, low, high):
 
 
 def _color_attribute(g: NodeGraph):
-    return g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=COLOR_ATTRIBUTE)
+    return g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=COLOR)
 
 
 def _tinted(g: NodeGraph, texel, color):

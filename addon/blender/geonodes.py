@@ -30,11 +30,12 @@ Fins and Tile Size show in the modifier panel.
 import bpy
 import pelt
 
+from ..io.fur_layout import FurSettings
+from ..io.names import COLOR, COMB, LENGTH, datablock_name
+from ..io.ownership import find_owned, is_owned
 from . import templates
-from .fur_layout import FurSettings
 from .materials import FIN_NORMAL_ATTRIBUTE, FIN_ROLE, FIN_UV_ATTRIBUTE, FUR_ROLE, LAYER_ATTRIBUTE
 from .node_graph import NodeGraph, output
-from .ownership import find_owned, is_owned
 
 NODES_ROLE = "fur_nodes"
 MODIFIER_NAME = "Pelt Fur"
@@ -63,7 +64,7 @@ FIN_MATERIAL_NODE = "Pelt Fin Material"
 
 
 def node_group_name(obj) -> str:
-    return f"Pelt Fur {obj.name}"
+    return datablock_name("Fur", obj.name)
 
 
 def build_fur_modifier(obj, settings: FurSettings, *, fur_material=None, fin_material=None):
@@ -200,7 +201,7 @@ def _store(g: NodeGraph, geometry, name: str, data_type: str, domain: str, value
 
 def _with_default_color(g: NodeGraph, geometry):
     """``geometry`` with ``pelt_color`` as a float color, white where the mesh has none."""
-    color = _named(g, "pelt_color", "FLOAT_COLOR")
+    color = _named(g, COLOR, "FLOAT_COLOR")
     value = g.node(
         "GeometryNodeSwitch",
         {
@@ -210,14 +211,14 @@ def _with_default_color(g: NodeGraph, geometry):
         },
         input_type="RGBA",
     )
-    return _store(g, geometry, "pelt_color", "FLOAT_COLOR", "POINT", output(value, "Output"))
+    return _store(g, geometry, COLOR, "FLOAT_COLOR", "POINT", output(value, "Output"))
 
 
 def _capture_growth(g: NodeGraph, geometry, depth):
     """Captures, per vertex of the whole mesh, the length multiplier (1 where ``pelt_length`` is
     missing, never below 0) and ``top``, the offset of the fur's tips; returns the geometry and
     the two fields."""
-    length_attribute = _named(g, "pelt_length", "FLOAT")
+    length_attribute = _named(g, LENGTH, "FLOAT")
     length = g.node(
         "GeometryNodeSwitch",
         {
@@ -229,7 +230,7 @@ def _capture_growth(g: NodeGraph, geometry, depth):
     )
     length = g.math("MAXIMUM", output(length, "Output"), 0.0)
     normal = g.node("GeometryNodeInputNormal").outputs["Normal"]
-    comb = output(_named(g, "pelt_comb", "FLOAT_VECTOR"), "Attribute")
+    comb = output(_named(g, COMB, "FLOAT_VECTOR"), "Attribute")
     along_normal = g.vector_math("SCALE", normal, scale=g.vector_math("DOT_PRODUCT", normal, comb))
     growth = g.vector_math("SUBTRACT", g.vector_math("ADD", normal, comb), along_normal)
     top = g.vector_math("SCALE", growth, scale=g.math("MULTIPLY", depth, length))
