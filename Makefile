@@ -27,7 +27,8 @@ THREE_REFERENCE := target/tmp/three-reference
 THREE_BLENDER_DIR := target/tmp/three-blender
 
 # Everything the wheel is built from.
-RUST_SOURCES := Cargo.toml Cargo.lock pyproject.toml $(shell find src python -type f 2>/dev/null)
+RUST_SOURCES := Cargo.toml Cargo.lock pyproject.toml $(shell find crates/pelt-core crates/pelt-render crates/pelt-python \
+	-type f -not -path '*/tests/*' 2>/dev/null) $(shell find python -type f 2>/dev/null)
 ADDON_SOURCES := $(shell find addon -type f -not -path '*/__pycache__/*' 2>/dev/null)
 WHEEL_STAMP := build/wheels/.stamp
 INSTALL_STAMP := $(VENV)/.pelt-installed
@@ -98,10 +99,11 @@ $(ZIP): $(WHEEL_STAMP) $(ADDON_SOURCES) $(TEMPLATES) scripts/package_extension.p
 
 package: setup $(ZIP)
 
+# Every crate of the workspace (crates/*) and the `pelt` package's integration tests (tests/*.rs).
 check-rust:
-	cargo fmt --check
-	cargo clippy --all-targets --all-features -- -D warnings
-	cargo test --all-features
+	cargo fmt --all --check
+	cargo clippy --workspace --all-targets --all-features -- -D warnings
+	cargo test --workspace --all-features
 
 $(VALIDATOR_STAMP): Makefile | system-deps
 	npm install --silent --no-audit --no-fund --prefix build/node $(GLTF_VALIDATOR)
@@ -151,12 +153,13 @@ fuzz: setup
 # The full set (the image cases alone take about 35 minutes on 2 cores): docs/benchmarks.md, and
 # docs/accuracy.md with its plot and pictures under docs/accuracy/.
 bench: setup $(VENV)/.plotting
-	cargo build --release --features render,metrics --bin pelt
+	cargo build --release -p pelt-cli --features metrics
 	@mkdir -p out
 	./target/release/pelt bench --json out/bench.json --pictures docs/accuracy
 	$(PY) blender_scripts/bench_transfer.py --json out/bench_blender.json
 	$(PY) blender_scripts/bench_preview.py --json out/bench_preview.json
-	$(PY) scripts/bench_report.py out/bench.json out/bench_blender.json out/bench_preview.json > docs/benchmarks.md
+	$(PY) scripts/bench_report.py --out docs/benchmarks.md out/bench.json out/bench_blender.json \
+		out/bench_preview.json
 	$(PY) scripts/accuracy_report.py docs/accuracy.md docs/accuracy out/bench.json
 
 # matplotlib, for the accuracy plot only (make bench).

@@ -1,12 +1,23 @@
 """Writes docs/benchmarks.md from ``pelt bench --json`` files (and the Blender benchmarks').
 
-Usage: python scripts/bench_report.py out/bench.json out/bench_blender.json out/bench_preview.json \
-    > docs/benchmarks.md
+Usage: python scripts/bench_report.py --out docs/benchmarks.md out/bench.json out/bench_blender.json \
+    out/bench_preview.json
+
+The tables are written anew; what the existing file holds below ``KEEP_MARKER`` (figures written
+by hand: one-off runs, the figures behind the design) is kept. Without ``--out`` the tables go to
+standard output.
 """
 
+import argparse
+import contextlib
+import io
 import json
-import sys
+import os
+import tempfile
 from pathlib import Path
+
+# The line below which docs/benchmarks.md is written by hand and kept by `make bench`.
+KEEP_MARKER = "<!-- Written by hand below this line; make bench keeps it. -->"
 
 # Goals from the issues, in seconds, on the 2-core reference machine.
 # Goals in seconds, by case name, or by `name@text` for the case of that name whose size holds
@@ -50,12 +61,35 @@ def text(value):
 
 
 def main() -> None:
-    reports = [json.loads(Path(p).read_text()) for p in sys.argv[1:]]
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("reports", nargs="+", type=Path)
+    parser.add_argument("--out", type=Path, help="the Markdown file to write (its hand-written part kept)")
+    args = parser.parse_args()
+    tables = io.StringIO()
+    with contextlib.redirect_stdout(tables):
+        write_tables([json.loads(p.read_text()) for p in args.reports])
+    if args.out is None:
+        print(tables.getvalue(), end="")
+        return
+    kept = ""
+    if args.out.exists():
+        old = args.out.read_text()
+        if KEEP_MARKER in old:
+            kept = old[old.index(KEEP_MARKER) + len(KEEP_MARKER) :]
+    text = f"{tables.getvalue().rstrip()}\n\n{KEEP_MARKER}{kept or chr(10)}"
+    # Written beside the target and renamed over it, so a failed run leaves the old file whole.
+    with tempfile.NamedTemporaryFile("w", dir=args.out.parent, suffix=".tmp", delete=False) as tmp:
+        tmp.write(text)
+    os.replace(tmp.name, args.out)
+
+
+def write_tables(reports) -> None:
     head = reports[0]
     print("# Benchmarks\n")
     print(
         "Written by `make bench` (`pelt bench`, `blender_scripts/bench_transfer.py` and "
-        "`blender_scripts/bench_preview.py`); do not edit."
+        "`blender_scripts/bench_preview.py`); do not edit above the line that marks "
+        "the hand-written part."
     )
     print(
         f"pelt {head.get('pelt', '?')}, {head.get('threads', '?')} threads, "

@@ -5,39 +5,11 @@
 //! hair volume sampled into shell and fin textures, precomputed radiance transfer for hair
 //! self-shadowing, and a wgpu preview renderer.
 //!
-//! The crate is usable from Rust alone; the Python module (feature `python`) and the renderer
-//! (feature `render`) are thin layers on top. Start with [`FurMesh`].
+//! This package is Pelt's Rust API, one dependency for a user of the library: it re-exports
+//! `pelt-core` (the pipeline without a GPU or Python) and, with the feature `render`,
+//! `pelt-render` as [`render`]. Start with [`FurMesh`].
 
-pub mod bench;
-pub mod camera;
-mod cg;
-pub mod color;
-pub mod error;
-pub mod export;
-pub mod field;
-pub mod guard;
-pub mod hair;
-pub mod lapped;
-pub mod memory;
-pub mod mesh;
-pub mod pipeline;
-pub mod placement;
-pub mod presets;
-pub mod progress;
-pub mod prt;
-pub mod reference;
-mod rng;
-pub mod threads;
-mod vec3;
-pub mod volume;
+pub use pelt_core::*;
 
-#[cfg(feature = "python")]
-mod python;
 #[cfg(feature = "render")]
-pub mod render;
-
-pub use error::{MeshError, PeltError, Result};
-pub use mesh::{FurMesh, MeshInput, MeshStats};
-
-/// The crate version, as reported by `pelt.__version__` and `pelt bench`.
-pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+pub use pelt_render as render;

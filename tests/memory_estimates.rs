@@ -1,16 +1,16 @@
-//! The memory estimates that the budget checks before a stage allocates (`src/memory.rs`) are
+//! The memory estimates that the budget checks before a stage allocates (`crates/pelt-core/src/memory.rs`) are
 //! upper bounds of the heap the stage really takes: each stage runs here under a counting
 //! allocator, and its measured peak must lie under the estimate, and not far under (an estimate
 //! many times too high refuses bakes that would fit).
 //!
 //! One test function, so that no other test's allocations fall into a measurement.
 
-use pelt::bench::{TrackingAllocator, peak_heap};
 use pelt::export::{
     ExportInput, GltfMode, GltfOptions, TextureFormats, TransferTextures, encode_glb, glb_peak_bytes,
     texture_set_peak_bytes, write_texture_set,
 };
 use pelt::hair::HairParams;
+use pelt::heap::{TrackingAllocator, peak_heap};
 use pelt::lapped::{PatchParams, build_patches};
 use pelt::mesh::shapes::torus;
 use pelt::prt::pack::{pack_f16, pack_u8};

@@ -13,10 +13,10 @@ The node group outputs, joined in this order:
    copy's layer ``round(j (L - 1) / (S - 1))`` stored on its instance, then realized at once and
    lifted by ``layer / L × top``. ``top = depth × length × (normal + comb - normal (normal ·
    comb))`` is captured per vertex on the whole mesh first, so a shell's border vertices move as
-   the skin's normals say (as ``src/render/shells.wgsl`` does), not as their trimmed copy's would;
+   the skin's normals say (as ``crates/pelt-render/src/shells.wgsl`` does), not as their trimmed copy's would;
    material ``Pelt Fur``;
 3. the **fins** (when Fins is on): every edge with some length at either end, duplicated into its
-   own two vertices and extruded, each end to its own tip (``top``, as ``src/render/fins.wgsl``
+   own two vertices and extruded, each end to its own tip (``top``, as ``crates/pelt-render/src/fins.wgsl``
    lifts them): one quad per edge, with the UV map ``pelt_fin_uv``
    (``u`` from a random start per edge, running ``edge length / tile size`` along the edge; ``v``
    0 at the root, 1 at the tip) and the face attribute ``pelt_fin_normal`` (the unsheared fin's
@@ -365,7 +365,7 @@ def _fins(g: NodeGraph, base, top, length, tile_size):
 
 def _fin_normal(g: NodeGraph, edge):
     """Per edge, the unit normal of its unsheared fin: edge × (sum of its ends' normals), as
-    ``src/render/fin_mesh.rs`` computes it. The fade uses this plane, not the quad's own (which
+    ``crates/pelt-render/src/fin_mesh.rs`` computes it. The fade uses this plane, not the quad's own (which
     the comb tilts toward the viewer), so a combed fin shows no more than an upright one."""
     normal = g.node("GeometryNodeInputNormal").outputs["Normal"]
     ends = [

@@ -16,7 +16,7 @@ border reads its own layer. Color = texel × ``pelt_color``; alpha = texel alpha
 the root, 1 at the tip, kept half a texel inside so the tip never wraps to the root) and fades the
 fin by ``max(0, 2|p| - 1)``, ``p`` = fin normal · view direction, so only fins near the silhouette
 show. The fin normal is the unsheared fin's (``pelt_fin_normal``, object space), as in
-``src/render/fins.wgsl``.
+``crates/pelt-render/src/fins.wgsl``.
 
 Both render with EEVEE's DITHERED method: it writes depth and needs no sorting, so the many
 overlapping shells and fins of one object composite correctly (BLENDED sorts per object only).

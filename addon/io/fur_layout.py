@@ -4,7 +4,7 @@
 Lengyel et al. 2001, §2.3: the skin (layer 0 of the shell texture, opaque), ``S - 1`` shells lifted
 off it along the growth direction, and a fin on every edge. Shell ``j`` of ``1..S-1`` shows layer
 ``round(j (L - 1) / (S - 1))`` of the ``L`` layers, so fewer shells keep the full fur depth (the
-choice of ``src/render/shells.wgsl``), and sits at ``layer / L × depth × length`` along
+choice of ``crates/pelt-render/src/shells.wgsl``), and sits at ``layer / L × depth × length`` along
 ``normal + comb - normal (normal · comb)``. The shell atlas holds the layers in a grid of
 ``columns = ceil(sqrt(L))`` by ``rows = ceil(L / columns)`` cells, layer ``k`` at column
 ``k % columns``, row ``k // columns`` counted from the top (``pelt.pack_atlas``).

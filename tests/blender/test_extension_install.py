@@ -12,7 +12,7 @@ from conftest import REPO
 
 
 def test_zip_installs_bakes_suzanne_and_uninstalls():
-    version = tomllib.loads((REPO / "Cargo.toml").read_text())["package"]["version"]
+    version = tomllib.loads((REPO / "Cargo.toml").read_text())["workspace"]["package"]["version"]
     archive = REPO / "dist" / f"pelt-{version}-linux_x64.zip"
     assert archive.exists(), f"{archive} is missing: `make package` builds it (make test runs it first)"
     with tempfile.TemporaryDirectory(prefix="pelt-install-") as home:

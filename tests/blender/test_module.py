@@ -34,7 +34,7 @@ def grid(n):
 
 def test_version_matches_the_crate():
     cargo = tomllib.loads((REPO / "Cargo.toml").read_text())
-    assert pelt.__version__ == cargo["package"]["version"]
+    assert pelt.__version__ == cargo["workspace"]["package"]["version"]
 
 
 def test_exception_tree():

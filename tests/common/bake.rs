@@ -2,9 +2,14 @@
 
 use std::path::{Path, PathBuf};
 
-/// Blender's Suzanne as OBJ.
+/// Blender's Suzanne as OBJ, in the workspace's `tests/data` (found from whichever package's
+/// tests include this file).
 pub fn suzanne() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/suzanne.obj")
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .ancestors()
+        .map(|dir| dir.join("tests/data/suzanne.obj"))
+        .find(|path| path.exists())
+        .expect("tests/data/suzanne.obj above the package")
 }
 
 /// `pelt bake` options of a small bake: hair combed down, few small layers, order-2 transfer.

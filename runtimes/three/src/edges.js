@@ -1,4 +1,4 @@
-// The fins' edges (Lengyel et al. 2001, §2.3, Figure 3; src/mesh/fins.rs): one fin per mesh edge,
+// The fins' edges (Lengyel et al. 2001, §2.3, Figure 3; crates/pelt-core/src/mesh/fins.rs): one fin per mesh edge,
 // built once on the CPU from the index buffer. The exporter splits vertices at patch seams, so
 // copies of one vertex (same position and normal) are welded first: a seam edge gets one fin,
 // not one per side.
@@ -79,7 +79,7 @@ export function meshEdges( index, canonical ) {
 
 /**
  * Unit normal of the fin plane over an edge (edge × the sum of the end normals) and the edge's
- * length, or null where there is no plane (src/mesh/fins.rs `fin_plane`).
+ * length, or null where there is no plane (crates/pelt-core/src/mesh/fins.rs `fin_plane`).
  */
 export function finPlane( pa, pb, na, nb ) {
 

@@ -121,7 +121,7 @@ export class PeltFur {
 	}
 
 	/**
-	 * Distance LOD (src/render/lod.rs): the fur's depth in pixels at the bounding sphere's centre
+	 * Distance LOD (crates/pelt-render/src/lod.rs): the fur's depth in pixels at the bounding sphere's centre
 	 * picks the shells drawn, at least a quarter of them; fewer shells keep the full depth.
 	 */
 	updateLod( renderer, camera ) {

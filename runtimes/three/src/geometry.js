@@ -1,6 +1,6 @@
 // The fur's geometry, built once per skin primitive: the shells as one instanced draw of the
 // skin's own vertex buffers (shells.wgsl: instance i is shell i + 1), the fins as one quad per
-// edge (src/render/fin_mesh.rs layout: corners a, b at the skin, then a, b at the top).
+// edge (crates/pelt-render/src/fin_mesh.rs layout: corners a, b at the skin, then a, b at the top).
 
 import {
 	BufferAttribute,

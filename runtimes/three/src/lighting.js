@@ -1,4 +1,4 @@
-// The lighting the fur shaders take (src/render/lighting.rs `Lighting`, `KajiyaKay`, `Prt`, and
+// The lighting the fur shaders take (crates/pelt-render/src/lighting.rs `Lighting`, `KajiyaKay`, `Prt`, and
 // what `Lighting::frame` hands the shaders), with the preview's defaults. Directions are in
 // three.js world space: the preview's default light, (0.4, −0.5, 0.75) in Pelt's Z-up object
 // space, is turned into glTF's Y-up world as the add-on turns objects, (x, y, z) → (x, z, −y).

@@ -1,6 +1,6 @@
-// Real spherical harmonics as Pelt stores precomputed radiance transfer (src/prt/sh.rs: index
+// Real spherical harmonics as Pelt stores precomputed radiance transfer (crates/pelt-core/src/prt/sh.rs: index
 // l² + l + m, orthonormal, no Condon–Shortley phase, θ from +Z, φ from +X toward +Y), the
-// directional light as a uniform cap (sh.rs `cap_zonal`, src/render/prt_light.rs) and the 8-bit
+// directional light as a uniform cap (sh.rs `cap_zonal`, crates/pelt-render/src/prt_light.rs) and the 8-bit
 // transfer decoding (docs/export.md, "Conventions": Transfer). The fragment shaders evaluate the
 // basis with the same recurrence (glsl/prt.js `peltShEval`).
 
@@ -125,7 +125,7 @@ export function transferSlot( k ) {
 
 /**
  * The hair's mean transfer per layer, `[layer · n² + k]`, for the fins, which have no transfer
- * of their own (src/render/transfer.rs `layer_means`): each coefficient's mean over the layer's
+ * of their own (crates/pelt-render/src/transfer.rs `layer_means`): each coefficient's mean over the layer's
  * atlas cell weighted by the shell texel's opacity, or the plain mean where the cell is empty.
  * `transferTexels[t]` and `shellTexels` are RGBA bytes of the atlases, rows from the top.
  */

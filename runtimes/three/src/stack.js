@@ -37,7 +37,7 @@ export function shellLayer( s, drawn, layers ) {
 }
 
 /**
- * Shells to draw for fur `furPixels` pixels deep on screen (src/render/lod.rs `choose`: the
+ * Shells to draw for fur `furPixels` pixels deep on screen (crates/pelt-render/src/lod.rs `choose`: the
  * projected fur depth times `shellsPerPixel`), between `minShare` of the stack's shells (at least
  * one) and all of them.
  */

@@ -182,7 +182,7 @@ export function ribbonGeometry( lines, radius, furDepth = 1 ) {
 
 /**
  * Indices to draw of `lod` (ribbonGeometry's `strandLod`) when the nearest of the strands' roots
- * is `pixelsPerUnit` pixels per object unit (src/render/strands.rs kept_strands): the strands of
+ * is `pixelsPerUnit` pixels per object unit (crates/pelt-render/src/strands.rs kept_strands): the strands of
  * rank below what the shader may keep there, a quarter more for its own measure.
  */
 export function keptIndices( lod, pixelsPerUnit, strandPixels, minKept ) {

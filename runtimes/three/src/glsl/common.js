@@ -1,4 +1,4 @@
-// GLSL shared by the fur passes: src/render/common.wgsl's helpers and the atlas addressing of
+// GLSL shared by the fur passes: crates/pelt-render/src/common.wgsl's helpers and the atlas addressing of
 // docs/export.md ("Conventions": Atlas). Geometry is placed in object space, as in the WGSL;
 // lighting runs in world space (the light and eye are the scene's).
 

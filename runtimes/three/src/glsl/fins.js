@@ -1,4 +1,4 @@
-// GLSL of the fins (Lengyel et al. 2001, §2.3): src/render/fins.wgsl (`vs_main`: the quad on its
+// GLSL of the fins (Lengyel et al. 2001, §2.3): crates/pelt-render/src/fins.wgsl (`vs_main`: the quad on its
 // edge along each end's growth direction, the fade max(0, 2|p| − 1) with p = fin normal · view at
 // the edge's midpoint; `fin_texel`), fin_kk.wgsl (lit at the corners, Kajiya–Kay with the hair
 // along the growth direction) and fin_prt.wgsl (the hair's mean transfer at the row's height).

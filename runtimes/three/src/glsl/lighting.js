@@ -1,4 +1,4 @@
-// GLSL port of src/render/lighting.wgsl: the modified Banks / Kajiya–Kay hair model of Lengyel
+// GLSL port of crates/pelt-render/src/lighting.wgsl: the modified Banks / Kajiya–Kay hair model of Lengyel
 // et al. 2001, §2.4, evaluated per fragment, with Banks-style darkening toward the skin and the
 // wrapped terminator. Colors are linear; `peltLightColor` is the light's color over π, as the
 // WGSL's frame.light_color.

@@ -1,6 +1,6 @@
-// GLSL of the PRT lighting (prt-shell-fur §2.4), after src/render/prt_rotate.wgsl (each vertex's
-// tile frame, the light faded past its terminator), src/render/prt.wgsl (`transfer_radiance`,
-// `mean_transfer`, `mean_radiance`) and src/render/prt_light.rs (a uniform sky plus the
+// GLSL of the PRT lighting (prt-shell-fur §2.4), after crates/pelt-render/src/prt_rotate.wgsl (each vertex's
+// tile frame, the light faded past its terminator), crates/pelt-render/src/prt.wgsl (`transfer_radiance`,
+// `mean_transfer`, `mean_radiance`) and crates/pelt-render/src/prt_light.rs (a uniform sky plus the
 // directional light as a uniform SH cap). As in the renderer, each vertex holds the lighting
 // turned into its tile frame and the fragments interpolate it; the renderer rotates the whole
 // lighting with SH rotation matrices, this runtime evaluates the cap about the light's direction
@@ -27,7 +27,7 @@ varying vec4 vPeltLight[ PELT_TRANSFER_TEXTURES ];
 // prt_rotate.wgsl TERMINATOR_WRAP: the band past the terminator over which the light fades.
 const float PELT_PRT_TERMINATOR_WRAP = 0.3;
 
-// src/prt/sh.rs eval_unit(): every basis function at the unit direction d (index l² + l + m,
+// crates/pelt-core/src/prt/sh.rs eval_unit(): every basis function at the unit direction d (index l² + l + m,
 // orthonormal, no Condon–Shortley phase): Y_l^m = √2 Q_l^m(z) Re((x + iy)^m) (Im for m < 0),
 // Q by the normalized three-term recurrence in l.
 void peltShEval( vec3 d, out float y[ PELT_COEFFS ] ) {

@@ -1,4 +1,4 @@
-// GLSL of the guard hairs (docs/export.md, "Guard hairs"; src/render/strands.wgsl and
+// GLSL of the guard hairs (docs/export.md, "Guard hairs"; crates/pelt-render/src/strands.wgsl and
 // strand_kk.wgsl): each segment a ribbon facing the eye, `2 · radius` wide and at least a pixel,
 // a thinner strand's coverage as its opacity (the preview's "depth" strand order), lit with the
 // shells' Kajiya–Kay terms along the segment and Banks-darkened by its height.

@@ -1,4 +1,4 @@
-// GLSL of the skin and the shells (Lengyel et al. 2001, §2.3): src/render/surface.wgsl (`lift`,
+// GLSL of the skin and the shells (Lengyel et al. 2001, §2.3): crates/pelt-render/src/surface.wgsl (`lift`,
 // the shared vertex), shells.wgsl (every shell in one instanced draw, the layer per instance, the
 // alpha test), skin.wgsl, surface_kk.wgsl (`shade_surface`, `hair_tangent`, `skin_fragment`) and
 // surface_prt.wgsl. Defines: PELT_SKIN (the skin itself, layer 0, opaque; else the shells),

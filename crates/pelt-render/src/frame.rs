@@ -1,0 +1,477 @@
+//! One frame: the fur passes in Lengyel et al. 2001's order (§2.3) — skin, fins, shells, with the
+//! guard strands among the shells (hybrid paper §3) and, when compositing, the occluders' depth
+//! first — in a single render pass into an offscreen target (8-bit sRGB or linear half floats), then read
+//! back, or into a caller's texture (`texture_target.rs`). Under PRT a compute pass first rotates
+//! the lighting into every vertex's tile frame.
+
+use super::camera::{Camera, CameraFrame};
+use super::frame_uniforms::{FrameUniforms, SceneFrame};
+use super::image::{LinearImage, RgbaImage};
+use super::lighting::{Lighting, LightingFrame};
+use super::lod::{self, FrameInfo};
+use super::occluders::Occluders;
+use super::pipelines::{DEPTH_FORMAT, Model, Target};
+use super::prt_light::world_coefficients;
+use super::prt_rotate::RotationUniforms;
+use super::readback::read_texels;
+use super::scene::FurScene;
+use super::settings::{RenderSettings, ShellMethod};
+use super::strands::{self, Bands};
+use super::{Renderer, fins, geometry_lod, scoped, shells, skin};
+use pelt_core::error::{PeltError, Result};
+
+/// The depth target of one size and, for offscreen frames, a color target of that size, kept
+/// between frames.
+pub(super) struct Targets {
+    size: (u32, u32),
+    depth_view: wgpu::TextureView,
+    color: Option<ColorTarget>,
+}
+
+/// The offscreen color target.
+struct ColorTarget {
+    target: Target,
+    texture: wgpu::Texture,
+    view: wgpu::TextureView,
+}
+
+pub(super) fn texture_2d(
+    device: &wgpu::Device,
+    label: &str,
+    (width, height): (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+impl Targets {
+    /// `cached` if it fits `size` (and holds a color target of `color`, when one is asked for),
+    /// else the parts that do not fit made anew.
+    fn fit(
+        device: &wgpu::Device,
+        cached: Option<Targets>,
+        size: (u32, u32),
+        color: Option<Target>,
+    ) -> Targets {
+        let mut targets = match cached {
+            Some(t) if t.size == size => t,
+            _ => {
+                let depth = texture_2d(
+                    device,
+                    "fur depth",
+                    size,
+                    DEPTH_FORMAT,
+                    wgpu::TextureUsages::RENDER_ATTACHMENT,
+                );
+                Targets {
+                    size,
+                    depth_view: depth.create_view(&wgpu::TextureViewDescriptor::default()),
+                    color: None,
+                }
+            }
+        };
+        if let Some(target) = color
+            && targets.color.as_ref().is_none_or(|c| c.target != target)
+        {
+            let texture = texture_2d(
+                device,
+                "fur color",
+                size,
+                target.format(),
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            );
+            targets.color = Some(ColorTarget {
+                target,
+                view: texture.create_view(&wgpu::TextureViewDescriptor::default()),
+                texture,
+            });
+        }
+        targets
+    }
+}
+
+/// Everything a frame needs, checked.
+struct Checked {
+    camera: CameraFrame,
+    light: LightingFrame,
+    model: Model,
+    info: FrameInfo,
+}
+
+impl Renderer {
+    /// Renders `scene` offscreen: the opaque skin (writing depth), the fins near the silhouette
+    /// (if `settings.fins`), then the shells inner to outer in one instanced draw. Returns 8-bit
+    /// sRGB with straight alpha.
+    ///
+    /// Renders are serialized per renderer; the result depends only on the inputs (and the
+    /// adapter).
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming the bad camera, lighting or settings field,
+    /// `lighting.model` for PRT on a scene without transfer textures, or `scene` when it was
+    /// uploaded by another renderer; [`PeltError::Render`] when the device fails. The renderer
+    /// stays usable after an error.
+    pub fn render(
+        &self,
+        scene: &FurScene,
+        camera: &Camera,
+        lighting: &Lighting,
+        settings: &RenderSettings,
+    ) -> Result<RgbaImage> {
+        self.render_over(scene, camera, lighting, settings, None)
+    }
+
+    /// [`Renderer::render`] for compositing into another renderer's picture of the same view:
+    /// the fur behind `occluders` (that picture's depth, pushed back by their bias) is hidden;
+    /// `None` draws it over everything, as [`Renderer::render`].
+    ///
+    /// # Errors
+    /// As [`Renderer::render`]; [`PeltError::InvalidParameter`] naming `occluders.depth` or
+    /// `occluders.bias` when they do not fit the camera or their ranges.
+    pub fn render_over(
+        &self,
+        scene: &FurScene,
+        camera: &Camera,
+        lighting: &Lighting,
+        settings: &RenderSettings,
+        occluders: Option<&Occluders>,
+    ) -> Result<RgbaImage> {
+        let bytes = self.render_to(scene, camera, lighting, settings, Target::Srgb8, occluders)?;
+        Ok(RgbaImage::from_premultiplied(camera.width, camera.height, bytes))
+    }
+
+    /// [`Renderer::render`] into a half-float target, returned as linear `f32` RGBA with straight
+    /// alpha (no 8-bit rounding; HDR values above 1 are kept).
+    ///
+    /// # Errors
+    /// As [`Renderer::render`].
+    pub fn render_linear(
+        &self,
+        scene: &FurScene,
+        camera: &Camera,
+        lighting: &Lighting,
+        settings: &RenderSettings,
+    ) -> Result<LinearImage> {
+        self.render_linear_over(scene, camera, lighting, settings, None)
+    }
+
+    /// [`Renderer::render_linear`] behind `occluders`, as [`Renderer::render_over`].
+    ///
+    /// # Errors
+    /// As [`Renderer::render_over`].
+    pub fn render_linear_over(
+        &self,
+        scene: &FurScene,
+        camera: &Camera,
+        lighting: &Lighting,
+        settings: &RenderSettings,
+        occluders: Option<&Occluders>,
+    ) -> Result<LinearImage> {
+        let bytes = self.render_to(scene, camera, lighting, settings, Target::Linear16, occluders)?;
+        Ok(LinearImage::from_premultiplied_f16(
+            camera.width,
+            camera.height,
+            &bytes,
+        ))
+    }
+
+    /// What [`Renderer::render`] would draw with these inputs: the shell count, and with LOD
+    /// the level, blend and the projected sizes it followed.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming the bad camera or settings field, or `scene` when
+    /// it was uploaded by another renderer.
+    pub fn frame_info(
+        &self,
+        scene: &FurScene,
+        camera: &Camera,
+        settings: &RenderSettings,
+    ) -> Result<FrameInfo> {
+        if scene.renderer_id() != self.id {
+            return Err(PeltError::parameter("scene", "was uploaded by another Renderer"));
+        }
+        CameraFrame::of(camera, self.device.limits().max_texture_dimension_2d)?;
+        settings.shells_to_draw(scene.layers)?;
+        let settings = &settings.as_drawn(self.shell_method(settings.shell_method));
+        let fixed = settings.shells_to_draw(scene.layers)?;
+        let mut info = lod::choose(&scene.levels, settings, camera, &scene.extent, fixed);
+        let levels = scene.drawable_levels();
+        let errors: Vec<f64> = levels.iter().map(|l| l.error).collect();
+        let ppu = lod::nearest_pixels_per_unit(camera, scene.extent.center, scene.extent.radius);
+        let level = geometry_lod::choose(&errors, ppu, settings.mesh_error);
+        info.mesh_level = level as u32;
+        info.triangles = levels.get(level).map_or(0, |l| l.indices.len() as u32 / 3);
+        Ok(info)
+    }
+
+    fn check(
+        &self,
+        scene: &FurScene,
+        camera: &Camera,
+        lighting: &Lighting,
+        settings: &RenderSettings,
+    ) -> Result<Checked> {
+        let info = self.frame_info(scene, camera, settings)?;
+        // Host memory of a frame: the readback (up to 8 bytes a pixel), the converted image (up
+        // to 16) and a caller's copy (16).
+        let pixels = f64::from(camera.width) * f64::from(camera.height);
+        pelt_core::memory::check("render", 40.0 * pixels, || {
+            format!("`width` ({}) or `height` ({})", camera.width, camera.height)
+        })?;
+        let camera = CameraFrame::of(camera, self.device.limits().max_texture_dimension_2d)?;
+        let light = lighting.frame()?;
+        let model = if light.prt.is_some() {
+            if scene.transfer.is_none() {
+                return Err(PeltError::parameter(
+                    "lighting.model",
+                    "\"prt\" needs a baked transfer: bake with the transfer on (Python: \
+                     Pipeline.bake(transfer=True)), or use \"kajiya-kay\"",
+                ));
+            }
+            Model::Prt
+        } else {
+            Model::KajiyaKay
+        };
+        if self.shell_method(settings.shell_method) == ShellMethod::VirtualPlanes && scene.planes.is_none() {
+            return Err(PeltError::parameter(
+                "settings.shell_method",
+                "\"planes\" needs the virtual planes' slices: bake them (Python: \
+                 Pipeline.bake(planes=32)) or set them with FurScene::set_planes, or draw the shells",
+            ));
+        }
+        Ok(Checked {
+            camera,
+            light,
+            model,
+            info,
+        })
+    }
+
+    /// Renders into `target` offscreen and returns its texels, premultiplied.
+    fn render_to(
+        &self,
+        scene: &FurScene,
+        camera: &Camera,
+        lighting: &Lighting,
+        settings: &RenderSettings,
+        target: Target,
+        occluders: Option<&Occluders>,
+    ) -> Result<Vec<u8>> {
+        let (_, texels) = self.draw(scene, camera, lighting, settings, target, None, occluders)?;
+        texels.ok_or_else(|| PeltError::Render("an offscreen frame was not read back".into()))
+    }
+
+    /// Draws a frame into `view` (a caller's texture of `target`'s format and the camera's size),
+    /// or without one into the cached offscreen target, whose texels it then reads back; behind
+    /// `occluders` when given.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn draw(
+        &self,
+        scene: &FurScene,
+        camera: &Camera,
+        lighting: &Lighting,
+        settings: &RenderSettings,
+        target: Target,
+        view: Option<&wgpu::TextureView>,
+        occluders: Option<&Occluders>,
+    ) -> Result<(FrameInfo, Option<Vec<u8>>)> {
+        let checked = self.check(scene, camera, lighting, settings)?;
+        if let Some(o) = occluders {
+            o.check(camera.width, camera.height)?;
+        }
+        let occluder_pass = match occluders {
+            Some(_) => Some(self.fur_pipelines()?.occluders(&self.device, target)?),
+            None => None,
+        };
+        let pipelines = self
+            .fur_pipelines()?
+            .passes(&self.device, checked.model, target)?;
+        let transfer = scene.transfer.as_ref().filter(|_| checked.model == Model::Prt);
+        let rotation = match transfer {
+            Some(t) => Some(RotationUniforms::new(
+                scene.surface_vertex_count() as u32,
+                t.order,
+                &world_coefficients(&checked.light, t.order)?,
+            )),
+            None => None,
+        };
+        let rotate = match transfer {
+            Some(_) => Some(&self.fur_pipelines()?.prt(&self.device)?.rotate),
+            None => None,
+        };
+        let level = scene
+            .mesh_levels
+            .get(checked.info.mesh_level as usize)
+            .ok_or_else(|| PeltError::Render("the geometric level drawn is missing".into()))?;
+        let method = self.shell_method(settings.shell_method);
+        let settings = &settings.as_drawn(method);
+        let strand_scene = scene.strands.as_ref().filter(|_| settings.guard_hairs);
+        let bands = Bands::new(settings, checked.info.shells, method, strand_scene.is_some());
+        let ppu = lod::nearest_pixels_per_unit(camera, scene.extent.center, scene.extent.radius);
+        let strand_draw = strand_scene.map_or((0, 0), |s| {
+            let fur_pixels = ppu.map_or(f64::INFINITY, |ppu| {
+                f64::from(settings.fur_depth) * scene.extent.max_length * ppu
+            });
+            (
+                strands::kept_strands(&s.records, s.root_radius, ppu, settings.strand_pixels),
+                strands::segments_drawn(s.segments, fur_pixels),
+            )
+        });
+        let uniforms = FrameUniforms::new(
+            &checked.camera,
+            &checked.light,
+            settings,
+            &SceneFrame {
+                info: &checked.info,
+                levels: &scene.levels,
+                layers: scene.layers,
+                layer_spacing: scene.layer_spacing,
+                prt: transfer.map_or([0; 3], |t| [(t.order * t.order) as u32, t.textures, t.stride]),
+                fin_spacing: level.fin_spacing,
+                strand: (
+                    [
+                        camera.width as f32,
+                        camera.height as f32,
+                        settings.strand_pixels,
+                        strands::MIN_KEPT,
+                    ],
+                    [
+                        bands.count,
+                        strand_draw.1,
+                        u32::from(bands.whole) | (u32::from(bands.stochastic) << 1),
+                        0,
+                    ],
+                ),
+                planes: scene.planes.as_ref().map_or((0, [0.0; 2]), |p| (p.count, p.tilt)),
+            },
+        );
+        // A panic elsewhere cannot leave the cached targets half-made, so a poisoned lock is fine.
+        let mut cached = self
+            .targets
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let size = (camera.width, camera.height);
+        let offscreen = view.is_none().then_some(target);
+        let targets = scoped(&self.device, "creating the render targets", || {
+            Targets::fit(&self.device, cached.take(), size, offscreen)
+        })?;
+        let targets = cached.insert(targets);
+        let (color_view, readback) = match (view, &targets.color) {
+            (Some(view), _) => (view, None),
+            (None, Some(color)) => (&color.view, Some(&color.texture)),
+            (None, None) => {
+                return Err(PeltError::Render("the offscreen color target is missing".into()));
+            }
+        };
+        let [r, g, b, a] = settings.background.map(f64::from);
+        let max_groups = self.device.limits().max_compute_workgroups_per_dimension;
+        let fin_indices = if settings.fins && settings.fin_opacity > 0.0 {
+            scene
+                .fin_planes
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .visible_indices(checked.camera.eye, level.fins.clone())
+        } else {
+            Vec::new()
+        };
+        scoped(&self.device, "rendering a frame", || {
+            self.queue
+                .write_buffer(&scene.uniforms, 0, bytemuck::bytes_of(&uniforms));
+            if !fin_indices.is_empty() {
+                self.queue
+                    .write_buffer(&scene.fins.index, 0, bytemuck::cast_slice(&fin_indices));
+            }
+            let occluder_group = occluder_pass.zip(occluders).map(|(pass, o)| {
+                (
+                    pass,
+                    pass.bind(&self.device, &self.queue, &checked.camera, size, o),
+                )
+            });
+            let mut encoder = self
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("fur") });
+            if let (Some(t), Some(rotation), Some(rotate)) = (transfer, &rotation, rotate) {
+                self.queue
+                    .write_buffer(&t.uniforms, 0, bytemuck::bytes_of(rotation));
+                rotate.dispatch(
+                    &mut encoder,
+                    &t.rotate_group,
+                    scene.surface_vertex_count() as u32,
+                    max_groups,
+                )?;
+            }
+            {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("fur"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: color_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            // The target holds premultiplied color.
+                            load: wgpu::LoadOp::Clear(wgpu::Color {
+                                r: r * a,
+                                g: g * a,
+                                b: b * a,
+                                a,
+                            }),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &targets.depth_view,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(1.0),
+                            store: wgpu::StoreOp::Discard,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                if let Some((occluders, group)) = &occluder_group {
+                    occluders.draw(&mut pass, group);
+                }
+                pass.set_bind_group(0, &scene.bind_group, &[]);
+                if let Some(t) = transfer {
+                    pass.set_bind_group(1, &t.render_group, &[]);
+                }
+                skin::draw(&mut pass, pipelines, scene, level, checked.model);
+                fins::draw(&mut pass, pipelines, scene, fin_indices.len() as u32);
+                // Without strands, one band: the shells in one draw.
+                for k in 0..bands.draws() {
+                    strands::draw(&mut pass, pipelines, scene, &bands, k, strand_draw);
+                    let shells = bands.shell_start(k)..bands.shell_start(k + 1).min(checked.info.shells);
+                    shells::draw(&mut pass, pipelines, scene, level, checked.model, shells, method);
+                }
+            }
+            self.queue.submit([encoder.finish()]);
+            Ok::<_, PeltError>(())
+        })??;
+        let texels = match readback {
+            Some(texture) => Some(read_texels(
+                &self.device,
+                &self.queue,
+                texture,
+                target.texel_bytes(),
+            )?),
+            None => None,
+        };
+        Ok((checked.info, texels))
+    }
+}

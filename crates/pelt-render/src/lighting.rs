@@ -1,0 +1,256 @@
+//! Hair lighting inputs, two models:
+//!
+//! - Kajiya–Kay with Banks-style self-shadowing, after Lengyel et al. 2001, §2.4. The shaders
+//!   evaluate the model analytically per fragment (`lighting.wgsl`) rather than through the
+//!   paper's 32 × 32 lookup table: the same function, without its quantization.
+//! - Precomputed radiance transfer (the PRT shell-fur paper, §2.4): the world lighting as SH
+//!   coefficients (an environment plus the directional light projected as a small cap), rotated
+//!   into each vertex's tile frame and dotted per fragment with the scene's transfer textures
+//!   (`prt_light.rs`, `prt_rotate.rs`, `prt.wgsl`).
+
+use pelt_core::error::{Num, PeltError, Result};
+use pelt_core::prt::sh;
+
+/// Largest Kajiya–Kay exponent accepted.
+pub const MAX_POWER: f32 = 1e4;
+/// Largest light or ambient value accepted (linear, HDR allowed).
+pub const MAX_RADIANCE: f32 = 1e4;
+
+/// Kajiya–Kay coefficients: `Ka + Kd (1 − u²)^(Pd/2) + Ks (1 − v²)^(Ps/2)` with `u = T·L` and
+/// `v = T·H` (Lengyel §2.4). Hair color (texture × vertex color) scales the ambient and diffuse
+/// terms; the specular highlight keeps the light's color.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KajiyaKay {
+    /// `Ka`: ambient, linear RGB, each `[0, MAX_RADIANCE]`.
+    pub ambient: [f32; 3],
+    /// `Kd`, `[0, MAX_RADIANCE]`.
+    pub diffuse: f32,
+    /// `Ks`, `[0, MAX_RADIANCE]`.
+    pub specular: f32,
+    /// `Pd`, `(0, MAX_POWER]`.
+    pub diffuse_power: f32,
+    /// `Ps`, `(0, MAX_POWER]`.
+    pub specular_power: f32,
+    /// Goldman's directional attenuation (Fake fur rendering, 1997; the raycast paper's §3.8):
+    /// the direct light is scaled by `(1 + κ)/2 · reflect + (1 − κ)/2 · transmit`, where `κ` is
+    /// the cosine between `T × L` and `T × V` (1 where the light is on the viewer's side of the
+    /// hair, −1 where it shines through it). `ρ_reflect`, `[0, 1]`; 1 with `transmit` 1 (the
+    /// default) attenuates nothing.
+    pub reflect: f32,
+    /// `ρ_transmit`, `[0, 1]`: how much light the hair passes forward.
+    pub transmit: f32,
+}
+
+impl Default for KajiyaKay {
+    fn default() -> Self {
+        KajiyaKay {
+            ambient: [0.12; 3],
+            diffuse: 0.9,
+            specular: 0.25,
+            diffuse_power: 1.0,
+            specular_power: 48.0,
+            reflect: 1.0,
+            transmit: 1.0,
+        }
+    }
+}
+
+/// Largest angular radius of the PRT directional light, radians (a hemisphere).
+pub const MAX_LIGHT_RADIUS: f32 = std::f32::consts::FRAC_PI_2;
+
+/// Precomputed radiance transfer lighting (PRT shell-fur paper, §2.4); needs a scene with
+/// transfer textures ([`super::FurScene::set_transfer`]).
+///
+/// The hair's color is `albedo / π · ∫ L(ω) T(ω) phase(ω) dω`, evaluated as the dot product of
+/// the lighting's SH coefficients (rotated into the tile frame) with the baked transfer. With the
+/// `1/π`, a directional light of color `C` that reaches the hair unshadowed gives `albedo · C`
+/// (as a Lambertian surface facing it would), and a uniform environment of radiance `E` gives at
+/// most `2 · albedo · E` (the open hemisphere, isotropic phase). The result is clamped at 0: a
+/// band-limited light rings slightly negative beyond the terminator.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Prt {
+    /// Radiance arriving from each direction as real SH coefficients (Pelt's basis, `prt::sh`),
+    /// object space, linear RGB: `n²` rows for an order `n` in `[1, 8]`, or none. Each value
+    /// finite with magnitude at most [`MAX_RADIANCE`]. Truncated or padded with zeros to the
+    /// order of the scene's transfer.
+    pub environment: Vec<[f32; 3]>,
+    /// The directional light ([`Lighting::direction`], [`Lighting::color`]) enters as a uniform
+    /// cap of this angular radius, radians `[0, MAX_LIGHT_RADIUS]`: 0 is a point light, whose
+    /// truncated expansion rings most; a few degrees soften that.
+    pub light_radius: f32,
+}
+
+impl Default for Prt {
+    fn default() -> Self {
+        // A dim sky: radiance 0.1 from every direction (only the Y_0^0 coefficient, √(4π) · 0.1).
+        let sky = 0.1 * (4.0 * std::f32::consts::PI).sqrt();
+        Prt {
+            environment: vec![[sky; 3]],
+            light_radius: 0.2,
+        }
+    }
+}
+
+/// The lighting model.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LightModel {
+    /// Lengyel §2.4's modified Banks / Kajiya–Kay model with the per-texel tangent map.
+    KajiyaKay(KajiyaKay),
+    /// Precomputed radiance transfer with the scene's transfer textures.
+    Prt(Prt),
+}
+
+impl Default for LightModel {
+    fn default() -> Self {
+        LightModel::KajiyaKay(KajiyaKay::default())
+    }
+}
+
+/// One directional light and the model that shades the hair.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Lighting {
+    /// Direction toward the light, object space; any non-zero length.
+    pub direction: [f32; 3],
+    /// The light's irradiance on a surface facing it × its color, linear RGB, each
+    /// `[0, MAX_RADIANCE]`: Blender's sun strength, so a white Lambertian surface facing it
+    /// shows `color / π` (the light units of DESIGN.md §3, shared with the reference
+    /// and Cycles). The default, π, lights such a surface to 1.
+    pub color: [f32; 3],
+    /// Banks-style self-shadowing (Lengyel §2.4): under the ambient light and a light straight
+    /// down the normal, hair at the skin is darkened by this share, fading linearly to none at
+    /// the tips; a light `θ` off the normal by `1 − (1 − self_shadow)^(1/cos θ)` (it crosses
+    /// more fur), and less as the light nears the view direction (none from the eye: the hot
+    /// spot). `[0, 1]`. Kajiya–Kay only: the transfer of PRT holds the fur's own shadowing.
+    pub self_shadow: f32,
+    /// The model.
+    pub model: LightModel,
+}
+
+impl Default for Lighting {
+    fn default() -> Self {
+        Lighting {
+            direction: [0.4, -0.5, 0.75],
+            color: [std::f32::consts::PI; 3],
+            self_shadow: 0.15,
+            model: LightModel::default(),
+        }
+    }
+}
+
+fn in_range(name: &str, value: f32, lo: f32, hi: f32, open_lo: bool) -> Result<()> {
+    let ok = value.is_finite() && value <= hi && if open_lo { value > lo } else { value >= lo };
+    if ok {
+        Ok(())
+    } else {
+        let bracket = if open_lo { "(" } else { "[" };
+        Err(PeltError::parameter(
+            name,
+            format!("must be in {bracket}{lo}, {hi}], got {}", Num(f64::from(value))),
+        ))
+    }
+}
+
+/// What the shaders get from the lighting (see `Frame` in `common.wgsl`).
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct LightingFrame {
+    pub direction: [f32; 3],
+    /// What a white Lambertian surface facing the light shows: [`Lighting::color`] / π.
+    pub color: [f32; 3],
+    pub ambient: [f32; 3],
+    /// `Kd, Ks, Pd, Ps`.
+    pub kajiya_kay: [f32; 4],
+    /// Goldman's `ρ_reflect, ρ_transmit` (1, 1 under PRT: no attenuation).
+    pub goldman: [f32; 2],
+    pub self_shadow: f32,
+    /// The PRT inputs, checked; `None` for Kajiya–Kay.
+    pub prt: Option<Prt>,
+}
+
+impl Lighting {
+    /// Checks every field and normalizes the direction.
+    pub(super) fn frame(&self) -> Result<LightingFrame> {
+        let d = self.direction.map(f64::from);
+        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        if !(len.is_finite() && len > 0.0) {
+            return Err(PeltError::parameter(
+                "lighting.direction",
+                format!("must be finite and non-zero, got {:?}", self.direction),
+            ));
+        }
+        for (i, &c) in self.color.iter().enumerate() {
+            in_range(&format!("lighting.color[{i}]"), c, 0.0, MAX_RADIANCE, false)?;
+        }
+        in_range("lighting.self_shadow", self.self_shadow, 0.0, 1.0, false)?;
+        let direction = d.map(|c| (c / len) as f32);
+        let color = self.color.map(|c| c / std::f32::consts::PI);
+        match &self.model {
+            LightModel::KajiyaKay(kk) => {
+                check_kajiya_kay(kk)?;
+                Ok(LightingFrame {
+                    direction,
+                    color,
+                    ambient: kk.ambient,
+                    kajiya_kay: [kk.diffuse, kk.specular, kk.diffuse_power, kk.specular_power],
+                    goldman: [kk.reflect, kk.transmit],
+                    self_shadow: self.self_shadow,
+                    prt: None,
+                })
+            }
+            LightModel::Prt(prt) => {
+                check_prt(prt)?;
+                Ok(LightingFrame {
+                    direction,
+                    color,
+                    ambient: [0.0; 3],
+                    kajiya_kay: [0.0; 4],
+                    goldman: [1.0; 2],
+                    self_shadow: 0.0,
+                    prt: Some(prt.clone()),
+                })
+            }
+        }
+    }
+}
+
+fn check_kajiya_kay(kk: &KajiyaKay) -> Result<()> {
+    for (i, &c) in kk.ambient.iter().enumerate() {
+        in_range(&format!("kajiya_kay.ambient[{i}]"), c, 0.0, MAX_RADIANCE, false)?;
+    }
+    in_range("kajiya_kay.diffuse", kk.diffuse, 0.0, MAX_RADIANCE, false)?;
+    in_range("kajiya_kay.specular", kk.specular, 0.0, MAX_RADIANCE, false)?;
+    in_range("kajiya_kay.diffuse_power", kk.diffuse_power, 0.0, MAX_POWER, true)?;
+    in_range("kajiya_kay.reflect", kk.reflect, 0.0, 1.0, false)?;
+    in_range("kajiya_kay.transmit", kk.transmit, 0.0, 1.0, false)?;
+    in_range(
+        "kajiya_kay.specular_power",
+        kk.specular_power,
+        0.0,
+        MAX_POWER,
+        true,
+    )
+}
+
+fn check_prt(prt: &Prt) -> Result<()> {
+    let n = prt.environment.len();
+    if n > 0 && sh::order_of_len(n).is_err() {
+        return Err(PeltError::parameter(
+            "prt.environment",
+            format!(
+                "must hold n² rows for an order n in [1, {}] (1, 4, 9, …, 64) or none, got {n}",
+                sh::MAX_ORDER
+            ),
+        ));
+    }
+    for (i, row) in prt.environment.iter().enumerate() {
+        if let Some(c) = row.iter().find(|c| !(c.is_finite() && c.abs() <= MAX_RADIANCE)) {
+            return Err(PeltError::parameter(
+                format!("prt.environment[{i}]"),
+                format!(
+                    "values must be finite with magnitude at most {MAX_RADIANCE}, got {}",
+                    Num(f64::from(*c))
+                ),
+            ));
+        }
+    }
+    in_range("prt.light_radius", prt.light_radius, 0.0, MAX_LIGHT_RADIUS, false)
+}

@@ -1,0 +1,212 @@
+//! The PRT rotation pass on the CPU adapter against the crate's own SH rotation (the
+//! Ivanic–Ruedenberg recurrence in f64, `prt::sh::ShRotation`): the pass takes another route
+//! (Euler angles and a fixed 90° matrix), so agreement checks both.
+
+use super::prt_light::WorldLighting;
+use super::prt_rotate::{RotatePipeline, RotationUniforms};
+use super::readback::read_buffer;
+use super::surface_mesh::SurfaceVertex;
+use super::{AdapterChoice, Renderer};
+use pelt_core::prt::sh::{self, MAX_ORDER, ShRotation};
+use pelt_core::rng::Rng;
+use pelt_core::vec3::{cross, dot};
+
+fn unit(v: [f64; 3]) -> [f64; 3] {
+    let l = dot(v, v).sqrt();
+    v.map(|c| c / l)
+}
+
+fn random_direction(rng: &mut Rng) -> [f64; 3] {
+    loop {
+        let v = [0; 3].map(|_| 2.0 * rng.next_f64() - 1.0);
+        if (0.01..1.0).contains(&dot(v, v)) {
+            return unit(v);
+        }
+    }
+}
+
+/// Vertices with frames of every kind: random (some mirrored), the normal along ±z exactly and
+/// nearly (the Euler angles' gimbal), and a dP/du along the normal (no usable tangent).
+fn vertices() -> Vec<SurfaceVertex> {
+    let mut rng = Rng::new(7);
+    let mut frames: Vec<([f64; 3], [f64; 3], bool)> = (0..40)
+        .map(|i| (random_direction(&mut rng), random_direction(&mut rng), i % 3 == 0))
+        .collect();
+    frames.extend([
+        ([0.0, 0.0, 1.0], [0.6, 0.8, 0.3], false),
+        ([0.0, 0.0, -1.0], [0.6, -0.8, 0.0], false),
+        ([1e-6, 0.0, 1.0], [0.0, 1.0, 0.0], true),
+        ([0.0, 2e-3, -1.0], [1.0, 0.0, 0.0], false),
+        ([0.3, -0.4, 0.5], [0.6, -0.8, 1.0], false),
+    ]);
+    frames
+        .into_iter()
+        .map(|(n, u, mirrored)| {
+            let n = unit(n);
+            // dP/du deliberately off the tangent plane and not unit; dP/dv roughly n × dP/du.
+            let dpdu = u.map(|c| 1.7 * c);
+            let side = cross(n, dpdu);
+            let dpdv = side.map(|c| if mirrored { -0.5 * c } else { 0.5 * c });
+            SurfaceVertex {
+                position: [0.0; 3],
+                normal: n.map(|c| c as f32),
+                dpdu: dpdu.map(|c| c as f32),
+                dpdv: dpdv.map(|c| c as f32),
+                uv: [0.0; 2],
+                comb: [0.0; 3],
+            }
+        })
+        .collect()
+}
+
+/// The tile frame of a vertex as the shader builds it: rows x, y, z (world to tile), and
+/// whether y is mirrored.
+fn frame_of(v: &SurfaceVertex) -> ([[f64; 3]; 3], bool) {
+    let z = unit(v.normal.map(f64::from));
+    let dpdu = v.dpdu.map(f64::from);
+    let mut x: [f64; 3] = std::array::from_fn(|i| dpdu[i] - z[i] * dot(z, dpdu));
+    if dot(x, x) <= 1e-8 * dot(dpdu, dpdu) {
+        let a = if z[0].abs() > 0.9 {
+            [0.0, 1.0, 0.0]
+        } else {
+            [1.0, 0.0, 0.0]
+        };
+        x = std::array::from_fn(|i| a[i] - z[i] * dot(z, a));
+    }
+    let x = unit(x);
+    let y = cross(z, x);
+    ([x, y, z], dot(y, v.dpdv.map(f64::from)) < 0.0)
+}
+
+/// The pass's output for `vertices` under `light`: `n²` rows per vertex.
+fn run_pass(
+    renderer: &Renderer,
+    vertices: &[SurfaceVertex],
+    order: usize,
+    light: &WorldLighting,
+) -> Vec<[f32; 4]> {
+    use wgpu::util::DeviceExt;
+    let device = &renderer.device;
+    let rotate = RotatePipeline::new(device).unwrap();
+    let n = sh::coeff_count(order);
+    let geometry = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: None,
+        contents: bytemuck::cast_slice(vertices),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let uniforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: None,
+        contents: bytemuck::bytes_of(&RotationUniforms::new(vertices.len() as u32, order, light)),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let rotated = device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: (vertices.len() * n * 16) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let group = rotate.bind_group(device, &uniforms, &geometry, &rotated);
+    let mut encoder = device.create_command_encoder(&Default::default());
+    rotate
+        .dispatch(&mut encoder, &group, vertices.len() as u32, 65535)
+        .unwrap();
+    renderer.queue.submit([encoder.finish()]);
+    let bytes = read_buffer(device, &renderer.queue, &rotated).unwrap();
+    bytemuck::cast_slice(&bytes).to_vec()
+}
+
+/// `n` random RGB coefficients.
+fn random_coefficients(rng: &mut Rng, n: usize) -> Vec<[f32; 4]> {
+    (0..n)
+        .map(|_| [0; 4].map(|_| 2.0 * rng.next_f64() as f32 - 1.0))
+        .map(|[r, g, b, _]| [r, g, b, 0.0])
+        .collect()
+}
+
+/// `coefficients` rotated into `v`'s tile frame by the crate's own rotation, channel `c`.
+fn expected_in_frame(v: &SurfaceVertex, order: usize, coefficients: &[[f32; 4]], c: usize) -> Vec<f64> {
+    let (r, mirrored) = frame_of(v);
+    let rotation = ShRotation::new(order, r).unwrap();
+    let world: Vec<f64> = coefficients.iter().map(|row| f64::from(row[c])).collect();
+    let mut want = rotation.apply(&world).unwrap();
+    if mirrored {
+        for (k, w) in want.iter_mut().enumerate() {
+            if sh::band_of(k).1 < 0 {
+                *w = -*w;
+            }
+        }
+    }
+    want
+}
+
+#[test]
+fn rotation_pass_matches_the_sh_rotation_for_every_order() {
+    let renderer = Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe)");
+    let vertices = vertices();
+    let mut rng = Rng::new(11);
+    for order in 1..=MAX_ORDER {
+        let n = sh::coeff_count(order);
+        let light = random_coefficients(&mut rng, n);
+        let world = WorldLighting {
+            environment: light.clone(),
+            sun: vec![[0.0; 4]; n],
+            sun_direction: [0.0, 0.0, 1.0],
+        };
+        let got = run_pass(&renderer, &vertices, order, &world);
+        for (i, v) in vertices.iter().enumerate() {
+            for c in 0..3 {
+                let want = expected_in_frame(v, order, &light, c);
+                let norm = light.iter().map(|w| f64::from(w[c]).powi(2)).sum::<f64>().sqrt();
+                for (k, w) in want.iter().enumerate() {
+                    let g = f64::from(got[i * n + k][c]);
+                    // f32 trigonometry and sums, and the gimbal branch (sin β below 1e-4) cost a
+                    // few 1e-5 of the lighting's norm at order 8.
+                    assert!(
+                        (g - w).abs() <= 2e-4 * norm,
+                        "order {order}, vertex {i}, channel {c}, coefficient {k}: {g} vs {w}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn the_directional_light_fades_out_past_each_vertex_terminator() {
+    // The body shadows a sun behind the terminator; its few bands must not light the fur there.
+    // Facing the sun (N·L ≥ 0) the vertex gets the sun's rotated coefficients whole, beyond the
+    // wrap band (N·L ≤ −0.3) nothing, and in between a linear share.
+    let renderer = Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe)");
+    let vertices = vertices();
+    let order = 4;
+    let n = sh::coeff_count(order);
+    let mut rng = Rng::new(5);
+    let sun = random_coefficients(&mut rng, n);
+    let sun_direction = [0.36f32, -0.48, 0.8];
+    let world = WorldLighting {
+        environment: vec![[0.0; 4]; n],
+        sun: sun.clone(),
+        sun_direction,
+    };
+    let got = run_pass(&renderer, &vertices, order, &world);
+    let (mut lit, mut dark) = (0, 0);
+    for (i, v) in vertices.iter().enumerate() {
+        let facing = dot(unit(v.normal.map(f64::from)), sun_direction.map(f64::from));
+        let share = (facing / 0.3 + 1.0).clamp(0.0, 1.0);
+        lit += usize::from(share == 1.0);
+        dark += usize::from(share == 0.0);
+        let want = expected_in_frame(v, order, &sun, 0);
+        for (k, w) in want.iter().enumerate() {
+            let g = f64::from(got[i * n + k][0]);
+            assert!(
+                (g - share * w).abs() <= 1e-4 * (1.0 + w.abs()),
+                "vertex {i} (N·L {facing:.3}), coefficient {k}: {g} vs {}",
+                share * w
+            );
+        }
+    }
+    assert!(
+        lit > 5 && dark > 5,
+        "{lit} vertices facing the sun, {dark} past its terminator"
+    );
+}

@@ -1,0 +1,939 @@
+//! [`FurScene`]: a furred mesh uploaded once — split vertex buffers, fin quads, the hair volume's
+//! textures — and updated in place when only colors or lengths change (Lengyel et al. 2001, §3:
+//! per-vertex color and length are interactive controls, so they must not re-upload the rest).
+
+use wgpu::util::DeviceExt;
+
+use std::ops::Range;
+
+use super::deform::Deformer;
+use super::fin_cull::FinPlanes;
+use super::fin_pose::PosedFinPlanes;
+use super::frame_uniforms::FrameUniforms;
+use super::level_hosts::LevelHosts;
+use super::lod::{Extent, Levels};
+use super::pipelines::{FurPipelines, Model};
+use super::planes::ScenePlanes;
+use super::prt_rotate::RotationUniforms;
+use super::scene_levels::{self, MeshLevel, SceneLevels};
+use super::surface_mesh::expand;
+use super::textures::VolumeTextures;
+use super::{Renderer, scoped, surface_mesh, textures, transfer};
+use pelt_core::FurMesh;
+use pelt_core::error::{PeltError, Result};
+use pelt_core::mesh::MAX_LENGTH;
+use pelt_core::prt::pack::PackedF16;
+use pelt_core::threads::pool;
+use pelt_core::volume::slices::check_slices;
+use pelt_core::volume::{HairVolume, PlaneSlices};
+
+/// Hair color where the mesh has none: white, so the texture's own color shows.
+const DEFAULT_COLOR: [f32; 4] = [1.0; 4];
+/// Length multiplier where the mesh has none.
+const DEFAULT_LENGTH: f32 = 1.0;
+
+/// Bytes sent to the GPU by a scene, by kind (what [`FurScene::update_attributes`] saves).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct UploadStats {
+    /// Shell, tangent and fin textures with their mip levels.
+    pub texture_bytes: u64,
+    /// PRT transfer textures with their mip levels and the fins' layer means, summed over every
+    /// [`FurScene::set_transfer`].
+    pub transfer_bytes: u64,
+    /// Positions, frames, UVs, comb vectors and indices of the skin, shells and fins.
+    pub geometry_bytes: u64,
+    /// Colors and lengths, summed over the initial upload and every update.
+    pub attribute_bytes: u64,
+    /// Skin vertices (which the shells and fins are drawn from) rewritten by
+    /// [`FurScene::deform`] and [`FurScene::update_comb`], summed over every pose and comb.
+    pub pose_bytes: u64,
+}
+
+/// The vertex and index buffers of one kind of geometry (surface or fins). They are storage
+/// buffers too, which PRT's vertex pulling and rotation pass read.
+pub(super) struct GpuMesh {
+    pub geometry: wgpu::Buffer,
+    pub color: wgpu::Buffer,
+    pub length: wgpu::Buffer,
+    pub index: wgpu::Buffer,
+}
+
+impl GpuMesh {
+    fn new(
+        device: &wgpu::Device,
+        label: &str,
+        geometry: &[u8],
+        indices: &[u32],
+        colors: &[[f32; 4]],
+        lengths: &[f32],
+    ) -> Self {
+        let buffer = |what: &str, contents: &[u8], usage| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(&format!("{label} {what}")),
+                contents,
+                usage,
+            })
+        };
+        // Every vertex buffer is rewritten in place: colors and lengths by a repaint, the
+        // geometry by a pose (`FurScene::deform`).
+        let dynamic = wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+        // The fin pass rewrites its index buffer every frame (`fin_cull`).
+        let index = wgpu::BufferUsages::INDEX | wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+        GpuMesh {
+            geometry: buffer("geometry", geometry, dynamic),
+            color: buffer("color", bytemuck::cast_slice(colors), dynamic),
+            length: buffer("length", bytemuck::cast_slice(lengths), dynamic),
+            index: buffer("index", bytemuck::cast_slice(indices), index),
+        }
+    }
+
+    /// Sets vertex buffers 0–2 and the index buffer.
+    pub fn bind(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_vertex_buffer(0, self.geometry.slice(..));
+        pass.set_vertex_buffer(1, self.color.slice(..));
+        pass.set_vertex_buffer(2, self.length.slice(..));
+        pass.set_index_buffer(self.index.slice(..), wgpu::IndexFormat::Uint32);
+    }
+
+    /// Draws the triangles of `indices` (a range of the index buffer: one geometric level)
+    /// `instances` times: indexed from the vertex buffers, or for PRT one vertex per corner that
+    /// the shader pulls from the storage buffers (bind group 1; the vertex index counts from the
+    /// range's start).
+    pub fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        model: Model,
+        indices: Range<u32>,
+        instances: Range<u32>,
+    ) {
+        match model {
+            Model::KajiyaKay => {
+                self.bind(pass);
+                pass.draw_indexed(indices, 0, instances);
+            }
+            Model::Prt => pass.draw(indices, instances),
+        }
+    }
+}
+
+/// A furred mesh on the GPU of one [`Renderer`].
+pub struct FurScene {
+    renderer_id: u64,
+    queue: wgpu::Queue,
+    pub(super) surface: GpuMesh,
+    pub(super) fins: GpuMesh,
+    /// The fins' planes, from which each frame collects the fins it draws.
+    pub(super) fin_planes: std::sync::Mutex<PosedFinPlanes>,
+    /// The full mesh and its simplified versions, finest first.
+    pub(super) mesh_levels: Vec<MeshLevel>,
+    /// Where each coarser level stands: after a repaint, those that would smear it are not
+    /// drawn.
+    level_hosts: Vec<LevelHosts>,
+    /// The current colors and lengths, per mesh vertex.
+    attributes: (Vec<[f32; 4]>, Vec<f32>),
+    /// Levels, finest first, that a frame may draw under them.
+    drawable: usize,
+    pub(super) uniforms: wgpu::Buffer,
+    pub(super) bind_group: wgpu::BindGroup,
+    /// The volume's textures, which the bind group holds (kept to make it anew).
+    volume_textures: VolumeTextures,
+    /// The virtual planes' slices, when set.
+    pub(super) planes: Option<ScenePlanes>,
+    surface_source: Vec<u32>,
+    fin_source: Vec<u32>,
+    mesh_vertices: usize,
+    pub(super) layers: u32,
+    pub(super) layer_spacing: f32,
+    resolution: usize,
+    /// The shell array's LOD levels.
+    pub(super) levels: Levels,
+    /// Level 0's opacity `[L][R²]`, which weighs the transfer of the LOD composites.
+    alpha: Vec<u8>,
+    /// Bounding sphere and longest painted length, for the LOD schedule.
+    pub(super) extent: Extent,
+    pub(super) transfer: Option<SceneTransfer>,
+    uploads: UploadStats,
+    /// The rest shape, to pose the scene.
+    deformer: Deformer,
+    /// The skin's rest vertices, which the guard strands' points are placed over.
+    rest_surface: Vec<super::surface_mesh::SurfaceVertex>,
+    /// The guard strands, when set.
+    pub(super) strands: Option<SceneStrands>,
+}
+
+/// A scene's guard strands on the GPU.
+pub(super) struct SceneStrands {
+    /// Group 2 of the strand pass.
+    pub bind_group: wgpu::BindGroup,
+    /// Segments of the longest strand.
+    pub segments: u32,
+    /// The thickest root's radius.
+    pub root_radius: f32,
+    /// The strands as uploaded, in ascending LOD rank (their root triangles pose their frames,
+    /// their ranks tell which the LOD may keep), and the frames.
+    pub records: Vec<super::guard_strands::GpuStrand>,
+    frames: wgpu::Buffer,
+}
+
+/// A scene's PRT state: the transfer textures and what the rotation pass and the PRT passes
+/// bind.
+pub(super) struct SceneTransfer {
+    pub order: usize,
+    pub textures: u32,
+    /// Array layers per transfer texture.
+    pub stride: u32,
+    /// Rotation uniforms, rewritten every frame.
+    pub uniforms: wgpu::Buffer,
+    pub rotate_group: wgpu::BindGroup,
+    /// Bind group 1 of the PRT passes.
+    pub render_group: wgpu::BindGroup,
+}
+
+fn check_colors(colors: &[[f32; 4]], vertices: usize) -> Result<()> {
+    if colors.len() != vertices {
+        return Err(PeltError::parameter(
+            "color",
+            format!("must have one row per vertex ({vertices}), got {}", colors.len()),
+        ));
+    }
+    if let Some(i) = colors.iter().position(|c| !c.iter().all(|v| v.is_finite())) {
+        return Err(PeltError::parameter(
+            format!("color[{i}]"),
+            format!("must be finite, got {:?}", colors[i]),
+        ));
+    }
+    Ok(())
+}
+
+fn check_lengths(lengths: &[f32], vertices: usize) -> Result<()> {
+    if lengths.len() != vertices {
+        return Err(PeltError::parameter(
+            "length",
+            format!(
+                "must have one value per vertex ({vertices}), got {}",
+                lengths.len()
+            ),
+        ));
+    }
+    if let Some(i) = lengths.iter().position(|l| !(0.0..=MAX_LENGTH).contains(l)) {
+        return Err(PeltError::parameter(
+            format!("length[{i}]"),
+            format!("must be in [0, {MAX_LENGTH}], got {}", lengths[i]),
+        ));
+    }
+    Ok(())
+}
+
+/// The longest length multiplier (0 for none).
+fn longest(lengths: &[f32]) -> f64 {
+    lengths.iter().fold(0.0, |m, &l| m.max(f64::from(l)))
+}
+
+/// The bounding sphere (centre of the bounding box, farthest vertex) and longest length.
+fn extent(positions: &[[f32; 3]], lengths: &[f32]) -> Extent {
+    let (lo, hi) = positions
+        .iter()
+        .fold(([f64::MAX; 3], [f64::MIN; 3]), |(lo, hi), p| {
+            (
+                std::array::from_fn(|i| lo[i].min(f64::from(p[i]))),
+                std::array::from_fn(|i| hi[i].max(f64::from(p[i]))),
+            )
+        });
+    let center: [f64; 3] = std::array::from_fn(|i| 0.5 * (lo[i] + hi[i]));
+    let radius = positions.iter().fold(0.0f64, |r, p| {
+        r.max(
+            (0..3)
+                .map(|i| (f64::from(p[i]) - center[i]).powi(2))
+                .sum::<f64>()
+                .sqrt(),
+        )
+    });
+    Extent {
+        center,
+        radius,
+        max_length: longest(lengths),
+    }
+}
+
+impl FurScene {
+    /// Uploads `mesh` (its colors, comb vectors and lengths, or white, none and 1 where absent)
+    /// with per-triangle corner UVs in tile units (`corner_uvs[f][k]` for corner `k` of triangle
+    /// `f`, as the lapped patches produce them; vertices are split where they differ) and the
+    /// baked hair `volume`.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming `corner_uvs` or the `volume` array whose size does
+    /// not match (or exceeds the device), [`PeltError::Render`] when the device fails.
+    pub fn new(
+        renderer: &Renderer,
+        mesh: &FurMesh,
+        corner_uvs: &[[[f32; 2]; 3]],
+        volume: &HairVolume,
+    ) -> Result<Self> {
+        let device = &renderer.device;
+        pelt_core::memory::check("preview upload", super::scene_upload_peak_bytes(volume), || {
+            format!(
+                "the volume's `resolution` ({}) or `layers` ({})",
+                volume.resolution, volume.layers
+            )
+        })?;
+        textures::validate(volume, &device.limits())?;
+        let levels = Levels::new(volume.layers as u32);
+        let surface = surface_mesh::build(mesh, corner_uvs)?;
+        let pipelines = renderer.fur_pipelines()?;
+        let colors = mesh
+            .color()
+            .map_or_else(|| vec![DEFAULT_COLOR; mesh.vertex_count()], <[_]>::to_vec);
+        let lengths = mesh
+            .length()
+            .map_or_else(|| vec![DEFAULT_LENGTH; mesh.vertex_count()], <[_]>::to_vec);
+        let (surface_colors, surface_lengths) = (
+            expand(&colors, &surface.source),
+            expand(&lengths, &surface.source),
+        );
+        let SceneLevels {
+            levels: mesh_levels,
+            surface_indices,
+            fins,
+            hosts: level_hosts,
+        } = SceneLevels::new(
+            mesh,
+            &surface,
+            (&colors, &lengths),
+            (&surface_colors, &surface_lengths),
+        );
+
+        let (surface_gpu, fins_gpu, volume_gpu, uniforms, bind_group) =
+            scoped(device, "uploading the scene", || {
+                let surface_gpu = GpuMesh::new(
+                    device,
+                    "surface",
+                    bytemuck::cast_slice(&surface.vertices),
+                    &surface_indices,
+                    &surface_colors,
+                    &surface_lengths,
+                );
+                let fins_gpu = GpuMesh::new(
+                    device,
+                    "fins",
+                    bytemuck::cast_slice(&fins.vertices),
+                    &fins.indices,
+                    &expand(&colors, &fins.source),
+                    &expand(&lengths, &fins.source),
+                );
+                let volume_gpu = textures::upload_volume(device, &renderer.queue, volume, &levels)?;
+                let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("frame uniforms"),
+                    size: size_of::<FrameUniforms>() as u64,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                let bind_group = fur_bind_group(
+                    device,
+                    pipelines,
+                    &uniforms,
+                    &volume_gpu,
+                    &pipelines.no_planes,
+                    &surface_gpu.geometry,
+                );
+                Ok::<_, PeltError>((surface_gpu, fins_gpu, volume_gpu, uniforms, bind_group))
+            })??;
+
+        let attribute_rows = (surface.source.len() + fins.source.len()) as u64;
+        let uploads = UploadStats {
+            texture_bytes: volume_gpu.bytes,
+            geometry_bytes: (size_of_val(surface.vertices.as_slice())
+                + size_of_val(fins.vertices.as_slice())
+                + 4 * (surface_indices.len() + fins.indices.len())) as u64,
+            attribute_bytes: attribute_rows * (16 + 4),
+            transfer_bytes: 0,
+            pose_bytes: 0,
+        };
+        let deformer = Deformer::new(mesh, &surface);
+        let rest_surface = surface.vertices.clone();
+        let fin_ends = fins.source.chunks_exact(4).map(|c| [c[0], c[1]]).collect();
+        let extent = extent(mesh.positions(), &lengths);
+        Ok(FurScene {
+            renderer_id: renderer.id,
+            queue: renderer.queue.clone(),
+            surface: surface_gpu,
+            fins: fins_gpu,
+            fin_planes: std::sync::Mutex::new(PosedFinPlanes::new(
+                FinPlanes::new(fins.centers, fins.normals),
+                fin_ends,
+            )),
+            drawable: mesh_levels.len(),
+            mesh_levels,
+            level_hosts,
+            attributes: (colors, lengths),
+            uniforms,
+            bind_group,
+            volume_textures: volume_gpu,
+            planes: None,
+            surface_source: surface.source,
+            fin_source: fins.source,
+            mesh_vertices: mesh.vertex_count(),
+            layers: volume.layers as u32,
+            layer_spacing: volume.layer_spacing as f32,
+            resolution: volume.resolution,
+            levels,
+            alpha: volume.shells.chunks_exact(4).map(|px| px[3]).collect(),
+            extent,
+            transfer: None,
+            uploads,
+            deformer,
+            rest_surface,
+            strands: None,
+        })
+    }
+
+    /// Uploads a baked asset: its mesh with the patches' UVs and its volume, and its transfer and
+    /// guard hairs when it has them.
+    ///
+    /// # Errors
+    /// As [`FurScene::new`], [`FurScene::set_transfer`] and [`FurScene::set_guard_hairs`].
+    pub fn from_asset(renderer: &Renderer, asset: &pelt_core::pipeline::FurAsset) -> Result<Self> {
+        let mut scene = FurScene::new(renderer, &asset.mesh, &asset.patches.uv, &asset.volume)?;
+        if let Some(transfer) = &asset.transfer {
+            scene.set_transfer(renderer, &transfer.packed_f16)?;
+        }
+        if let Some(guard_hairs) = &asset.guard_hairs {
+            scene.set_guard_hairs(renderer, guard_hairs)?;
+        }
+        if let Some(planes) = &asset.planes {
+            scene.set_planes(renderer, Some(planes))?;
+        }
+        Ok(scene)
+    }
+
+    /// Uploads PRT transfer textures ([`pelt_core::prt::pack::pack_f16`] of a transfer baked from
+    /// this scene's hair volume), replacing any earlier ones; [`super::LightModel::Prt`] needs
+    /// them.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming `renderer` (not the one that uploaded the scene),
+    /// `transfer.layers` or `transfer.resolution` (a texture set from another bake),
+    /// `transfer.textures`, `transfer.texels` (length, or the first non-finite value) or
+    /// `transfer` (beyond the device's limits); [`PeltError::Render`] when the device fails or
+    /// lacks what PRT needs. The scene is unchanged then.
+    pub fn set_transfer(&mut self, renderer: &Renderer, transfer: &PackedF16) -> Result<()> {
+        if renderer.id != self.renderer_id {
+            return Err(PeltError::parameter(
+                "renderer",
+                "is not the Renderer that uploaded this scene",
+            ));
+        }
+        let device = &renderer.device;
+        let limits = device.limits();
+        let stride = self.levels.total() as usize;
+        let order = transfer::check(
+            transfer,
+            self.layers as usize,
+            self.resolution,
+            stride,
+            limits.max_texture_array_layers,
+        )?;
+        pelt_core::memory::check(
+            "preview upload",
+            super::transfer_upload_peak_bytes(self.layers as usize, self.resolution, order),
+            || {
+                format!(
+                    "the transfer's `order` ({order}) or the volume's `resolution` ({})",
+                    self.resolution
+                )
+            },
+        )?;
+        let n = order * order;
+        let rotated_bytes = (self.surface_source.len() * n * 16) as u64;
+        if rotated_bytes > limits.max_storage_buffer_binding_size {
+            return Err(PeltError::parameter(
+                "transfer",
+                format!(
+                    "order {order} on {} surface vertices needs a {rotated_bytes}-byte lighting buffer, the device allows {}",
+                    self.surface_source.len(),
+                    limits.max_storage_buffer_binding_size
+                ),
+            ));
+        }
+        let (means, per_texture) = pool().install(|| {
+            (
+                transfer::layer_means(transfer, &self.alpha, order),
+                transfer::premultiplied_levels(transfer, &self.alpha, &self.levels),
+            )
+        });
+        let pipelines = renderer.fur_pipelines()?;
+        let prt = pipelines.prt(device)?;
+        let (scene_transfer, bytes) = scoped(device, "uploading the transfer", || {
+            let textures = transfer::upload(device, &renderer.queue, &per_texture, self.resolution, stride)?;
+            let storage = |label: &str, contents: &[u8]| {
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents,
+                    usage: wgpu::BufferUsages::STORAGE,
+                })
+            };
+            let means_buffer = storage("prt layer means", bytemuck::cast_slice(&means));
+            let rotated = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("prt rotated lighting"),
+                size: rotated_bytes.max(16),
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            });
+            let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("prt rotation uniforms"),
+                size: size_of::<RotationUniforms>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let rotate_group = prt
+                .rotate
+                .bind_group(device, &uniforms, &self.surface.geometry, &rotated);
+            fn buffer(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+                wgpu::BindGroupEntry {
+                    binding,
+                    resource: buffer.as_entire_binding(),
+                }
+            }
+            let render_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("prt"),
+                layout: &prt.group_layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::TextureView(&textures.view),
+                    },
+                    buffer(1, &rotated),
+                    buffer(2, &means_buffer),
+                    buffer(3, &self.surface.index),
+                    buffer(5, &self.surface.color),
+                    buffer(6, &self.surface.length),
+                ],
+            });
+            let scene_transfer = SceneTransfer {
+                order,
+                textures: transfer.textures as u32,
+                stride: stride as u32,
+                uniforms,
+                rotate_group,
+                render_group,
+            };
+            Ok::<_, PeltError>((
+                scene_transfer,
+                textures.bytes + size_of_val(means.as_slice()) as u64,
+            ))
+        })??;
+        self.transfer = Some(scene_transfer);
+        self.uploads.transfer_bytes += bytes;
+        Ok(())
+    }
+
+    /// Sets the virtual planes' slices ([`pelt_core::volume::bake_slices`] of this scene's hair),
+    /// which [`super::ShellMethod::VirtualPlanes`] draws, replacing any earlier ones; `None`
+    /// removes them.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming `renderer` (not the one that uploaded the scene),
+    /// `planes`, `plane_size[i]`, `planes.rgba` or `planes.tilt` (slices that do not match their
+    /// sizes), or `plane_size` beyond the device; [`PeltError::MemoryLimit`] above the memory
+    /// limit; [`PeltError::Render`] when the device fails. The scene is unchanged then.
+    pub fn set_planes(&mut self, renderer: &Renderer, slices: Option<&PlaneSlices>) -> Result<()> {
+        if renderer.id != self.renderer_id {
+            return Err(PeltError::parameter(
+                "renderer",
+                "is not the Renderer that uploaded this scene",
+            ));
+        }
+        let pipelines = renderer.fur_pipelines()?;
+        let Some(slices) = slices else {
+            self.planes = None;
+            self.rebind(renderer, pipelines);
+            return Ok(());
+        };
+        check_slices(slices)?;
+        let limits = renderer.device.limits();
+        let (side, layers) = (
+            limits.max_texture_dimension_2d as usize,
+            limits.max_texture_array_layers as usize,
+        );
+        if slices.size.iter().any(|&s| s > side) || 2 * slices.planes > layers {
+            return Err(PeltError::parameter(
+                "plane_size",
+                format!(
+                    "must fit this device's textures ({side} texels a side, {layers} layers for 2 × planes), got {:?} with {} planes",
+                    slices.size, slices.planes
+                ),
+            ));
+        }
+        // The slices, their mips (a third more) and their premultiplied copy.
+        pelt_core::memory::check("preview upload", 3.0 * slices.rgba.len() as f64, || {
+            format!("`planes` ({}) or `plane_size` ({:?})", slices.planes, slices.size)
+        })?;
+        let device = &renderer.device;
+        let planes = scoped(device, "uploading the plane slices", || {
+            super::planes::upload_planes(device, &renderer.queue, slices)
+        })??;
+        self.uploads.texture_bytes += planes.bytes;
+        self.planes = Some(planes);
+        self.rebind(renderer, pipelines);
+        Ok(())
+    }
+
+    /// Makes group 0 anew with the current textures.
+    fn rebind(&mut self, renderer: &Renderer, pipelines: &FurPipelines) {
+        let planes = self.planes.as_ref().map_or(&pipelines.no_planes, |p| &p.view);
+        self.bind_group = fur_bind_group(
+            &renderer.device,
+            pipelines,
+            &self.uniforms,
+            &self.volume_textures,
+            planes,
+            &self.surface.geometry,
+        );
+    }
+
+    /// Sets the guard hairs drawn as strands over the shells ([`pelt_core::guard::guard_hairs`] of
+    /// this scene's mesh), replacing any earlier ones; an empty set removes them, so the frame
+    /// is the shells alone. Each strand is tied to its root triangle and follows
+    /// [`FurScene::deform`]; its points are taken as placed over the rest shape, its colors as
+    /// baked (a repaint does not reach them).
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming `renderer` (not the one that uploaded the scene),
+    /// `guard_hairs` (too many strands or points for the device or [`pelt_core::guard::MAX_GUARD_STRANDS`]),
+    /// `guard_hairs.spans[i]` or `guard_hairs.points[i]` (see `guard_strands::prepare`);
+    /// [`PeltError::MemoryLimit`] above the memory limit; [`PeltError::Render`] when the device
+    /// fails. The scene is unchanged then.
+    pub fn set_guard_hairs(
+        &mut self,
+        renderer: &Renderer,
+        guard_hairs: &pelt_core::placement::PlacedStrands,
+    ) -> Result<()> {
+        if renderer.id != self.renderer_id {
+            return Err(PeltError::parameter(
+                "renderer",
+                "is not the Renderer that uploaded this scene",
+            ));
+        }
+        if guard_hairs.spans.is_empty() {
+            self.strands = None;
+            return Ok(());
+        }
+        // The strand records (kept), their frames and points, twice over while they are made
+        // and sent.
+        let bytes = 2.0 * (160.0 * guard_hairs.spans.len() as f64 + 16.0 * guard_hairs.points.len() as f64);
+        pelt_core::memory::check("guard strand upload", bytes, || "`guard_share`".into())?;
+        let lengths = expand(&self.attributes.1, &self.surface_source);
+        let prepared = super::guard_strands::prepare(
+            guard_hairs,
+            &self.rest_surface,
+            self.deformer.triangles(),
+            &lengths,
+        )?;
+        let device = &renderer.device;
+        let limit = device.limits().max_storage_buffer_binding_size;
+        // A draw's vertices, `strands · (2 · segments + 4)`, fit in a u32 below
+        // MAX_GUARD_STRANDS strands of MAX_SEGMENTS segments; the buffers must fit the device.
+        let biggest =
+            size_of_val(prepared.points.as_slice()).max(size_of_val(prepared.strands.as_slice())) as u64;
+        if biggest > limit {
+            return Err(PeltError::parameter(
+                "guard_hairs",
+                format!(
+                    "{} strands of {} points need a {biggest}-byte buffer, the device allows {limit} bytes",
+                    prepared.strands.len(),
+                    prepared.segments + 1
+                ),
+            ));
+        }
+        let layout = &renderer.fur_pipelines()?.strand_group_layout;
+        let scene_strands = scoped(device, "uploading the guard strands", || {
+            let storage = |label: &str, contents: &[u8]| {
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents,
+                    usage: wgpu::BufferUsages::STORAGE,
+                })
+            };
+            let strands = storage("guard strands", bytemuck::cast_slice(&prepared.strands));
+            let points = storage("guard strand points", bytemuck::cast_slice(&prepared.points));
+            let frames = super::guard_strands::root_frames(self.deformer.current(), &prepared.strands);
+            let frames = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("guard strand frames"),
+                contents: bytemuck::cast_slice(&frames),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            });
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("guard strands"),
+                layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: strands.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: points.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: frames.as_entire_binding(),
+                    },
+                ],
+            });
+            SceneStrands {
+                bind_group,
+                segments: prepared.segments,
+                root_radius: prepared.root_radius,
+                records: prepared.strands.clone(),
+                frames,
+            }
+        })?;
+        self.uploads.geometry_bytes +=
+            (size_of_val(prepared.strands.as_slice()) + size_of_val(prepared.points.as_slice())) as u64;
+        self.strands = Some(scene_strands);
+        Ok(())
+    }
+
+    /// Guard strands the scene draws ([`FurScene::set_guard_hairs`]).
+    pub fn guard_strand_count(&self) -> usize {
+        self.strands.as_ref().map_or(0, |s| s.records.len())
+    }
+
+    /// The SH order of the scene's transfer, if it has one.
+    pub fn transfer_order(&self) -> Option<usize> {
+        self.transfer.as_ref().map(|t| t.order)
+    }
+
+    /// Rewrites the per-vertex colors and/or lengths (one row per mesh vertex, like
+    /// [`pelt_core::MeshInput`]'s) in place; nothing else is sent to the GPU. Geometric levels of
+    /// detail that cannot hold the new values (`super::level_hosts`) are not drawn until they
+    /// can again.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming `color` / `length` (wrong row count) or the first
+    /// bad row (`color[i]` not finite, `length[i]` outside `[0, MAX_LENGTH]`); nothing is written
+    /// then.
+    pub fn update_attributes(&mut self, color: Option<&[[f32; 4]]>, length: Option<&[f32]>) -> Result<()> {
+        if let Some(c) = color {
+            check_colors(c, self.mesh_vertices)?;
+        }
+        if let Some(l) = length {
+            check_lengths(l, self.mesh_vertices)?;
+            self.extent.max_length = longest(l);
+        }
+        let mut bytes = 0u64;
+        if let Some(c) = color {
+            for (mesh, source) in [
+                (&self.surface, &self.surface_source),
+                (&self.fins, &self.fin_source),
+            ] {
+                let rows = expand(c, source);
+                if rows.is_empty() {
+                    continue;
+                }
+                self.queue
+                    .write_buffer(&mesh.color, 0, bytemuck::cast_slice(&rows));
+                bytes += size_of_val(rows.as_slice()) as u64;
+            }
+        }
+        if let Some(l) = length {
+            for (mesh, source) in [
+                (&self.surface, &self.surface_source),
+                (&self.fins, &self.fin_source),
+            ] {
+                let rows = expand(l, source);
+                if rows.is_empty() {
+                    continue;
+                }
+                self.queue
+                    .write_buffer(&mesh.length, 0, bytemuck::cast_slice(&rows));
+                bytes += size_of_val(rows.as_slice()) as u64;
+            }
+        }
+        // Sent now, as a pose is (`FurScene::deform`): repaints without a frame between them
+        // would otherwise pile up their staging copies.
+        self.queue.submit(std::iter::empty());
+        self.uploads.attribute_bytes += bytes;
+        if let Some(c) = color {
+            self.attributes.0.copy_from_slice(c);
+        }
+        if let Some(l) = length {
+            self.attributes.1.copy_from_slice(l);
+        }
+        self.drawable = scene_levels::drawable(&self.level_hosts, &self.attributes.0, &self.attributes.1);
+        Ok(())
+    }
+
+    /// Checks comb vectors for [`FurScene::update_comb`] without changing anything.
+    ///
+    /// # Errors
+    /// As [`FurScene::update_comb`].
+    pub fn check_comb(&self, comb: &[[f32; 3]]) -> Result<()> {
+        if comb.len() != self.mesh_vertices {
+            return Err(PeltError::parameter(
+                "comb",
+                format!(
+                    "must have one row per vertex ({}), got {}",
+                    self.mesh_vertices,
+                    comb.len()
+                ),
+            ));
+        }
+        match comb.iter().position(|c| !c.iter().all(|v| v.is_finite())) {
+            Some(i) => Err(PeltError::parameter(
+                format!("comb[{i}]"),
+                format!("must be finite, got {:?}", comb[i]),
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// Rewrites the comb vectors (one row per mesh vertex, object space at rest) in place: the
+    /// shells and fins lean with the new comb (Lengyel et al. 2001, §3: the shear), in the
+    /// current pose; the patches keep the orientation of the comb they were baked with.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming `comb` (wrong row count) or `comb[i]` (not
+    /// finite); nothing changes then.
+    pub fn update_comb(&mut self, comb: &[[f32; 3]]) -> Result<()> {
+        self.check_comb(comb)?;
+        let deformer = &mut self.deformer;
+        let surface = pool().install(|| deformer.set_comb(comb));
+        let vertices = bytemuck::cast_slice::<_, u8>(surface);
+        self.queue.write_buffer(&self.surface.geometry, 0, vertices);
+        // Sent now, as a pose is.
+        self.queue.submit(std::iter::empty());
+        self.uploads.pose_bytes += vertices.len() as u64;
+        Ok(())
+    }
+
+    /// Poses the scene: the mesh's vertices at `positions` (one row per mesh vertex, object
+    /// space, the triangles of the bake) with `normals` (scaled to unit length), or normals
+    /// computed from the posed triangles when `None`. Only the skin's vertex buffer is
+    /// rewritten (the shells are drawn from it, the fins read their ends from it; see
+    /// `deform.rs`), and the planes the CPU sorts the fins by follow at the next frame that
+    /// draws them (`fin_pose.rs`); the textures, the transfer and the painted attributes stay, so a skinned
+    /// character follows its armature every frame without a bake. Poses do not accumulate:
+    /// each is taken from the rest shape.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidMesh`] naming `positions` or `normals` (a row count other than the
+    /// mesh's, a NaN or infinity, a zero normal); the scene is unchanged then.
+    pub fn deform(&mut self, positions: &[[f32; 3]], normals: Option<&[[f32; 3]]>) -> Result<()> {
+        let deformer = &mut self.deformer;
+        let (surface, normals) = pool().install(|| deformer.pose(positions, normals))?;
+        let vertices = bytemuck::cast_slice::<_, u8>(surface);
+        self.queue.write_buffer(&self.surface.geometry, 0, vertices);
+        if let Some(strands) = &self.strands {
+            let frames = super::guard_strands::root_frames(surface, &strands.records);
+            self.queue
+                .write_buffer(&strands.frames, 0, bytemuck::cast_slice(&frames));
+            self.uploads.pose_bytes += size_of_val(frames.as_slice()) as u64;
+        }
+        // Sent now: poses without a frame between them would otherwise pile up their staging
+        // copies until the next frame's submit.
+        self.queue.submit(std::iter::empty());
+        self.uploads.pose_bytes += vertices.len() as u64;
+        let levels = self.mesh_levels.iter().map(|l| l.fins.clone());
+        self.fin_planes
+            .get_mut()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .pose(positions, normals, levels);
+        self.extent = extent(positions, &self.attributes.1);
+        Ok(())
+    }
+
+    /// Bytes sent to the GPU so far, by kind.
+    pub fn uploads(&self) -> UploadStats {
+        self.uploads
+    }
+
+    /// GPU vertices of the skin and shells (mesh vertices plus the copies made at UV seams).
+    pub fn surface_vertex_count(&self) -> usize {
+        self.surface_source.len()
+    }
+
+    /// Whether the virtual planes' slices are set ([`FurScene::set_planes`]).
+    pub fn has_planes(&self) -> bool {
+        self.planes.is_some()
+    }
+
+    /// Fin quads of the full mesh (one per mesh edge that has a fin plane).
+    pub fn fin_count(&self) -> usize {
+        self.mesh_levels.first().map_or(0, |l| l.fins.len())
+    }
+
+    /// Fin quads of every geometric level together (what the fin buffers hold).
+    pub fn uploaded_fin_count(&self) -> usize {
+        self.fin_source.len() / 4
+    }
+
+    /// Triangles of each geometric level of detail, the full mesh first
+    /// ([`super::RenderSettings::mesh_error`]).
+    pub fn level_triangles(&self) -> Vec<usize> {
+        self.mesh_levels.iter().map(|l| l.indices.len() / 3).collect()
+    }
+
+    /// Geometric levels, the full mesh first, that frames may draw under the current colors and
+    /// lengths (all of them as uploaded; see [`FurScene::update_attributes`]).
+    pub fn drawable_level_count(&self) -> usize {
+        self.drawable_levels().len()
+    }
+
+    /// The object-space error bound of each geometric level (0 for the full mesh).
+    pub fn level_errors(&self) -> Vec<f64> {
+        self.mesh_levels.iter().map(|l| l.error).collect()
+    }
+
+    /// The geometric levels a frame may draw, finest first: those that stand for the full
+    /// mesh under the current colors and lengths ([`super::level_hosts`]).
+    pub(super) fn drawable_levels(&self) -> &[MeshLevel] {
+        &self.mesh_levels[..self.drawable.min(self.mesh_levels.len())]
+    }
+
+    /// Layers of the shell texture, the skin included.
+    pub fn layers(&self) -> u32 {
+        self.layers
+    }
+
+    pub(super) fn renderer_id(&self) -> u64 {
+        self.renderer_id
+    }
+}
+
+/// Group 0 of every fur pass: the frame's uniforms, the volume's textures and samplers, the
+/// skin's vertices and the virtual planes' slices.
+fn fur_bind_group(
+    device: &wgpu::Device,
+    pipelines: &FurPipelines,
+    uniforms: &wgpu::Buffer,
+    volume: &VolumeTextures,
+    planes: &wgpu::TextureView,
+    skin: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    let view = wgpu::BindingResource::TextureView;
+    let sampler = wgpu::BindingResource::Sampler;
+    let resources = [
+        uniforms.as_entire_binding(),
+        view(&volume.shells),
+        view(&volume.tangents),
+        view(&volume.fin),
+        sampler(&pipelines.tile_sampler),
+        sampler(&pipelines.fin_sampler),
+        skin.as_entire_binding(),
+        view(planes),
+    ];
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
+        .into_iter()
+        .enumerate()
+        .map(|(binding, resource)| wgpu::BindGroupEntry {
+            binding: binding as u32,
+            resource,
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("fur"),
+        layout: &pipelines.bind_group_layout,
+        entries: &entries,
+    })
+}

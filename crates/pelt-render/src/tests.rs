@@ -1,0 +1,602 @@
+//! CPU-side checks of the renderer: matrices, GPU vertices of the split mesh and the fins,
+//! premultiplied colors and input validation (the split and the fin quads themselves are tested in
+//! `mesh/`). The GPU passes are tested in `tests/render_fur.rs`.
+
+use super::camera::{Camera, CameraFrame, invert};
+use super::image::RgbaImage;
+use super::lighting::Lighting;
+use super::settings::RenderSettings;
+use super::textures::premultiply;
+use super::{fin_mesh, surface_mesh};
+use pelt_core::color::{linear_to_srgb, srgb_to_linear};
+use pelt_core::error::PeltError;
+use pelt_core::{FurMesh, MeshInput};
+
+fn column_major(rows: [[f64; 4]; 4]) -> [f32; 16] {
+    std::array::from_fn(|i| rows[i % 4][i / 4] as f32)
+}
+
+/// A right-handed look-at view matrix, written out from its definition.
+fn look_at(eye: [f64; 3], target: [f64; 3], up: [f64; 3]) -> [f32; 16] {
+    let norm = |v: [f64; 3]| {
+        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        v.map(|c| c / l)
+    };
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let f = norm([target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]]);
+    let s = norm(cross(f, up));
+    let u = cross(s, f);
+    column_major([
+        [s[0], s[1], s[2], -dot(s, eye)],
+        [u[0], u[1], u[2], -dot(u, eye)],
+        [-f[0], -f[1], -f[2], dot(f, eye)],
+        [0.0, 0.0, 0.0, 1.0],
+    ])
+}
+
+fn perspective() -> [f32; 16] {
+    let (near, far, t) = (0.1, 10.0, 1.0);
+    column_major([
+        [t, 0.0, 0.0, 0.0],
+        [0.0, t, 0.0, 0.0],
+        [0.0, 0.0, far / (near - far), near * far / (near - far)],
+        [0.0, 0.0, -1.0, 0.0],
+    ])
+}
+
+fn orthographic() -> [f32; 16] {
+    column_major([
+        [0.5, 0.0, 0.0, 0.0],
+        [0.0, 0.5, 0.0, 0.0],
+        [0.0, 0.0, -0.1, 0.5],
+        [0.0, 0.0, 0.0, 1.0],
+    ])
+}
+
+#[test]
+fn inverse_times_matrix_is_identity_and_singular_is_refused() {
+    let m = [
+        [2.0, 0.5, -1.0, 3.0],
+        [0.0, 1.5, 0.25, -2.0],
+        [1.0, -0.5, 4.0, 0.5],
+        [0.0, 0.0, 0.3, 1.0],
+    ];
+    let inv = invert(&m).unwrap();
+    let product: [[f64; 4]; 4] =
+        std::array::from_fn(|r| std::array::from_fn(|c| (0..4).map(|k| m[r][k] * inv[k][c]).sum()));
+    for (r, row) in product.iter().enumerate() {
+        for (c, v) in row.iter().enumerate() {
+            assert!((v - f64::from(u8::from(r == c))).abs() < 1e-12, "({r},{c}) = {v}");
+        }
+    }
+    let mut singular = m;
+    singular[3] = [4.0, 1.0, -2.0, 6.0]; // twice row 0
+    assert!(invert(&singular).is_none());
+}
+
+#[test]
+fn camera_finds_the_eye_for_perspective_and_orthographic_projections() {
+    let eye = [1.0, -3.0, 2.0];
+    let view = look_at(eye, [0.0, 0.5, 0.0], [0.0, 0.0, 1.0]);
+    let camera = Camera {
+        view,
+        projection: perspective(),
+        width: 64,
+        height: 32,
+    };
+    let frame = CameraFrame::of(&camera, 8192).unwrap();
+    for (got, want) in frame.eye.iter().zip(eye) {
+        assert!((f64::from(*got) - want).abs() < 1e-5, "{:?}", frame.eye);
+    }
+    assert_eq!(frame.eye[3], 1.0);
+    // The target projects to the centre of the image.
+    let p = [0.0f32, 0.5, 0.0, 1.0];
+    let clip: [f32; 4] = std::array::from_fn(|r| (0..4).map(|k| frame.view_proj[k * 4 + r] * p[k]).sum());
+    assert!(
+        clip[0].abs() < 1e-5 && clip[1].abs() < 1e-5 && clip[3] > 0.0,
+        "{clip:?}"
+    );
+
+    let ortho = Camera {
+        projection: orthographic(),
+        ..camera
+    };
+    let frame = CameraFrame::of(&ortho, 8192).unwrap();
+    let toward = [1.0, -3.5, 2.0];
+    let len = (1.0f64 + 3.5 * 3.5 + 4.0).sqrt();
+    for (got, want) in frame.eye.iter().zip(toward) {
+        assert!((f64::from(*got) - want / len).abs() < 1e-5, "{:?}", frame.eye);
+    }
+    assert_eq!(frame.eye[3], 0.0);
+}
+
+fn parameter_name(e: PeltError) -> String {
+    match e {
+        PeltError::InvalidParameter { name, .. } => name,
+        other => panic!("expected an invalid parameter, got {other}"),
+    }
+}
+
+#[test]
+fn camera_lighting_and_settings_name_the_bad_field() {
+    let good = Camera {
+        view: look_at([0.0, 0.0, 3.0], [0.0; 3], [0.0, 1.0, 0.0]),
+        projection: perspective(),
+        width: 16,
+        height: 16,
+    };
+    let mut nan = good;
+    nan.view[5] = f32::NAN;
+    assert_eq!(
+        parameter_name(CameraFrame::of(&nan, 4096).unwrap_err()),
+        "camera.view"
+    );
+    let zero_width = Camera { width: 0, ..good };
+    assert_eq!(
+        parameter_name(CameraFrame::of(&zero_width, 4096).unwrap_err()),
+        "camera.width"
+    );
+    let too_tall = Camera { height: 5000, ..good };
+    assert_eq!(
+        parameter_name(CameraFrame::of(&too_tall, 4096).unwrap_err()),
+        "camera.height"
+    );
+    let singular = Camera {
+        view: [0.0; 16],
+        ..good
+    };
+    assert_eq!(
+        parameter_name(CameraFrame::of(&singular, 4096).unwrap_err()),
+        "camera.view"
+    );
+    let mut skewed = good;
+    skewed.projection[3] = 0.5; // last row (0.5, 0, -1, 0)
+    assert_eq!(
+        parameter_name(CameraFrame::of(&skewed, 4096).unwrap_err()),
+        "camera.projection"
+    );
+
+    let dark = Lighting {
+        direction: [0.0; 3],
+        ..Lighting::default()
+    };
+    assert_eq!(parameter_name(dark.frame().unwrap_err()), "lighting.direction");
+    let light = Lighting {
+        direction: [0.0, 3.0, 4.0],
+        ..Lighting::default()
+    }
+    .frame()
+    .unwrap();
+    assert_eq!(light.direction, [0.0, 0.6, 0.8]);
+
+    let settings = RenderSettings::default();
+    assert_eq!(settings.shells_to_draw(16).unwrap(), 15);
+    let too_many = RenderSettings {
+        shell_count: Some(16),
+        ..settings
+    };
+    assert_eq!(
+        parameter_name(too_many.shells_to_draw(16).unwrap_err()),
+        "settings.shell_count"
+    );
+    let negative = RenderSettings {
+        fur_depth: -1.0,
+        ..settings
+    };
+    assert_eq!(
+        parameter_name(negative.shells_to_draw(16).unwrap_err()),
+        "settings.fur_depth"
+    );
+}
+
+/// A 2 × 2 square in the xy plane as two triangles sharing the diagonal 0–2.
+fn square() -> FurMesh {
+    let positions = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 2.0, 0.0], [0.0, 2.0, 0.0]];
+    let triangles = [[0, 1, 2], [0, 2, 3]];
+    FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap()
+}
+
+#[test]
+fn vertices_split_only_where_uvs_differ_and_derivatives_match_the_map() {
+    let mesh = square();
+    // UV = position / 2: one chart, no seam.
+    let uvs = [
+        [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]],
+        [[0.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+    ];
+    let split = surface_mesh::build(&mesh, &uvs).unwrap();
+    assert_eq!(split.vertices.len(), 4);
+    for v in &split.vertices {
+        assert_eq!(v.dpdu, [2.0, 0.0, 0.0]);
+        assert_eq!(v.dpdv, [0.0, 2.0, 0.0]);
+        let p = mesh.positions()[split.source[split.vertices.iter().position(|w| w == v).unwrap()] as usize];
+        assert_eq!(v.uv, [p[0] / 2.0, p[1] / 2.0]);
+    }
+    // Every side is twice as long in 3D as in the tile.
+    assert!((split.uv_scale - 0.5).abs() < 1e-12);
+    for (f, tri) in mesh.triangles().iter().enumerate() {
+        for k in 0..3 {
+            let gpu = split.indices[3 * f + k] as usize;
+            assert_eq!(split.source[gpu], tri[k]);
+            assert_eq!(split.vertices[gpu].uv, uvs[f][k]);
+        }
+    }
+
+    // The second triangle shifted by a whole tile: the diagonal's two vertices split.
+    let seam = [uvs[0], uvs[1].map(|[u, v]| [u + 1.0, v])];
+    let split = surface_mesh::build(&mesh, &seam).unwrap();
+    assert_eq!(split.vertices.len(), 6);
+    let mut sources = split.source.clone();
+    sources.sort_unstable();
+    assert_eq!(sources, [0, 0, 1, 2, 2, 3]);
+}
+
+#[test]
+fn one_fin_per_edge_standing_on_it() {
+    let mesh = square();
+    // Surface vertex of mesh vertex v: 10 + v, to see that the fins name them.
+    let fins = fin_mesh::build(&[pelt_core::mesh::fin_quads(&mesh, 0.5)], &[10, 11, 12, 13]);
+    assert_eq!(fins.vertices.len(), 4 * 5);
+    assert_eq!(fins.indices.len(), 6 * 5);
+    assert_eq!((fins.centers.len(), fins.normals.len()), (5, 5));
+    for (k, quad) in fins.vertices.chunks_exact(4).enumerate() {
+        let source = &fins.source[4 * k..4 * k + 4];
+        let (a, b) = (
+            mesh.positions()[source[0] as usize],
+            mesh.positions()[source[1] as usize],
+        );
+        let e = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let len = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
+        let f = fins.normals[k];
+        // The fin stands on the edge along the (flat) normal +z: its normal is in the plane,
+        // perpendicular to the edge.
+        assert!(
+            (f[0] * e[0] + f[1] * e[1]).abs() < 1e-6 && f[2].abs() < 1e-6,
+            "{f:?}"
+        );
+        assert!(((f[0] * f[0] + f[1] * f[1]).sqrt() - 1.0).abs() < 1e-6);
+        assert_eq!(fins.centers[k], [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0, 0.0]);
+        // The texture interval is the edge length in tile units, starting in [0, 1).
+        assert!((0.0..1.0).contains(&quad[0].uv[0]));
+        assert!((quad[1].uv[0] - quad[0].uv[0] - 0.5 * len).abs() < 1e-5);
+        assert_eq!(
+            [quad[0].uv[1], quad[1].uv[1], quad[2].uv[1], quad[3].uv[1]],
+            [1.0, 1.0, 0.0, 0.0]
+        );
+        assert_eq!((source[2], source[3]), (source[0], source[1]));
+        // Each corner names both ends' surface vertices and stands on one of them.
+        let ends = quad[0].ends;
+        assert_eq!(ends.map(|e| mesh.positions()[e as usize - 10]), [a, b]);
+        for (corner, along) in quad.iter().zip([0.0, 1.0, 0.0, 1.0]) {
+            assert_eq!((corner.ends, corner.along), (ends, along));
+        }
+    }
+}
+
+#[test]
+fn premultiplied_upload_and_straight_readback_agree_with_the_formulas() {
+    let straight = [255, 128, 0, 128, 10, 200, 90, 255, 77, 77, 77, 0, 0, 0, 0, 3];
+    let pm = premultiply(&straight);
+    for (s, p) in straight.chunks_exact(4).zip(pm.chunks_exact(4)) {
+        let a = f32::from(s[3]) / 255.0;
+        for c in 0..3 {
+            let want = linear_to_srgb(srgb_to_linear(f32::from(s[c]) / 255.0) * a) * 255.0;
+            assert!((f32::from(p[c]) - want).abs() <= 0.5 + 1e-3, "{s:?} -> {p:?}");
+        }
+        assert_eq!(p[3], s[3]);
+    }
+    // Back to straight: within the rounding of 8-bit premultiplied values.
+    let image = RgbaImage::from_premultiplied(4, 1, pm);
+    for (s, back) in straight.chunks_exact(4).zip(image.pixels.chunks_exact(4)) {
+        match s[3] {
+            0 => assert_eq!(back, [0, 0, 0, 0]),
+            3 => assert_eq!(back[3], 3),
+            _ => {
+                for c in 0..3 {
+                    assert!(s[c].abs_diff(back[c]) <= 2, "{s:?} -> {back:?}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn premultiplying_does_not_depend_on_the_thread_count() {
+    // Enough texels for several parallel chunks, every (color, alpha) pair present.
+    let straight: Vec<u8> = (0..3 * 65536u32)
+        .flat_map(|i| {
+            [
+                (i % 256) as u8,
+                (i / 7 % 256) as u8,
+                (i / 256 % 256) as u8,
+                (i * 13 % 256) as u8,
+            ]
+        })
+        .collect();
+    let run = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| premultiply(&straight))
+    };
+    assert!(run(1) == run(2));
+}
+
+#[test]
+fn transfer_layer_means_weigh_texels_by_opacity_for_any_thread_count() {
+    use super::transfer::{layer_means, order_of};
+    use half::f16;
+    use pelt_core::prt::pack::{PackedF16, texel_index};
+    let (order, layers, resolution) = (4, 3, 5);
+    let n = order * order;
+    // Order 4 fills every channel of its 4 textures, the last one to the end of the array.
+    let textures = 4;
+    assert_eq!(order_of(textures), Some(order));
+    let voxels = layers * resolution * resolution;
+    let value = |k: usize, v: usize| ((k * 7 + v * 13) % 17) as f32 / 8.0 - 1.0;
+    let mut texels = vec![f16::ZERO; textures * voxels * 4];
+    for v in 0..voxels {
+        for k in 0..n {
+            texels[texel_index(k, v, voxels)] = f16::from_f32(value(k, v));
+        }
+    }
+    let packed = PackedF16 {
+        textures,
+        layers,
+        resolution,
+        texels,
+    };
+    // Layer 2 is empty: its plain mean stands in.
+    let texels = resolution * resolution;
+    let alpha: Vec<u8> = (0..voxels)
+        .map(|v| if v / texels == 2 { 0 } else { (v * 37 % 256) as u8 })
+        .collect();
+    let run = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| layer_means(&packed, &alpha, order))
+    };
+    let means = run(1);
+    assert!(means == run(2));
+    for layer in 0..layers {
+        for k in 0..n {
+            let voxel = |i: usize| layer * texels + i;
+            let weight: f64 = (0..texels).map(|i| f64::from(alpha[voxel(i)])).sum();
+            let want = if weight > 0.0 {
+                (0..texels)
+                    .map(|i| f64::from(alpha[voxel(i)]) * f64::from(value(k, voxel(i))))
+                    .sum::<f64>()
+                    / weight
+            } else {
+                (0..texels).map(|i| f64::from(value(k, voxel(i)))).sum::<f64>() / texels as f64
+            };
+            // The values are multiples of 1/8, exact in f16.
+            assert!((f64::from(means[layer * n + k]) - want).abs() < 1e-6);
+        }
+    }
+    // One texture reads as order 2; two textures fit no order.
+    assert_eq!(
+        (order_of(1), order_of(2), order_of(7), order_of(16)),
+        (Some(2), None, Some(5), Some(8))
+    );
+}
+
+#[test]
+fn lod_levels_halve_down_to_one_layer() {
+    use super::lod::Levels;
+    let levels = Levels::new(17);
+    assert_eq!(levels.counts, [17, 9, 5, 3, 2, 1]);
+    assert_eq!(levels.bases, [0, 17, 26, 31, 34, 36]);
+    assert_eq!(levels.total(), 37);
+    assert_eq!(Levels::new(1).counts, [1]);
+    assert_eq!(Levels::new(2).counts, [2, 1]);
+    assert_eq!(Levels::new(16).counts, [16, 8, 4, 2, 1]);
+}
+
+#[test]
+fn lod_follows_the_projected_fur_depth_between_the_levels() {
+    use super::lod::{Extent, Levels, choose};
+    let levels = Levels::new(17); // 16, 8, 4, 2, 1, 0 shells
+    let extent = Extent {
+        center: [0.0; 3],
+        radius: 1.0,
+        max_length: 1.0,
+    };
+    // Orthographic over [-2, 2]² on 200² pixels: 50 pixels per unit, fur 0.1 deep = 5 pixels.
+    let camera = Camera {
+        view: look_at([0.0, 0.0, 3.0], [0.0; 3], [0.0, 1.0, 0.0]),
+        projection: column_major([
+            [0.5, 0.0, 0.0, 0.0],
+            [0.0, 0.5, 0.0, 0.0],
+            [0.0, 0.0, -0.2, -0.1],
+            [0.0, 0.0, 0.0, 1.0],
+        ]),
+        width: 200,
+        height: 200,
+    };
+    let settings = RenderSettings {
+        lod: true,
+        fur_depth: 0.1,
+        min_shells: 1,
+        ..RenderSettings::default()
+    };
+    let info = choose(&levels, &settings, &camera, &extent, 16);
+    assert!((info.radius_pixels.unwrap() - 50.0).abs() < 1e-4);
+    assert!((info.fur_pixels.unwrap() - 5.0).abs() < 1e-5);
+    // 5 shells wanted: between level 1 (8) and level 2 (4), a quarter of the way from 4.
+    assert_eq!((info.shells, info.level), (8, 1));
+    assert!((info.blend - 0.75).abs() < 1e-6 && (info.target_shells - 5.0).abs() < 1e-5);
+    // Twice the shells per pixel: 10, between 16 and 8.
+    let dense = RenderSettings {
+        shells_per_pixel: 2.0,
+        ..settings
+    };
+    let info = choose(&levels, &dense, &camera, &extent, 16);
+    assert_eq!((info.shells, info.level), (16, 0));
+    assert!((info.blend - 0.75).abs() < 1e-6);
+    // Exactly a level's count draws that level without a blend; the bounds clamp.
+    let exact = RenderSettings {
+        shells_per_pixel: 0.8,
+        ..settings
+    };
+    let info = choose(&levels, &exact, &camera, &extent, 16);
+    assert_eq!((info.shells, info.level, info.blend), (4, 2, 0.0));
+    let capped = RenderSettings {
+        max_shells: 2,
+        ..settings
+    };
+    assert_eq!(choose(&levels, &capped, &camera, &extent, 16).shells, 2);
+    let thin = RenderSettings {
+        shells_per_pixel: 1e-3,
+        min_shells: 0,
+        ..settings
+    };
+    let info = choose(&levels, &thin, &camera, &extent, 16);
+    assert_eq!((info.shells, info.level), (1, 4));
+    assert!((info.blend - 0.995).abs() < 1e-6);
+    let flat = RenderSettings {
+        fur_depth: 0.0,
+        ..thin
+    };
+    let info = choose(&levels, &flat, &camera, &extent, 16);
+    assert_eq!((info.shells, info.level, info.blend), (0, 5, 0.0));
+    // LOD off: the fixed count, sizes still reported.
+    let off = RenderSettings {
+        lod: false,
+        ..settings
+    };
+    let info = choose(&levels, &off, &camera, &extent, 12);
+    assert_eq!((info.shells, info.level, info.blend), (12, 0, 0.0));
+    assert!(info.fur_pixels.is_some());
+
+    // Perspective: pixels per unit = focal length in pixels / distance; inside the sphere, none.
+    let at = |distance: f64| Camera {
+        view: look_at([0.0, 0.0, distance], [0.0; 3], [0.0, 1.0, 0.0]),
+        projection: perspective(),
+        width: 100,
+        height: 100,
+    };
+    // perspective() has t = 1: 50 pixels per unit at distance 1.
+    let info = choose(&levels, &settings, &at(4.0), &extent, 16);
+    assert!((info.radius_pixels.unwrap() - 12.5).abs() < 1e-4);
+    let inside = choose(&levels, &settings, &at(0.5), &extent, 16);
+    assert_eq!((inside.radius_pixels, inside.shells, inside.level), (None, 16, 0));
+}
+
+#[test]
+fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
+    use super::lod::Levels;
+    use super::transfer::premultiplied_levels;
+    use half::f16;
+    use pelt_core::prt::pack::PackedF16;
+    let (layers, resolution) = (5usize, 2usize);
+    let texels = resolution * resolution;
+    let voxels = layers * texels;
+    // One texture (4 channels), values and opacities varied per layer and texel.
+    let value = |v: usize, c: usize| ((v * 5 + c * 3) % 11) as f32 / 4.0 - 1.0;
+    let texel_values: Vec<f16> = (0..voxels * 4)
+        .map(|i| f16::from_f32(value(i / 4, i % 4)))
+        .collect();
+    let alpha: Vec<u8> = (0..voxels).map(|v| (1 + (v * 97) % 255) as u8).collect();
+    let packed = PackedF16 {
+        textures: 1,
+        layers,
+        resolution,
+        texels: texel_values,
+    };
+    let levels = Levels::new(layers as u32);
+    let run = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| premultiplied_levels(&packed, &alpha, &levels))
+    };
+    let out = run(1);
+    assert!(out == run(2));
+    assert_eq!(out.len(), 1);
+    assert_eq!(out[0].len(), levels.total() as usize * texels * 4);
+    for (k, (&count, &base)) in levels.counts.iter().zip(&levels.bases).enumerate() {
+        for j in 0..count as usize {
+            // Layers j·2^k .. (j + 1)·2^k of level 0 composited "over", outermost on top: each
+            // weighs its opacity times the transparency of everything above it.
+            let group = (j << k)..((j + 1) << k).min(layers);
+            for x in 0..texels {
+                for c in 0..4 {
+                    let (mut sum, mut weights, mut clear) = (0.0f64, 0.0f64, 1.0f64);
+                    for i in group.clone().rev() {
+                        let a = f64::from(alpha[i * texels + x]) / 255.0;
+                        sum += a * clear * f64::from(value(i * texels + x, c));
+                        weights += a * clear;
+                        clear *= 1.0 - a;
+                    }
+                    // Stored premultiplied by the composite's opacity, 1 − clear.
+                    let want = sum / weights * (1.0 - clear);
+                    let got = f64::from(out[0][((base as usize + j) * texels + x) * 4 + c].to_f32());
+                    assert!(
+                        (got - want).abs() < 2e-3,
+                        "level {k} layer {j} texel {x} channel {c}: {got} vs {want}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn opengl_projections_map_near_and_far_to_wgpu_depth() {
+    // glFrustum-style perspective: near 0.5, far 20, 60° vertical, aspect 2.
+    let (near, far) = (0.5f64, 20.0f64);
+    let t = 1.0 / 30f64.to_radians().tan();
+    let gl = [
+        [t / 2.0, 0.0, 0.0, 0.0],
+        [0.0, t, 0.0, 0.0],
+        [
+            0.0,
+            0.0,
+            (far + near) / (near - far),
+            2.0 * far * near / (near - far),
+        ],
+        [0.0, 0.0, -1.0, 0.0],
+    ];
+    let view = [
+        [1.0, 0.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0, -3.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ];
+    let camera = Camera::from_gl(
+        view.map(|r: [f64; 4]| r.map(|v| v as f32)),
+        gl.map(|r| r.map(|v| v as f32)),
+        200,
+        100,
+    );
+    // Column-major and transposed from the rows given.
+    assert_eq!(camera.view[4 * 3 + 2], -3.0);
+    assert_eq!(camera.view[4 * 2 + 3], 0.0);
+    let frame = CameraFrame::of(&camera, 4096).unwrap();
+    // Object points straight ahead at view depth d (object z = 3 − d).
+    let depth = |d: f64| {
+        let p = [0.0f32, 0.0, (3.0 - d) as f32, 1.0];
+        let clip: [f32; 4] = std::array::from_fn(|r| (0..4).map(|k| frame.view_proj[k * 4 + r] * p[k]).sum());
+        f64::from(clip[2] / clip[3])
+    };
+    assert!(depth(near).abs() < 1e-6, "{}", depth(near));
+    assert!((depth(far) - 1.0).abs() < 1e-5, "{}", depth(far));
+    // The wgpu perspective of the same frustum: z = far / (near − far), w-term near·far / (near − far).
+    let d = 4.0;
+    let want = (far / (near - far) * -d + near * far / (near - far)) / d;
+    assert!((depth(d) - want).abs() < 1e-6);
+    // Eye found as for any wgpu camera.
+    assert!((frame.eye[2] - 3.0).abs() < 1e-6 && frame.eye[3] == 1.0);
+}

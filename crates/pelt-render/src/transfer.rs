@@ -1,0 +1,285 @@
+//! The PRT transfer textures on the GPU (prt-shell-fur §2.3–§2.4): the packed float16
+//! coefficients (coefficient k in texture k / 4, channel k % 4) as one `Rgba16Float` texture
+//! array with a mip chain, texture `t` taking layers `t · stride ..` (stride = the shell
+//! layers of every LOD level), plus the per-layer means of the hair's transfer that light the fins.
+//!
+//! The coefficients are stored premultiplied by the shell texel's opacity, like the shell colors:
+//! a hair texel and the empty texel beside it have quite different transfer (the hair shadows
+//! itself), and the shader, which divides the filtered `t·α` by the filtered `α`, then gets the
+//! transfer of the hair under the fragment whatever the sampling phase. Filtered plainly, the
+//! product of filtered color and filtered transfer changed with the phase at which the shells
+//! sample the texel grid, which showed as rings across the fur (the shells' parallax sweeps that
+//! phase with the view angle).
+//!
+//! An LOD layer composites a run of shells (Lengyel et al. 2001, §2.4), each lit by its own
+//! transfer; the composite's transfer is theirs averaged with the weights "over" gives their
+//! colors (outer shell `a_o`, inner `a_i (1 − a_o)`), built pairwise like the shells themselves,
+//! so that lighting the composite's color with it approximates lighting each shell.
+//!
+//! A transfer belongs to one bake: its layers and resolution must be the volume's, which is what
+//! [`check`] holds it to.
+
+use half::f16;
+use rayon::prelude::*;
+
+use pelt_core::error::{PeltError, Result};
+use pelt_core::export::{MipAlpha, MipLevels, MipOptions, mip_chain_rgba16f};
+use pelt_core::prt::pack::{CHANNELS, PackedF16, texture_count};
+use pelt_core::prt::sh::MAX_ORDER;
+
+use super::lod::Levels;
+
+/// The order whose coefficients fill `textures` RGBA textures: the largest `n` with
+/// `⌈n²/4⌉ = textures` (one texture reads as order 2: an order-1 bake leaves channels 1–3 zero,
+/// which light nothing).
+pub(super) fn order_of(textures: usize) -> Option<usize> {
+    (1..=MAX_ORDER).rev().find(|&n| texture_count(n * n) == textures)
+}
+
+/// Checks `packed` against the scene's volume (`layers`, `resolution`) and the device's array
+/// limit for `stride` layers per texture; returns the order.
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] naming `transfer.textures`, `transfer.layers`,
+/// `transfer.resolution` (a texture set from another bake), `transfer.texels` (its length) or
+/// the first non-finite `transfer.texels[i]`, or `transfer` when the array needs more layers than
+/// the device has.
+pub(super) fn check(
+    packed: &PackedF16,
+    layers: usize,
+    resolution: usize,
+    stride: usize,
+    max_array_layers: u32,
+) -> Result<usize> {
+    let order = order_of(packed.textures).ok_or_else(|| {
+        PeltError::parameter(
+            "transfer.textures",
+            format!(
+                "must be ⌈n²/4⌉ for an SH order n in [1, {MAX_ORDER}] (1, 3, 4, 7, 9, 13 or 16), got {}",
+                packed.textures
+            ),
+        )
+    })?;
+    for (name, got, want) in [
+        ("transfer.layers", packed.layers, layers),
+        ("transfer.resolution", packed.resolution, resolution),
+    ] {
+        if got != want {
+            return Err(PeltError::parameter(
+                name,
+                format!(
+                    "is {got} but the scene's hair volume has {want}: the textures come from another bake"
+                ),
+            ));
+        }
+    }
+    let expected = packed.textures * layers * resolution * resolution * CHANNELS;
+    if packed.texels.len() != expected {
+        return Err(PeltError::parameter(
+            "transfer.texels",
+            format!(
+                "must hold textures · layers · resolution² · 4 = {expected} values, got {}",
+                packed.texels.len()
+            ),
+        ));
+    }
+    if let Some(i) = packed.texels.iter().position(|t| !t.is_finite()) {
+        return Err(PeltError::parameter(
+            format!("transfer.texels[{i}]"),
+            format!("must be finite, got {}", packed.texels[i]),
+        ));
+    }
+    let needed = packed.textures * stride;
+    if needed > max_array_layers as usize {
+        return Err(PeltError::parameter(
+            "transfer",
+            format!(
+                "needs {needed} texture array layers ({} textures × {stride} layers), the device allows {max_array_layers}",
+                packed.textures
+            ),
+        ));
+    }
+    Ok(order)
+}
+
+/// The opacity-weighted tile mean of every coefficient per layer, `[layer][n²]`: the transfer of
+/// the hair in the layer, which the fins show (the plain mean where a layer is empty). `alpha` is
+/// the shells' `[L][R²]` opacity bytes. Runs in the current rayon pool; each mean is summed in
+/// f64 in texel order, so the result does not depend on the thread count.
+pub(super) fn layer_means(packed: &PackedF16, alpha: &[u8], order: usize) -> Vec<f32> {
+    let n = order * order;
+    let texels = packed.resolution * packed.resolution;
+    let voxels = packed.layers * texels;
+    (0..packed.layers)
+        .into_par_iter()
+        .flat_map_iter(|layer| {
+            let weights = &alpha[layer * texels..(layer + 1) * texels];
+            (0..n).map(move |k| {
+                let (t, c) = (k / CHANNELS, k % CHANNELS);
+                let start = (t * voxels + layer * texels) * CHANNELS + c;
+                let values = packed.texels[start..].iter().step_by(CHANNELS).take(texels);
+                let (mut sum, mut weight, mut plain) = (0.0f64, 0.0f64, 0.0f64);
+                for (v, &a) in values.zip(weights) {
+                    let v = f64::from(v.to_f32());
+                    sum += f64::from(a) * v;
+                    weight += f64::from(a);
+                    plain += v;
+                }
+                let mean = if weight > 0.0 {
+                    sum / weight
+                } else {
+                    plain / texels as f64
+                };
+                mean as f32
+            })
+        })
+        .collect()
+}
+
+/// The uploaded array.
+pub(super) struct TransferTextures {
+    pub view: wgpu::TextureView,
+    /// Bytes written to the GPU.
+    pub bytes: u64,
+}
+
+/// Uploads `per_texture[t]` (`stride` layers of `resolution²` RGBA f16 texels each, every LOD
+/// level's layers in a row) with a full mip chain per layer; call inside an error scope.
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] from the mipmapper (not for checked input).
+pub(super) fn upload(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    per_texture: &[Vec<f16>],
+    resolution: usize,
+    stride: usize,
+) -> Result<TransferTextures> {
+    let options = MipOptions {
+        levels: MipLevels::Full,
+        alpha: MipAlpha::Independent,
+    };
+    let chains = per_texture
+        .iter()
+        .map(|base| mip_chain_rgba16f(resolution, resolution, stride, base, &options))
+        .collect::<Result<Vec<_>>>()?;
+    let levels = chains.first().map_or(1, Vec::len);
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("prt transfer"),
+        size: wgpu::Extent3d {
+            width: resolution as u32,
+            height: resolution as u32,
+            depth_or_array_layers: (per_texture.len() * stride) as u32,
+        },
+        mip_level_count: levels as u32,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba16Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    let mut bytes = 0u64;
+    for (t, chain) in chains.iter().enumerate() {
+        for (level, data) in chain.iter().enumerate() {
+            let side = (resolution >> level).max(1) as u32;
+            queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &texture,
+                    mip_level: level as u32,
+                    origin: wgpu::Origin3d {
+                        x: 0,
+                        y: 0,
+                        z: (t * stride) as u32,
+                    },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                bytemuck::cast_slice(data),
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(8 * side),
+                    rows_per_image: Some(side),
+                },
+                wgpu::Extent3d {
+                    width: side,
+                    height: side,
+                    depth_or_array_layers: stride as u32,
+                },
+            );
+            bytes += size_of_val(data.as_slice()) as u64;
+        }
+    }
+    let view = texture.create_view(&wgpu::TextureViewDescriptor {
+        label: Some("prt transfer"),
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    });
+    Ok(TransferTextures { view, bytes })
+}
+
+/// Every texture's coefficients for all LOD levels (`levels`), premultiplied by the opacity of
+/// their shell texel, level 0 being `packed`: level `k` layer `j` composites layers `2j` (inner)
+/// and `2j + 1` (outer) of level `k − 1` with weights `a_i (1 − a_o)` and `a_o` from the shells'
+/// opacity (`alpha`, level 0's `[L][R²]` bytes, carried in f32 through the levels), or the plain
+/// mean where both are empty. Runs in the current rayon pool; every value is computed on its
+/// own, so the result does not depend on the thread count.
+pub(super) fn premultiplied_levels(packed: &PackedF16, alpha: &[u8], levels: &Levels) -> Vec<Vec<f16>> {
+    let texels = packed.resolution * packed.resolution;
+    let voxels = packed.layers * texels;
+    // Opacity of every level's layers, level by level.
+    let mut alphas: Vec<Vec<f32>> = vec![alpha.iter().map(|&a| f32::from(a) / 255.0).collect()];
+    for k in 1..levels.counts.len() {
+        let prev = &alphas[k - 1];
+        let next: Vec<f32> = (0..levels.counts[k] as usize * texels)
+            .into_par_iter()
+            .map(|i| {
+                let (j, x) = (i / texels, i % texels);
+                let inner = prev[2 * j * texels + x];
+                match prev.get((2 * j + 1) * texels + x) {
+                    Some(&outer) => outer + inner * (1.0 - outer),
+                    None => inner,
+                }
+            })
+            .collect();
+        alphas.push(next);
+    }
+    let premultiply = |values: &[f32], alpha: &[f32]| -> Vec<f16> {
+        values
+            .par_iter()
+            .enumerate()
+            .map(|(i, &v)| f16::from_f32(v * alpha[i / CHANNELS]))
+            .collect()
+    };
+    packed
+        .texels
+        .par_chunks_exact(voxels * CHANNELS)
+        .map(|level0| {
+            let mut prev: Vec<f32> = level0.iter().map(|v| v.to_f32()).collect();
+            let mut out = premultiply(&prev, &alphas[0]);
+            for k in 1..levels.counts.len() {
+                let alpha = &alphas[k - 1];
+                let next: Vec<f32> = (0..levels.counts[k] as usize * texels * CHANNELS)
+                    .into_par_iter()
+                    .map(|i| {
+                        let (j, x, c) = (i / (texels * CHANNELS), i / CHANNELS % texels, i % CHANNELS);
+                        let at = |layer: usize| (layer * texels + x) * CHANNELS + c;
+                        let inner = prev[at(2 * j)];
+                        let Some(&outer) = prev.get(at(2 * j + 1)) else {
+                            return inner;
+                        };
+                        let a_outer = alpha[(2 * j + 1) * texels + x];
+                        let w_inner = alpha[2 * j * texels + x] * (1.0 - a_outer);
+                        let sum = a_outer + w_inner;
+                        if sum > 0.0 {
+                            (a_outer * outer + w_inner * inner) / sum
+                        } else {
+                            0.5 * (outer + inner)
+                        }
+                    })
+                    .collect();
+                out.extend(premultiply(&next, &alphas[k]));
+                prev = next;
+            }
+            out
+        })
+        .collect()
+}
