@@ -112,7 +112,7 @@ $(VALIDATOR_STAMP): Makefile | system-deps
 # Suzanne and a multi-object scene in both glTF modes, through the Khronos validator: 0 errors.
 check-gltf: $(VALIDATOR_STAMP)
 	rm -rf $(GLTF_CHECK_DIR)
-	PELT_GLTF_OUT=$(GLTF_CHECK_DIR) cargo test --all-features --quiet --test gltf_export
+	PELT_GLTF_OUT=$(GLTF_CHECK_DIR) cargo test --workspace --all-features --quiet --test gltf_export
 	node scripts/validate_gltf.mjs $(GLTF_CHECK_DIR)/*.glb
 
 $(THREE_STAMP): $(THREE_DIR)/package-lock.json | system-deps

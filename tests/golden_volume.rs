@@ -9,8 +9,8 @@
 mod common;
 
 use common::golden::{Tolerance, check};
-use pelt::export::{AtlasLayout, pack_atlas};
 use pelt::hair::HairParams;
+use pelt::texture::{AtlasLayout, pack_atlas};
 use pelt::volume::{VolumeParams, bake_volume};
 
 #[test]

@@ -493,7 +493,8 @@ fn linear_output_encodes_to_the_srgb_image() {
             assert!((alpha - f32::from(s[3])).abs() <= alpha_bound, "{l:?} vs {s:?}");
             if s[3] == 255 {
                 for c in 0..3 {
-                    let encoded = (pelt::color::linear_to_srgb(l[c].clamp(0.0, 1.0)) * 255.0).round();
+                    let encoded =
+                        (pelt::texture::color::linear_to_srgb(l[c].clamp(0.0, 1.0)) * 255.0).round();
                     total += f64::from((encoded - f32::from(s[c])).abs());
                 }
             }
@@ -544,7 +545,7 @@ fn uniform_skin() -> (FurScene, f64) {
             texel.copy_from_slice(&[188, 188, 188, 255]);
         }
     }
-    let albedo = f64::from(pelt::color::srgb_to_linear(188.0 / 255.0));
+    let albedo = f64::from(pelt::texture::color::srgb_to_linear(188.0 / 255.0));
     (
         FurScene::new(&f.renderer, &f.mesh, &f.uvs, &volume).unwrap(),
         albedo,

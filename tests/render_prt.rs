@@ -10,7 +10,6 @@ use std::sync::OnceLock;
 
 use common::volume::small_volume;
 use common::{column_major, look_at_rows, mul, orthographic, parameter_name, perspective_rows};
-use pelt::color::srgb_to_linear;
 use pelt::prt::pack::{PackedF16, pack_f16, texel_index};
 use pelt::prt::sh;
 use pelt::prt::volume_input::VolumeInput;
@@ -18,6 +17,7 @@ use pelt::prt::{TransferParams, bake_transfer};
 use pelt::render::{
     AdapterChoice, Camera, FurScene, LightModel, Lighting, LinearImage, Prt, RenderSettings, Renderer,
 };
+use pelt::texture::color::srgb_to_linear;
 use pelt::volume::HairVolume;
 use pelt::{FurMesh, MeshInput};
 

@@ -7,7 +7,8 @@
 
 use std::path::{Path, PathBuf};
 
-use pelt::export::{ImageRef, PngOptions, save_png};
+use pelt::export::{PngOptions, save_png};
+use pelt::texture::ImageRef;
 
 /// How far an image may stray from its reference, channel by channel.
 #[derive(Debug, Clone, Copy)]

@@ -11,7 +11,7 @@ use std::sync::Arc;
 
 use clap::{Args, ValueEnum};
 use pelt_core::camera::Camera;
-use pelt_core::export::{ExrOptions, ImageRef, PngOptions, save_exr, save_png};
+use pelt_core::export::{ExrOptions, PngOptions, save_exr, save_png};
 use pelt_core::hair::{Strand, grow_strands};
 use pelt_core::lapped::Patches;
 use pelt_core::mesh::FurMesh;
@@ -20,6 +20,7 @@ use pelt_core::reference::{
     FurGeometry, ReferenceImage, ReferenceLight, ReferenceScene, ReferenceSettings, VolumeScene,
     render_reference, render_volume_reference,
 };
+use pelt_core::texture::ImageRef;
 use pelt_core::volume::{HairVolume, bake_strands};
 
 use crate::bake::{bake_object, load_record, prepare};

@@ -12,7 +12,6 @@
 pub mod camera;
 #[doc(hidden)]
 pub mod cg;
-pub mod color;
 pub mod error;
 pub mod export;
 pub mod field;
@@ -30,6 +29,10 @@ pub mod prt;
 pub mod reference;
 #[doc(hidden)]
 pub mod rng;
+pub mod scene;
+#[cfg(test)]
+mod test_support;
+pub mod texture;
 pub mod threads;
 #[doc(hidden)]
 pub mod vec3;

@@ -1,5 +1,5 @@
 //! `pelt.pack_atlas` (shell layers laid out in one image, for Blender materials and engines
-//! without texture arrays; see [`pelt_core::export::atlas`]), `pelt.save_png`, `pelt.encode_png`,
+//! without texture arrays; see [`pelt_core::texture::atlas`]), `pelt.save_png`, `pelt.encode_png`,
 //! `pelt.save_exr`, and the exports of baked assets: `pelt.export_gltf`,
 //! `pelt.write_texture_set`, `pelt.write_asset` (see [`pelt_core::export`]).
 
@@ -13,13 +13,14 @@ use super::detached;
 use super::pipeline::PyFurAsset;
 use crate::errors::{IntoPyErr, py_err};
 use pelt_core::error::PeltError;
-use pelt_core::export::atlas::{AtlasLayout, pack_atlas};
 use pelt_core::export::{
-    AssetOptions, ExportInput, ExrOptions, GltfMode, GltfOptions, ImageRef, Manifest, MaterialSlots,
-    PngCompression, PngOptions, Skeleton, SkinBinding, TextureFormats, save_exr, save_glb, save_png,
-    write_asset, write_png, write_texture_set,
+    AssetOptions, ExportInput, ExrOptions, GltfMode, GltfOptions, Manifest, MaterialSlots, PngCompression,
+    PngOptions, Skeleton, SkinBinding, TextureFormats, save_exr, save_glb, save_png, write_asset, write_png,
+    write_texture_set,
 };
 use pelt_core::pipeline::FurAsset;
+use pelt_core::texture::ImageRef;
+use pelt_core::texture::atlas::{AtlasLayout, pack_atlas};
 
 /// Packs ``layers`` (``[L, R, R, C]`` uint8, float16 or float32; C in 1..4) into a grid atlas of
 /// ``ceil(sqrt(L))`` columns, layer 0 top left, row by row; returns ``(image [H, W, C], layout)``.

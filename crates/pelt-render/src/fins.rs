@@ -1,9 +1,9 @@
-//! Pass (b), the fins (Lengyel et al. 2001, §2.3): the quads of [`super::fin_mesh`] that
-//! [`super::fin_cull`] collects, faded toward the silhouette in the vertex shader, blended
+//! Pass (b), the fins (Lengyel et al. 2001, §2.3): the quads of [`pelt_core::scene::fin_mesh`] that
+//! [`pelt_core::scene::fin_cull`] collects, faded toward the silhouette in the vertex shader, blended
 //! premultiplied, depth tested but not written (the shells drawn next must still land on the
 //! skin behind a fin).
 
-use super::pipelines::{Model, PassPipelines, PassState, VertexInput};
+use super::pass::{Model, PassPipelines, PassState, VertexInput};
 use super::scene::FurScene;
 
 const KAJIYA_KAY: &str = concat!(

@@ -10,15 +10,16 @@ use super::image::{LinearImage, RgbaImage};
 use super::lighting::{Lighting, LightingFrame};
 use super::lod::{self, FrameInfo};
 use super::occluders::Occluders;
-use super::pipelines::{DEPTH_FORMAT, Model, Target};
+use super::pass::{DEPTH_FORMAT, Model, Target, texture_2d};
 use super::prt_light::world_coefficients;
 use super::prt_rotate::RotationUniforms;
 use super::readback::read_texels;
 use super::scene::FurScene;
 use super::settings::{RenderSettings, ShellMethod};
 use super::strands::{self, Bands};
-use super::{Renderer, fins, geometry_lod, scoped, shells, skin};
+use super::{Renderer, fins, scoped, shells, skin};
 use pelt_core::error::{PeltError, Result};
+use pelt_core::scene::geometry_lod;
 
 /// The depth target of one size and, for offscreen frames, a color target of that size, kept
 /// between frames.
@@ -33,29 +34,6 @@ struct ColorTarget {
     target: Target,
     texture: wgpu::Texture,
     view: wgpu::TextureView,
-}
-
-pub(super) fn texture_2d(
-    device: &wgpu::Device,
-    label: &str,
-    (width, height): (u32, u32),
-    format: wgpu::TextureFormat,
-    usage: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
-    })
 }
 
 impl Targets {

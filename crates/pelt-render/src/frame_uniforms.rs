@@ -42,7 +42,7 @@ pub(super) struct SceneFrame<'a> {
     pub layer_spacing: f32,
     /// PRT: coefficients, transfer textures, array layers per texture (zero without PRT).
     pub prt: [u32; 3],
-    /// The drawn geometric level's fin spacing over the full mesh's ([`super::scene_levels::MeshLevel`]).
+    /// The drawn geometric level's fin spacing over the full mesh's ([`pelt_core::scene::scene_levels::MeshLevel`]).
     pub fin_spacing: f32,
     /// The guard strands' row of the uniforms: `strand` and `strand_counts` of `Frame`.
     pub strand: ([f32; 4], [u32; 4]),

@@ -9,11 +9,11 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::surface_mesh::SurfaceVertex;
 use pelt_core::error::{Num, PeltError, Result};
 use pelt_core::guard::MAX_GUARD_STRANDS;
 use pelt_core::hair::MAX_SEGMENTS;
 use pelt_core::placement::PlacedStrands;
+use pelt_core::scene::surface_mesh::SurfaceVertex;
 use pelt_core::threads::pool;
 
 /// Random stream of the strands' LOD ranks.

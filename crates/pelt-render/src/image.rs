@@ -3,9 +3,9 @@
 
 use half::f16;
 
-use pelt_core::color::{srgb8_encoder, srgb8_to_linear_table};
 use pelt_core::error::Result;
-use pelt_core::export::ImageRef;
+use pelt_core::texture::ImageRef;
+use pelt_core::texture::color::{srgb8_encoder, srgb8_to_linear_table};
 
 /// An RGBA8 image: sRGB-encoded color, straight (not premultiplied) alpha, `height` rows of
 /// `width` pixels from the top.

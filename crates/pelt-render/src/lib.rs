@@ -5,61 +5,53 @@
 //! (Mesa's lavapipe or llvmpipe) when asked for or when no GPU exists, and reports which one it got.
 //! Passes live one per file with their WGSL beside them.
 //!
-//! The fur renderer follows Lengyel et al. 2001, §2.3–§2.4 and §3: a [`FurScene`] (mesh split at
-//! patch seams, fin quads, the hair volume's textures, optionally PRT transfer textures) is
-//! uploaded once; [`Renderer::render`] draws the opaque skin, the fins near the silhouette and the
-//! shells (instanced, or one marched or virtual-plane hull) offscreen and returns an [`RgbaImage`] ([`Renderer::render_linear`]
-//! a [`LinearImage`]); [`Renderer::render_to_texture`] draws the same passes into a caller's
+//! The fur renderer follows Lengyel et al. 2001, §2.3–§2.4 and §3: a [`FurScene`] (the skin split
+//! at patch seams, fin quads and mesh levels that `pelt_core::scene` prepares, the hair volume's
+//! textures, optionally PRT transfer textures) is uploaded once; [`Renderer::render`] draws the
+//! opaque skin, the fins near the silhouette and the shells (instanced, or one marched or
+//! virtual-plane hull) offscreen and returns an [`RgbaImage`] ([`Renderer::render_linear`] a
+//! [`LinearImage`]); [`Renderer::render_to_texture`] draws the same passes into a caller's
 //! texture, and [`WindowSurface`] into a window (`pelt view`). Guard hairs
 //! ([`FurScene::set_guard_hairs`]) are drawn as strands among the shells (hybrid paper §3;
-//! `guard_strands.rs`, `strands.rs`, [`StrandOrder`]). Lighting is Kajiya–Kay or precomputed radiance transfer (prt-shell-fur
-//! §2.4). The smoke pass proves the device works end to end.
+//! `guard_strands.rs`, `strands.rs`, [`StrandOrder`]). Lighting is Kajiya–Kay or precomputed
+//! radiance transfer (prt-shell-fur §2.4). The smoke pass proves the device works end to end.
 //!
-//! Files: `camera.rs`, `lighting.rs`, `settings.rs` (the per-frame inputs, validated);
-//! `surface_mesh.rs`, `fin_mesh.rs` (CPU geometry), `deform.rs` (the same in a pose, or with a
-//! new comb); `lod.rs` (the shell count and cross-fade per frame), `geometry_lod.rs` (simplified
-//! levels of the mesh), `scene_levels.rs` (their indices and fins), `level_hosts.rs` (whether they
-//! hold after a repaint), `fin_cull.rs` and `fin_pose.rs` (the fins drawn, their planes in a pose);
-//! `textures.rs` (volume upload, premultiplied), `upload_peak.rs` (the memory an upload needs),
-//! `transfer.rs` (PRT textures); `scene.rs`; `pipelines.rs` (shared layouts, pipelines per
-//! lighting model and target) and one file per pass, `skin.rs`, `fins.rs`, `shells.rs`
-//! (`marched.rs` and `planes.rs`, the shells' one-hull methods, share `march.wgsl`), with
-//! `common.wgsl`, `surface.wgsl` and the model's WGSL (`lighting.wgsl`, `surface_kk.wgsl`,
-//! `fin_kk.wgsl` for Kajiya–Kay; `prt.wgsl`, `surface_prt.wgsl`, `fin_prt.wgsl` for PRT) shared
-//! by their shaders; `prt_light.rs` (world SH) and `prt_rotate.rs` (the rotation compute pass);
-//! `frame.rs` (one frame) with `frame_uniforms.rs`, `image.rs` (the images returned), `occluders.rs` (another picture's depth starting a frame's, for
-//! compositing into it: [`Renderer::render_over`]), `readback.rs`, `texture_target.rs` (a
-//! caller's texture) and `window.rs` (a window's surface).
+//! Files: `camera.rs`, `lighting.rs`, `settings.rs` (the per-frame inputs, validated); `lod.rs`
+//! (the shell count and cross-fade per frame); `textures.rs` (volume upload, premultiplied),
+//! `upload_peak.rs` (the memory an upload needs), `transfer.rs` (PRT textures); `scene.rs`;
+//! `pass.rs` (what a pass declares: model, target, vertex input, state) and one file per pass,
+//! `skin.rs`, `fins.rs`, `shells.rs` (`marched.rs` and `planes.rs`, the shells' one-hull methods,
+//! share `march.wgsl`), `strands.rs`, with `common.wgsl`, `surface.wgsl` and the model's WGSL
+//! (`lighting.wgsl`, `surface_kk.wgsl`, `fin_kk.wgsl` for Kajiya–Kay; `prt.wgsl`,
+//! `surface_prt.wgsl`, `fin_prt.wgsl` for PRT) shared by their shaders; `pipelines.rs` (layouts,
+//! and the pipelines built from the passes' states per lighting model and target);
+//! `prt_light.rs` (world SH) and `prt_rotate.rs` (the rotation compute pass); `frame.rs` (one
+//! frame) with `frame_uniforms.rs`, `image.rs` (the images returned), `occluders.rs` (another
+//! picture's depth starting a frame's, for compositing into it: [`Renderer::render_over`]),
+//! `readback.rs`, `texture_target.rs` (a caller's texture) and `window.rs` (a window's surface).
 
 mod camera;
-mod deform;
-mod fin_cull;
-mod fin_mesh;
-mod fin_pose;
 mod fins;
 mod frame;
 mod frame_uniforms;
-mod geometry_lod;
 mod guard_strands;
 mod image;
-mod level_hosts;
 mod lighting;
 mod lod;
 mod marched;
 mod occluders;
+mod pass;
 mod pipelines;
 mod planes;
 mod prt_light;
 mod prt_rotate;
 mod readback;
 mod scene;
-mod scene_levels;
 mod settings;
 mod shells;
 mod skin;
 mod smoke;
 mod strands;
-mod surface_mesh;
 mod texture_target;
 mod textures;
 mod transfer;

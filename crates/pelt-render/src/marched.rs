@@ -3,7 +3,7 @@
 //! state as the instanced pass: back faces culled, depth written behind the alpha test,
 //! premultiplied "over" the skin and fins; [`shells::draw`] draws it.
 
-use super::pipelines::{Model, PassState};
+use super::pass::{Model, PassState};
 use super::shells;
 
 const KAJIYA_KAY: &str = concat!(

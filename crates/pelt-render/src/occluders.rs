@@ -7,8 +7,8 @@
 use std::num::NonZeroU64;
 
 use super::camera::CameraFrame;
-use super::frame::texture_2d;
-use super::pipelines::DEPTH_FORMAT;
+use super::pass::DEPTH_FORMAT;
+use super::pass::texture_2d;
 use pelt_core::error::{PeltError, Result};
 
 /// Another renderer's depth of the frame's view, for [`super::Renderer::render_over`].

@@ -5,7 +5,7 @@
 //! slices premultiplied with their mip chains, as the fin texture is.
 
 use super::marched;
-use super::pipelines::{Model, PassState};
+use super::pass::{Model, PassState};
 use super::textures::upload_with_mips;
 use pelt_core::error::Result;
 use pelt_core::volume::PlaneSlices;

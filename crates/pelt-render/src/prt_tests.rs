@@ -5,10 +5,10 @@
 use super::prt_light::WorldLighting;
 use super::prt_rotate::{RotatePipeline, RotationUniforms};
 use super::readback::read_buffer;
-use super::surface_mesh::SurfaceVertex;
 use super::{AdapterChoice, Renderer};
 use pelt_core::prt::sh::{self, MAX_ORDER, ShRotation};
 use pelt_core::rng::Rng;
+use pelt_core::scene::surface_mesh::SurfaceVertex;
 use pelt_core::vec3::{cross, dot};
 
 fn unit(v: [f64; 3]) -> [f64; 3] {

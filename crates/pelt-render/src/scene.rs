@@ -6,23 +6,25 @@ use wgpu::util::DeviceExt;
 
 use std::ops::Range;
 
-use super::deform::Deformer;
-use super::fin_cull::FinPlanes;
-use super::fin_pose::PosedFinPlanes;
 use super::frame_uniforms::FrameUniforms;
-use super::level_hosts::LevelHosts;
 use super::lod::{Extent, Levels};
-use super::pipelines::{FurPipelines, Model};
+use super::pass::Model;
+use super::pipelines::FurPipelines;
 use super::planes::ScenePlanes;
 use super::prt_rotate::RotationUniforms;
-use super::scene_levels::{self, MeshLevel, SceneLevels};
-use super::surface_mesh::expand;
 use super::textures::VolumeTextures;
-use super::{Renderer, scoped, surface_mesh, textures, transfer};
+use super::{Renderer, scoped, textures, transfer};
 use pelt_core::FurMesh;
 use pelt_core::error::{PeltError, Result};
 use pelt_core::mesh::MAX_LENGTH;
 use pelt_core::prt::pack::PackedF16;
+use pelt_core::scene::deform::Deformer;
+use pelt_core::scene::fin_cull::FinPlanes;
+use pelt_core::scene::fin_pose::PosedFinPlanes;
+use pelt_core::scene::level_hosts::LevelHosts;
+use pelt_core::scene::scene_levels::{self, MeshLevel, SceneLevels};
+use pelt_core::scene::surface_mesh;
+use pelt_core::scene::surface_mesh::expand;
 use pelt_core::threads::pool;
 use pelt_core::volume::slices::check_slices;
 use pelt_core::volume::{HairVolume, PlaneSlices};
@@ -156,7 +158,7 @@ pub struct FurScene {
     /// The rest shape, to pose the scene.
     deformer: Deformer,
     /// The skin's rest vertices, which the guard strands' points are placed over.
-    rest_surface: Vec<super::surface_mesh::SurfaceVertex>,
+    rest_surface: Vec<pelt_core::scene::surface_mesh::SurfaceVertex>,
     /// The guard strands, when set.
     pub(super) strands: Option<SceneStrands>,
 }
@@ -706,7 +708,7 @@ impl FurScene {
 
     /// Rewrites the per-vertex colors and/or lengths (one row per mesh vertex, like
     /// [`pelt_core::MeshInput`]'s) in place; nothing else is sent to the GPU. Geometric levels of
-    /// detail that cannot hold the new values (`super::level_hosts`) are not drawn until they
+    /// detail that cannot hold the new values (`pelt_core::scene::level_hosts`) are not drawn until they
     /// can again.
     ///
     /// # Errors
@@ -886,7 +888,7 @@ impl FurScene {
     }
 
     /// The geometric levels a frame may draw, finest first: those that stand for the full
-    /// mesh under the current colors and lengths ([`super::level_hosts`]).
+    /// mesh under the current colors and lengths ([`pelt_core::scene::level_hosts`]).
     pub(super) fn drawable_levels(&self) -> &[MeshLevel] {
         &self.mesh_levels[..self.drawable.min(self.mesh_levels.len())]
     }

@@ -6,10 +6,10 @@
 
 use std::ops::Range;
 
-use super::pipelines::{Model, PassPipelines, PassState, VertexInput};
+use super::pass::{Model, PassPipelines, PassState, VertexInput};
 use super::scene::FurScene;
-use super::scene_levels::MeshLevel;
 use super::settings::ShellMethod;
+use pelt_core::scene::scene_levels::MeshLevel;
 
 const KAJIYA_KAY: &str = concat!(
     include_str!("common.wgsl"),

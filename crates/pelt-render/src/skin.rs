@@ -1,9 +1,9 @@
 //! Pass (a), the skin (Lengyel et al. 2001, §2.3): the opaque mesh textured with layer 0 of the
 //! shell texture times the vertex color, filling the depth buffer that fins and shells test.
 
-use super::pipelines::{Model, PassPipelines, PassState, VertexInput};
+use super::pass::{Model, PassPipelines, PassState, VertexInput};
 use super::scene::FurScene;
-use super::scene_levels::MeshLevel;
+use pelt_core::scene::scene_levels::MeshLevel;
 
 const KAJIYA_KAY: &str = concat!(
     include_str!("common.wgsl"),

@@ -2,7 +2,7 @@
 //! the device compiles WGSL, rasterizes and reads back.
 
 use super::Renderer;
-use super::frame::texture_2d;
+use super::pass::texture_2d;
 use super::readback::read_rgba8;
 use pelt_core::error::Result;
 

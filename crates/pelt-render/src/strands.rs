@@ -5,7 +5,7 @@
 //! fragments that stand between the shells around it, and band `n` after every shell.
 
 use super::guard_strands::GpuStrand;
-use super::pipelines::{Model, PassPipelines, PassState, VertexInput};
+use super::pass::{Model, PassPipelines, PassState, VertexInput};
 use super::scene::FurScene;
 use super::settings::{RenderSettings, ShellMethod, StrandOrder};
 

@@ -7,9 +7,9 @@ use super::image::RgbaImage;
 use super::lighting::Lighting;
 use super::settings::RenderSettings;
 use super::textures::premultiply;
-use super::{fin_mesh, surface_mesh};
-use pelt_core::color::{linear_to_srgb, srgb_to_linear};
 use pelt_core::error::PeltError;
+use pelt_core::scene::{fin_mesh, surface_mesh};
+use pelt_core::texture::color::{linear_to_srgb, srgb_to_linear};
 use pelt_core::{FurMesh, MeshInput};
 
 fn column_major(rows: [[f64; 4]; 4]) -> [f32; 16] {

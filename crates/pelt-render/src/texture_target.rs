@@ -10,7 +10,7 @@ use super::camera::Camera;
 use super::image::RgbaImage;
 use super::lighting::Lighting;
 use super::lod::FrameInfo;
-use super::pipelines::Target;
+use super::pass::Target;
 use super::readback::read_texels;
 use super::scene::FurScene;
 use super::settings::RenderSettings;

@@ -9,9 +9,9 @@
 
 use rayon::prelude::*;
 
-use pelt_core::color::{srgb8_encoder, srgb8_to_linear_table};
 use pelt_core::error::{PeltError, Result};
-use pelt_core::export::{MipAlpha, MipLevels, MipOptions, full_mip_count, mip_chain_rgba8};
+use pelt_core::texture::color::{srgb8_encoder, srgb8_to_linear_table};
+use pelt_core::texture::{MipAlpha, MipLevels, MipOptions, full_mip_count, mip_chain_rgba8};
 use pelt_core::threads::pool;
 use pelt_core::volume::HairVolume;
 use pelt_core::volume::lod::lod_chain;

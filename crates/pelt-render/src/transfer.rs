@@ -23,9 +23,9 @@ use half::f16;
 use rayon::prelude::*;
 
 use pelt_core::error::{PeltError, Result};
-use pelt_core::export::{MipAlpha, MipLevels, MipOptions, mip_chain_rgba16f};
 use pelt_core::prt::pack::{CHANNELS, PackedF16, texture_count};
 use pelt_core::prt::sh::MAX_ORDER;
+use pelt_core::texture::{MipAlpha, MipLevels, MipOptions, mip_chain_rgba16f};
 
 use super::lod::Levels;
 

@@ -12,7 +12,7 @@ use super::camera::Camera;
 use super::image::RgbaImage;
 use super::lighting::Lighting;
 use super::lod::FrameInfo;
-use super::pipelines::Target;
+use super::pass::Target;
 use super::scene::FurScene;
 use super::settings::RenderSettings;
 use super::{AdapterChoice, Renderer, scoped};

@@ -4,13 +4,13 @@
 use half::f16;
 
 use super::{BenchOptions, CaseResult, time_fallible};
-use pelt_core::color::srgb8_to_linear_table;
 use pelt_core::error::Result;
 use pelt_core::export::{
-    AtlasLayout, ExrCompression, ExrOptions, ImageRef, Ktx2Format, Ktx2Texture, MipOptions, PngOptions,
-    pack_atlas, write_exr, write_ktx2, write_png,
+    ExrCompression, ExrOptions, Ktx2Format, Ktx2Texture, PngOptions, write_exr, write_ktx2, write_png,
 };
 use pelt_core::hair::HairParams;
+use pelt_core::texture::color::srgb8_to_linear_table;
+use pelt_core::texture::{AtlasLayout, ImageRef, MipOptions, pack_atlas};
 use pelt_core::volume::{VolumeParams, bake_volume};
 
 const RES: usize = 128;

@@ -13,7 +13,7 @@ use std::path::Path;
 use super::render::note_adapter;
 use super::{BenchOptions, CaseResult, ImageFigures, runs_group, time_fallible};
 use pelt_core::error::Result;
-use pelt_core::export::{ImageRef, PngOptions, save_png};
+use pelt_core::export::{PngOptions, save_png};
 use pelt_core::hair::grow_strands;
 use pelt_core::pipeline::{BakeParams, Pipeline, TransferChoice};
 use pelt_core::reference::metrics::{
@@ -24,6 +24,7 @@ use pelt_core::reference::{
     FurGeometry, ReferenceImage, ReferenceLight, ReferenceScene, ReferenceSettings, VolumeScene,
     render_reference, render_volume_reference,
 };
+use pelt_core::texture::ImageRef;
 use pelt_core::volume::{PlaneParams, bake_slices};
 use pelt_render::{
     AdapterChoice, FurScene, KajiyaKay, LightModel, Lighting, Prt, RenderSettings, Renderer, ShellMethod,

@@ -9,11 +9,11 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::atlas::AtlasLayout;
 use super::input::ExportInput;
 use crate::error::Result;
 use crate::mesh::shell_offset::shell_layer;
 use crate::prt::pack::DECODE;
+use crate::texture::atlas::AtlasLayout;
 
 /// The offset formula, in the attribute names of the glTF engine export.
 pub const OFFSET_FORMULA: &str = "position + layer * layer_spacing * fur_depth * _PELT_LENGTH * \

@@ -19,9 +19,9 @@ use flate2::write::ZlibEncoder;
 use half::f16;
 use rayon::prelude::*;
 
-use super::image::ImageRef;
 use super::{save_to_path, writer_error};
 use crate::error::{PeltError, Result};
+use crate::texture::image::ImageRef;
 use crate::threads::pool;
 
 /// First four bytes of every OpenEXR file (20000630 little-endian).

@@ -16,6 +16,8 @@ use crate::volume::HairVolume;
 use crate::mesh::MAX_FUR_DEPTH;
 
 use super::materials::MaterialSlots;
+use super::names::validate_name;
+pub use super::names::{MAX_NAME_CHARS, file_stem};
 use super::rig::{Animation, SkinBinding, Transform};
 
 /// The packed transfer textures of one object (see [`crate::prt::pack`]).
@@ -62,9 +64,6 @@ pub struct ExportInput<'a> {
     /// The guard hairs over the mesh ([`crate::guard`]), drawn as strands beside the shells.
     pub guard_hairs: Option<&'a PlacedStrands>,
 }
-
-/// Most characters of an object name.
-pub const MAX_NAME_CHARS: usize = 64;
 
 /// Most shells drawn (the renderer's and the volume's layer bound).
 pub const MAX_SHELLS: usize = crate::volume::bake::MAX_LAYERS;
@@ -124,34 +123,6 @@ impl ExportInput<'_> {
         }
         self.transform.validate("transform")
     }
-}
-
-/// Checks a name written into the file (an object's, a material's): 1 to [`MAX_NAME_CHARS`]
-/// characters, none of them a control character; the error names `field`.
-pub(crate) fn validate_name(field: &str, name: &str) -> Result<()> {
-    let chars = name.chars().count();
-    if !(1..=MAX_NAME_CHARS).contains(&chars) || name.chars().any(char::is_control) {
-        return Err(PeltError::parameter(
-            field,
-            format!("must have 1 to {MAX_NAME_CHARS} characters and no control characters, got {name:?}"),
-        ));
-    }
-    Ok(())
-}
-
-/// `name` with every character outside `[A-Za-z0-9_.-]` replaced by `_`; a leading `.` too, so
-/// no file is hidden.
-pub fn file_stem(name: &str) -> String {
-    name.chars()
-        .enumerate()
-        .map(|(i, c)| {
-            if c.is_ascii_alphanumeric() || c == '_' || c == '-' || (c == '.' && i > 0) {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect()
 }
 
 fn size_error(name: &str, expected: usize, got: usize) -> PeltError {
@@ -227,7 +198,7 @@ pub(crate) fn validate_volume(volume: &HairVolume) -> Result<()> {
             ));
         }
     }
-    let full = crate::export::full_mip_count(res, res);
+    let full = crate::texture::full_mip_count(res, res);
     if volume.mips.len() + 1 > full {
         return Err(PeltError::parameter(
             "volume.mips",

@@ -14,9 +14,9 @@ use std::path::Path;
 
 use half::f16;
 
-use super::mip::{self, MAX_MIP_DIMENSION, MipOptions, full_mip_count, level_side};
 use super::{save_to_path, writer_error};
 use crate::error::{PeltError, Result};
+use crate::texture::mip::{self, MAX_MIP_DIMENSION, MipOptions, full_mip_count, level_side};
 
 /// The 12-byte file identifier, «KTX 20»\r\n\x1A\n.
 const IDENTIFIER: [u8; 12] = [

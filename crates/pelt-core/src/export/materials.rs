@@ -4,7 +4,7 @@
 //! metallic-roughness material on a skin primitive of its own, sharing the skin's vertices, with
 //! no shells, fins or fur extension on it; every other face is Pelt's furred skin.
 
-use super::input::validate_name;
+use super::names::validate_name;
 use crate::error::{Num, PeltError, Result};
 
 /// Most material slots (Blender's: a face's material index is a 16-bit integer).

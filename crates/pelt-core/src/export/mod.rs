@@ -1,11 +1,11 @@
-//! Export of baked fur for engines and other tools: image writers (PNG, OpenEXR, KTX2), the atlas
-//! layout, glTF 2.0 binaries ([`gltf`]), texture sets ([`texture_set`]) and whole folders with
+//! Export of baked fur for engines and other tools: image writers (PNG, OpenEXR, KTX2) over the
+//! images, mips and atlas of [`crate::texture`], glTF 2.0 binaries ([`gltf`]), texture sets ([`texture_set`]) and whole folders with
 //! their `pelt.json` manifest ([`asset`], [`manifest`]). Layout and schemas: `docs/export.md`.
 //!
 //! Lengyel et al. 2001, §2.2 store the shell layers as a stack of RGBA textures. Engines sample
 //! them as a 2D-array texture (KTX2, with mipmaps), while Blender materials and many engines have
 //! no texture arrays, so the layers are also laid out side by side in one atlas image
-//! ([`atlas`]). Float data (coverage, density, transfer coefficients) goes to OpenEXR.
+//! ([`crate::texture::atlas`]). Float data (coverage, density, transfer coefficients) goes to OpenEXR.
 //!
 //! Every writer takes an [`ImageRef`] (or a [`Ktx2Texture`]), validates it up front and writes
 //! bytes that depend only on its input: no timestamps, no thread-dependent ordering, so the same
@@ -21,16 +21,14 @@
 //! [`StackDescription`], shared by the glTF `extras` and the manifest.
 
 pub mod asset;
-pub mod atlas;
 pub mod description;
 pub mod exr;
 pub mod gltf;
-pub mod image;
 pub mod input;
 pub mod ktx2;
 pub mod manifest;
 pub mod materials;
-pub mod mip;
+mod names;
 pub mod png;
 pub mod rig;
 mod stack_png;
@@ -44,16 +42,13 @@ use crate::error::PeltError;
 use staging::save_to_path;
 
 pub use asset::{AssetOptions, write_asset, write_asset_files};
-pub use atlas::{AtlasLayout, pack_atlas};
 pub use description::StackDescription;
 pub use exr::{ExrCompression, ExrOptions, ExrSample, save_exr, write_exr};
 pub use gltf::{GltfMode, GltfOptions, encode_glb, glb_peak_bytes, save_glb};
-pub use image::{Image, ImageRef, layer_views};
 pub use input::{ExportInput, TransferTextures};
 pub use ktx2::{Ktx2Format, Ktx2Texture, save_ktx2, write_ktx2};
 pub use manifest::{MANIFEST_NAME, Manifest, ManifestFile, ManifestObject};
 pub use materials::{MaterialSlots, OwnMaterial};
-pub use mip::{MipAlpha, MipLevels, MipOptions, full_mip_count, mip_chain_rgba8, mip_chain_rgba16f};
 pub use png::{PngCompression, PngOptions, PngSample, save_png, write_png};
 pub use rig::{Animation, Skeleton, SkeletonNode, SkinBinding, Transform, WeightReport};
 pub use staging::StagedFolder;

@@ -12,9 +12,9 @@ use std::path::Path;
 
 use ::png::{BitDepth, ColorType, Encoder, EncodingError, SrgbRenderingIntent};
 
-use super::image::ImageRef;
 use super::{save_to_path, writer_error};
 use crate::error::{PeltError, Result};
+use crate::texture::image::ImageRef;
 
 /// A sample type PNG can store: `u8` (8-bit) or `u16` (16-bit).
 pub trait PngSample: Copy + Send + Sync + private::Sealed {

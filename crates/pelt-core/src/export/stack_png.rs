@@ -11,11 +11,11 @@
 
 use rayon::prelude::*;
 
-use super::atlas::{AtlasLayout, pack_atlas};
-use super::image::ImageRef;
 use super::png::{PngCompression, PngOptions, write_png};
 use crate::error::Result;
 use crate::prt::pack::PackedU8;
+use crate::texture::atlas::{AtlasLayout, pack_atlas};
+use crate::texture::image::ImageRef;
 use crate::threads::pool;
 use crate::volume::HairVolume;
 

@@ -23,18 +23,18 @@ use std::path::Path;
 
 use rayon::prelude::*;
 
-use super::atlas::{AtlasLayout, pack_atlas};
 use super::description::StackDescription;
 use super::exr::{ExrOptions, encode_exr};
 use super::gltf::{in_object, validate_objects};
 use super::input::ExportInput;
 use super::ktx2::{Ktx2Format, Ktx2Texture, encode_ktx2};
 use super::manifest::{Manifest, ManifestFile, ManifestObject};
-use super::mip::{MipAlpha, MipOptions};
 use super::stack_png::StackImage;
 use crate::error::{PeltError, Result};
 use crate::memory;
 use crate::mesh::split_at_uv_seams;
+use crate::texture::atlas::{AtlasLayout, pack_atlas};
+use crate::texture::mip::{MipAlpha, MipOptions};
 use crate::threads::{pool, thread_count};
 
 /// Which containers a texture set is written in.
@@ -409,7 +409,7 @@ fn plan<'a>(input: &'a ExportInput<'a>, formats: TextureFormats) -> Result<Vec<(
         }
     }
     if formats.ktx2 {
-        let full = |w: usize, h: usize| super::mip::full_mip_count(w, h);
+        let full = |w: usize, h: usize| crate::texture::mip::full_mip_count(w, h);
         let mut e = entry(
             format!("{stem}_shells.ktx2"),
             "shell_array",

@@ -131,7 +131,7 @@ fn a_rebake_runs_only_the_stages_whose_inputs_changed() {
 /// layers, multiplied by `tint`: the color the hair tips show. Also the 95th percentile of the
 /// shown red.
 fn tips_shown(volume: &HairVolume, tint: [f32; 4]) -> ([f32; 3], f32) {
-    let decode = crate::color::srgb8_to_linear_table();
+    let decode = crate::texture::color::srgb8_to_linear_table();
     let texels = volume.resolution * volume.resolution;
     let top = &volume.shells[(volume.layers * 3 / 4) * texels * 4..];
     let mut sum = [0.0f64; 3];

@@ -8,9 +8,21 @@
 //! Each voxel sums its directions in one fixed order, so the result does not depend on how
 //! the rows are spread over threads.
 
+use serde::{Deserialize, Serialize};
+
 use super::sh;
-use super::transfer::Phase;
 use crate::error::Result;
+
+/// The phase term of the transfer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Phase {
+    /// Every direction weighs 1 (the paper's "light reaching each voxel").
+    #[default]
+    Isotropic,
+    /// Kajiya–Kay diffuse `sin(t, ω)` with the voxel's hair tangent `t`.
+    KajiyaKay,
+}
 
 /// Mean of `sin(t, ω)` over the sphere: the Kajiya–Kay phase of a voxel without a tangent.
 pub(super) const KAJIYA_KAY_MEAN: f32 = std::f32::consts::FRAC_PI_4;

@@ -48,9 +48,8 @@ use super::accumulate::{PhaseField, Projector};
 use super::pack::texture_count;
 use super::sh::{self, MAX_ORDER};
 use super::sphere::{fibonacci_directions, gauss_legendre};
-use super::transfer::{
-    ExtraRows, Transfer, TransferParams, TransferVolume, Volume, bake_channels, bake_directions,
-};
+use super::transfer::{Transfer, TransferParams, TransferVolume, bake_channels, bake_directions};
+use super::volume::{ExtraRows, Volume};
 use crate::error::{PeltError, Result};
 use crate::progress::ProgressCallback;
 use crate::threads::pool;

@@ -13,7 +13,7 @@ use rayon::prelude::*;
 
 use super::accumulate::{PhaseField, Projector, RowAccumulator};
 use super::field::bilinear;
-use super::transfer::{ExtraRows, RayGeometry, TAU_CUT, Volume};
+use super::volume::{ExtraRows, RayGeometry, TAU_CUT, Volume};
 use crate::error::Result;
 use crate::progress::Progress;
 

@@ -21,11 +21,13 @@ pub mod bands;
 mod field;
 mod march;
 pub mod pack;
+mod params;
 pub mod peak;
 pub mod sh;
 pub mod sphere;
 mod sweep;
 pub mod transfer;
+mod volume;
 pub mod volume_input;
 
 pub use transfer::{Method, Phase, Transfer, TransferParams, TransferVolume, bake_transfer, transmittance};

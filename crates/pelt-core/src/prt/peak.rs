@@ -9,7 +9,8 @@
 //! accumulator per worker (`4R(N + 66)`) and a segment kernel per worker (at most `16R²`, and
 //! `16(s + 3)²` for a kernel `s = sweep_step · sweep_max_samples` texels long).
 
-use super::transfer::{Method, Phase, TransferParams};
+use super::accumulate::Phase;
+use super::params::{Method, TransferParams};
 use crate::error::Result;
 use crate::memory;
 

@@ -33,7 +33,7 @@ use rayon::prelude::*;
 
 use super::accumulate::{PhaseField, Projector, RowAccumulator};
 use super::field::{Pyramid, SegmentKernel, Term, add_shifted};
-use super::transfer::{ExtraRows, RayGeometry, TAU_CUT, Volume};
+use super::volume::{ExtraRows, RayGeometry, TAU_CUT, Volume};
 use crate::error::Result;
 use crate::progress::Progress;
 

@@ -13,9 +13,9 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::color::srgb8_to_linear_table;
 use crate::error::{PeltError, Result};
 use crate::hair::Strand;
+use crate::texture::color::srgb8_to_linear_table;
 use crate::volume::HairVolume;
 
 /// The volume's fields, `[layer][row][column]`, and each layer's effective hair radius.

@@ -217,7 +217,7 @@ fn downsample4(image: LinearRgba<'_>) -> Owned {
 
 /// The image over the grey background, sRGB-encoded 8-bit RGB.
 pub fn display_rgb8(image: LinearRgba<'_>) -> Vec<u8> {
-    let encoder = crate::color::srgb8_encoder();
+    let encoder = crate::texture::color::srgb8_encoder();
     image
         .pixels
         .iter()

@@ -34,8 +34,10 @@ pub mod light;
 #[cfg(feature = "metrics")]
 pub mod metrics;
 pub mod render;
+mod sampler;
 pub mod scene;
 pub mod scenes;
+mod settings;
 pub mod shade;
 pub mod volume;
 

@@ -9,82 +9,20 @@
 use std::f32::consts::PI;
 use std::time::Instant;
 
-use glam::{DVec4, Vec3, Vec3A};
+use glam::{DVec4, Vec3A};
 use rayon::prelude::*;
 
 use super::camera::RayGenerator;
-use super::geometry::SkinPoint;
-use super::light::{LightSample, Prepared, ReferenceLight, luminance};
+use super::light::{ReferenceLight, luminance};
+use super::sampler::{Lights, Sampler};
 use super::scene::ReferenceScene;
-use super::shade::HairShading;
+pub use super::settings::{MAX_PIXELS, MAX_SAMPLES, ReferenceSettings};
 use super::volume::VolumeScene;
 use crate::camera::Camera;
-use crate::error::{PeltError, Result, check_range};
+use crate::error::{PeltError, Result};
 use crate::progress::ProgressCallback;
 use crate::rng::Rng;
 use crate::threads::pool;
-
-/// Most samples per pixel.
-pub const MAX_SAMPLES: u32 = 1 << 16;
-/// Most pixels in one image (the accumulators hold 56 bytes a pixel).
-pub const MAX_PIXELS: u64 = 1 << 26;
-
-/// How long the reference renders and how it lights.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ReferenceSettings {
-    /// Seed of every random choice.
-    pub seed: u64,
-    /// Samples per pixel in each pass, `[1, 1024]`.
-    pub samples_per_pass: u32,
-    /// Fewest samples per pixel, `[1, MAX_SAMPLES]`.
-    pub min_samples: u32,
-    /// Most samples per pixel, `[min_samples, MAX_SAMPLES]`: the render stops there even when
-    /// the target is not met (the achieved error is reported).
-    pub max_samples: u32,
-    /// Relative standard error of the image's mean radiance to reach, `(0, 1]`.
-    pub target_error: f64,
-    /// Shadow rays toward the lights; off, every light reaches every point (for checking the
-    /// composite against closed forms).
-    pub shadows: bool,
-    /// The hair and skin's Kajiya–Kay coefficients.
-    pub shading: HairShading,
-}
-
-impl Default for ReferenceSettings {
-    fn default() -> Self {
-        ReferenceSettings {
-            seed: 0,
-            samples_per_pass: 4,
-            min_samples: 16,
-            max_samples: 1024,
-            target_error: 0.01,
-            shadows: true,
-            shading: HairShading::default(),
-        }
-    }
-}
-
-impl ReferenceSettings {
-    /// Checks every field, so a caller can refuse bad settings before the slow scene build.
-    ///
-    /// # Errors
-    /// [`PeltError::InvalidParameter`] naming the first field out of range.
-    pub fn validate(&self) -> Result<()> {
-        let range = |name: &str, v: u32, lo: u32, hi: u32| {
-            check_range(name, f64::from(v), f64::from(lo), f64::from(hi))
-        };
-        range("samples_per_pass", self.samples_per_pass, 1, 1024)?;
-        range("min_samples", self.min_samples, 1, MAX_SAMPLES)?;
-        range("max_samples", self.max_samples, self.min_samples, MAX_SAMPLES)?;
-        if !(self.target_error > 0.0 && self.target_error <= 1.0) {
-            return Err(PeltError::parameter(
-                "target_error",
-                format!("must be in (0, 1], got {}", self.target_error),
-            ));
-        }
-        self.shading.validate()
-    }
-}
 
 /// A converged reference image.
 #[derive(Debug, Clone, PartialEq)]
@@ -111,7 +49,7 @@ impl ReferenceImage {
     /// The image for display: sRGB-encoded 8-bit RGBA with straight alpha (color divided by
     /// coverage), rows top to bottom.
     pub fn display_rgba8(&self) -> Vec<u8> {
-        let encoder = crate::color::srgb8_encoder();
+        let encoder = crate::texture::color::srgb8_encoder();
         self.pixels
             .iter()
             .flat_map(|p| {
@@ -121,7 +59,7 @@ impl ReferenceImage {
                     encoder.encode(straight(p[0])),
                     encoder.encode(straight(p[1])),
                     encoder.encode(straight(p[2])),
-                    crate::color::unit_to_u8(a),
+                    crate::texture::color::unit_to_u8(a),
                 ]
             })
             .collect()
@@ -309,96 +247,6 @@ fn pixel_error(pixels: &[[f32; 4]], sums: &[f64], squares: &[f64], passes: usize
         return 0.0;
     }
     (var_total / covered as f64).sqrt() / (lum_total / covered as f64)
-}
-
-/// The lights of one render, ready to sample, with what shading needs besides the scene.
-pub(crate) struct Lights<'a> {
-    pub prepared: &'a [Prepared],
-    pub settings: &'a ReferenceSettings,
-    /// Offset of shadow rays off their surface, object units.
-    pub epsilon: f32,
-}
-
-impl Lights<'_> {
-    /// A direction toward `light` with its weight (a sun's own; one importance sample of an
-    /// environment).
-    pub(crate) fn sample(&self, light: &Prepared, rng: &mut Rng) -> LightSample {
-        match light {
-            Prepared::Sun {
-                direction,
-                radiance_scale,
-            } => LightSample {
-                direction: *direction,
-                weight: *radiance_scale,
-            },
-            Prepared::Environment(sampler) => {
-                sampler.sample([rng.next_f64(), rng.next_f64(), rng.next_f64()])
-            }
-        }
-    }
-
-    pub(crate) fn shading(&self) -> &HairShading {
-        &self.settings.shading
-    }
-
-    /// Light reaching a point from every light, × π: `Σ weight · f(ω) · visibility(ω)`, with
-    /// `visibility` (drawing from `rng` after the light's own sample) asked only where `f` is
-    /// not zero, and taken as 1 with shadows off.
-    pub(crate) fn direct(
-        &self,
-        rng: &mut Rng,
-        mut f: impl FnMut(Vec3A) -> Vec3,
-        mut visibility: impl FnMut(Vec3A, &mut Rng) -> f32,
-    ) -> Vec3 {
-        let mut radiance = Vec3::ZERO;
-        for light in self.prepared {
-            let l = self.sample(light, rng);
-            let value = f(l.direction);
-            if value == Vec3::ZERO {
-                continue;
-            }
-            let seen = if self.settings.shadows {
-                visibility(l.direction, rng)
-            } else {
-                1.0
-            };
-            radiance += l.weight * value * seen;
-        }
-        radiance
-    }
-
-    /// A skin point's Lambertian light (none from behind its face), `visibility` seen from
-    /// `lifted`, the point moved off the skin.
-    pub(crate) fn skin(
-        &self,
-        skin: &SkinPoint,
-        rng: &mut Rng,
-        visibility: impl FnMut(Vec3A, &mut Rng) -> f32,
-    ) -> Vec3 {
-        let shading = self.shading();
-        self.direct(
-            rng,
-            |l| {
-                if skin.face.dot(l) <= 0.0 {
-                    Vec3::ZERO
-                } else {
-                    shading.skin(skin.normal, l, skin.albedo)
-                }
-            },
-            visibility,
-        )
-    }
-}
-
-/// What the progressive loop needs of a traceable scene (the strands, or their density volume).
-pub(crate) trait Sampler: Sync {
-    /// Lowest and highest corner.
-    fn bounds(&self) -> ([f32; 3], [f32; 3]);
-    /// Whether `eye` lies inside the skin.
-    fn encloses(&self, eye: Vec3A) -> bool;
-    /// One sample along the unit ray `origin + t · direction`: radiance × π (premultiplied by
-    /// coverage) and coverage.
-    fn sample(&self, origin: Vec3A, direction: Vec3A, lights: &Lights<'_>, rng: &mut Rng) -> (Vec3, f32);
 }
 
 /// What one sample needs.

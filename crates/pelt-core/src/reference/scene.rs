@@ -8,7 +8,7 @@ use obvhs::aabb::Aabb;
 use super::bvh::{AXIS_DIRECTIONS, Bvh};
 use super::geometry::{FurGeometry, SkinPoint};
 use super::intersect::{HairSegment, ray_segment, ray_triangle};
-use super::render::{Lights, Sampler};
+use super::sampler::{Lights, Sampler};
 use crate::error::{PeltError, Result};
 use crate::rng::Rng;
 

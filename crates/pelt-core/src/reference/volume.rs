@@ -33,7 +33,7 @@ use super::bvh::{AXIS_DIRECTIONS, Bvh};
 use super::density::DensityField;
 use super::geometry::{Skin, growth_vectors, lateral_scale, mean_root_color, skin_of};
 use super::intersect::ray_triangle;
-use super::render::{Lights, Sampler};
+use super::sampler::{Lights, Sampler};
 use crate::error::{Num, PeltError, Result};
 use crate::hair::Strand;
 use crate::lapped::{NO_PATCH, Patches};

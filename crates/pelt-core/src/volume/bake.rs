@@ -9,98 +9,20 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::error::{Num, PeltError, Result, check_range};
+use crate::error::{Num, PeltError, Result};
 use crate::guard::drawn_as_strands;
 use crate::hair::{HairParams, Strand, grow_strands};
 use crate::progress::{Progress, ProgressCallback};
 use crate::threads::pool;
 
-use super::coverage::CoverageMode;
 use super::fin::{fin_row, slab_candidates};
 use super::lod::lod_chain_from;
+pub use super::params::{MAX_FIN_SIZE, MAX_LAYERS, MAX_RESOLUTION, MAX_VERTICAL_FILTER, VolumeParams};
 use super::stack::{StackParams, sample_stack};
 use super::strand_table::StrandTable;
 
-/// Most shell layers.
-pub const MAX_LAYERS: usize = 256;
-/// Largest shell texture side.
-pub const MAX_RESOLUTION: usize = 4096;
-/// Largest fin texture side.
-pub const MAX_FIN_SIZE: usize = 4096;
-/// Widest tall-Gaussian filter, standard deviation in layer spacings.
-pub const MAX_VERTICAL_FILTER: f64 = 8.0;
 /// Height samples per layer spacing taken by the tall Gaussian filter.
 const FILTER_SAMPLES_PER_LAYER: f64 = 4.0;
-
-/// How the hair volume is sampled.
-#[derive(Debug, Clone, PartialEq)]
-pub struct VolumeParams {
-    /// Shell layers including the skin, `[1, MAX_LAYERS]`; default 16.
-    pub layers: usize,
-    /// Shell texture side in texels, `[1, MAX_RESOLUTION]`; default 128.
-    pub resolution: usize,
-    /// How a cross-section's share of a texel is computed; default exact.
-    pub coverage: CoverageMode,
-    /// Tall Gaussian filter along the height (Lengyel §2.2), standard deviation in layer spacings,
-    /// `[0, MAX_VERTICAL_FILTER]`; 0 (default) samples each layer at its own height only.
-    pub vertical_filter: f64,
-    /// Fin texture `[width, height]`, each `[1, MAX_FIN_SIZE]`; default 512 × 128.
-    pub fin_size: [usize; 2],
-    /// Depth of the slab of hair seen in the fin texture, tile units, `(0, 1]`; default 0.1.
-    pub fin_slab: f64,
-    /// Drop layers above the tallest strand (and report it); default true.
-    pub trim: bool,
-    /// Build the LOD chain of composited shells; default true.
-    pub lod: bool,
-    /// Build the mipmaps of every layer; default true.
-    pub mipmaps: bool,
-    /// Guard hairs (a `guard_share` of the overcoat) are drawn as explicit strands
-    /// ([`crate::guard`]): leave them out, so that no hair is drawn twice; default false.
-    pub guard_hairs: bool,
-    /// With `guard_hairs`, the share of the overcoat drawn as strands, `(0, 1]`; the rest stays
-    /// in the shells ([`crate::guard::drawn_as_strands`] picks which); default 1.
-    pub guard_share: f64,
-}
-
-impl Default for VolumeParams {
-    fn default() -> Self {
-        VolumeParams {
-            layers: 16,
-            resolution: 128,
-            coverage: CoverageMode::Exact,
-            vertical_filter: 0.0,
-            fin_size: [512, 128],
-            fin_slab: 0.1,
-            trim: true,
-            lod: true,
-            mipmaps: true,
-            guard_hairs: false,
-            guard_share: 1.0,
-        }
-    }
-}
-
-impl VolumeParams {
-    /// Checks every field against its documented range.
-    ///
-    /// # Errors
-    /// [`PeltError::InvalidParameter`] naming the first field out of range.
-    pub fn validate(&self) -> Result<()> {
-        check_range("layers", self.layers as f64, 1.0, MAX_LAYERS as f64)?;
-        check_range("resolution", self.resolution as f64, 1.0, MAX_RESOLUTION as f64)?;
-        check_range("vertical_filter", self.vertical_filter, 0.0, MAX_VERTICAL_FILTER)?;
-        check_range("fin_size[0]", self.fin_size[0] as f64, 1.0, MAX_FIN_SIZE as f64)?;
-        check_range("fin_size[1]", self.fin_size[1] as f64, 1.0, MAX_FIN_SIZE as f64)?;
-        crate::guard::check_share(self.guard_share)?;
-        if !(self.fin_slab > 0.0 && self.fin_slab <= 1.0) {
-            return Err(PeltError::parameter(
-                "fin_slab",
-                format!("must be in (0, 1], got {}", self.fin_slab),
-            ));
-        }
-        Ok(())
-    }
-}
 
 /// What the trim and the sampling found, for the bake report.
 #[derive(Debug, Clone, PartialEq, Serialize)]

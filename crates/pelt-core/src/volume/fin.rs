@@ -15,7 +15,7 @@ use rayon::prelude::*;
 
 use super::grid::{floor_i64, fract_wrap, wrap_near};
 use super::strand_table::StrandTable;
-use crate::color::{srgb8_encoder, unit_to_u8};
+use crate::texture::color::{srgb8_encoder, unit_to_u8};
 
 /// One strand's cut through a row.
 pub(super) struct Piece {

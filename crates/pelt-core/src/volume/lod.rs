@@ -3,11 +3,11 @@
 //! Lengyel et al. 2001, §2.4: far from the viewer fewer shells suffice, so a reduced set is made by
 //! compositing successive pairs of shells with the "over" operator, repeated down to a single
 //! shell. Compositing works on premultiplied linear color and stores straight, sRGB-encoded RGBA8
-//! like the full-detail shells. (The mipmaps of every layer come from [`crate::export::mip`].)
+//! like the full-detail shells. (The mipmaps of every layer come from [`crate::texture::mip`].)
 
 use rayon::prelude::*;
 
-use crate::color::{Srgb8Encoder, srgb8_encoder, srgb8_to_linear_table, unit_to_u8};
+use crate::texture::color::{Srgb8Encoder, srgb8_encoder, srgb8_to_linear_table, unit_to_u8};
 
 /// Premultiplied linear RGBA of one straight sRGB RGBA8 texel (`alphas[b]` is `b / 255`).
 #[inline(always)]

@@ -24,6 +24,7 @@ pub mod fin;
 pub mod footprint;
 mod grid;
 pub mod lod;
+mod params;
 pub mod peak;
 pub mod shells;
 pub mod slices;

@@ -8,7 +8,7 @@
 //! texel of each hair's footprint, and 24 bytes per hair, both capped where the queue spills);
 //! and the strands with their table (about `44(S + 1) + 200` bytes per strand of `S` segments).
 
-use super::bake::VolumeParams;
+use super::params::VolumeParams;
 use crate::error::Result;
 use crate::hair::HairParams;
 use crate::memory;

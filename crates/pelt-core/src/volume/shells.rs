@@ -12,7 +12,7 @@
 use std::ops::Range;
 use std::sync::Mutex;
 
-use crate::color::{Srgb8Encoder, srgb8_encoder, unit_to_u8};
+use crate::texture::color::{Srgb8Encoder, srgb8_encoder, unit_to_u8};
 
 use super::coverage::{CoverageMode, visit_disk_texels};
 use super::footprint::FootprintScratch;

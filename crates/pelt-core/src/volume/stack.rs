@@ -15,10 +15,10 @@ use super::lod::composite_pair;
 use super::shells::{LayerOut, ScratchPool, sample_layer, sample_layer_pair};
 use super::strand_table::StrandTable;
 use crate::error::{PeltError, Result};
-use crate::export::MipAlpha;
-use crate::export::full_mip_count;
-use crate::export::mip::{chain_rgba8, level_side};
 use crate::progress::Progress;
+use crate::texture::MipAlpha;
+use crate::texture::full_mip_count;
+use crate::texture::mip::{chain_rgba8, level_side};
 
 /// What the stack is made of and what comes with it.
 pub(super) struct StackParams<'a> {

@@ -4,10 +4,10 @@ use super::bake::bake_validated;
 use super::coverage::CoverageMode;
 use super::lod::{composite_pairs, lod_chain};
 use super::*;
-use crate::color::{linear_to_srgb8, srgb_to_linear};
 use crate::error::PeltError;
-use crate::export::full_mip_count;
 use crate::hair::{Coat, HairParams, Strand, grow_strands};
+use crate::texture::color::{linear_to_srgb8, srgb_to_linear};
+use crate::texture::full_mip_count;
 
 fn small() -> VolumeParams {
     VolumeParams {

@@ -15,9 +15,9 @@
 use super::super::input::ExportInput;
 use super::{GltfMode, GltfOptions};
 use crate::error::Result;
-use crate::export::AtlasLayout;
 use crate::memory;
 use crate::mesh::split_at_uv_seams;
+use crate::texture::AtlasLayout;
 
 /// An RGBA8 PNG of `texels` texels, at most: the raw bytes, a filter byte per row and zlib's
 /// stored-block headers, rounded up.

@@ -7,7 +7,7 @@ use half::f16;
 
 use super::{parameter_name, random_floats, temp_dir, with_threads};
 use crate::export::exr::{ExrCompression, ExrOptions, ExrSample, encode_exr, save_exr, write_exr};
-use crate::export::image::ImageRef;
+use crate::texture::image::ImageRef;
 
 /// What the `exr` crate reads back: size, compression, and each channel's samples by name.
 struct Decoded {

@@ -2,7 +2,7 @@ use half::f16;
 
 use super::{parameter_name, random_bytes, random_floats, temp_dir, with_threads};
 use crate::export::ktx2::{Ktx2Format, Ktx2Texture, encode_ktx2, save_ktx2, write_ktx2};
-use crate::export::mip::{MipAlpha, MipLevels, MipOptions, chain_rgba8, mip_chain_rgba8};
+use crate::texture::mip::{MipAlpha, MipLevels, MipOptions, chain_rgba8, mip_chain_rgba8};
 
 fn encode(texture: &Ktx2Texture) -> Vec<u8> {
     let mut out = Vec::new();

@@ -4,9 +4,9 @@ use ::png::{BitDepth, ColorType, Decoder};
 
 use super::{random_bytes, temp_dir};
 use crate::error::PeltError;
-use crate::export::atlas::{AtlasLayout, pack_atlas};
-use crate::export::image::ImageRef;
 use crate::export::png::{PngCompression, PngOptions, save_png, write_png};
+use crate::texture::atlas::{AtlasLayout, pack_atlas};
+use crate::texture::image::ImageRef;
 
 /// Decodes with the `png` crate's decoder (no transformations): header fields and raw bytes.
 fn decode(bytes: &[u8]) -> (u32, u32, ColorType, BitDepth, Vec<u8>, bool) {

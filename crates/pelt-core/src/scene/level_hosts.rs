@@ -17,7 +17,7 @@
 use rayon::prelude::*;
 
 use super::surface_mesh::SurfaceVertex;
-use pelt_core::vec3::{cross, dot, sub};
+use crate::vec3::{cross, dot, sub};
 
 /// Faces whose area is below this fraction of the squared cell size hold no host: their
 /// nearest point is ill-defined, and the triangles around them cover the same place.
@@ -31,7 +31,7 @@ const MAX_RINGS: usize = 4;
 
 /// Where the vertices one level dropped lie on it.
 #[derive(Debug, Clone, Default)]
-pub(super) struct LevelHosts {
+pub struct LevelHosts {
     /// The dropped vertices, as mesh vertices (the rows of colors and lengths).
     vertices: Vec<u32>,
     /// The mesh vertices at the corners of each one's host triangle.
@@ -116,7 +116,7 @@ impl LevelHosts {
 
     /// Dropped vertices placed on the level.
     #[cfg(test)]
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.vertices.len()
     }
 }
@@ -342,10 +342,10 @@ fn nearest_weights(p: [f64; 3], t: [[f64; 3]; 3]) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry_lod::tests::{dense_torus, levels_of};
+    use crate::scene::geometry_lod::tests::{dense_torus, levels_of};
 
     /// The torus's levels 1 on, each with its hosts under white and length 1.
-    fn torus_hosts() -> (pelt_core::FurMesh, Vec<(f64, Vec<u32>, LevelHosts)>) {
+    fn torus_hosts() -> (crate::FurMesh, Vec<(f64, Vec<u32>, LevelHosts)>) {
         let (mesh, surface) = dense_torus();
         let levels = levels_of(&surface, &vec![1.0; surface.vertices.len()]);
         let white = vec![[1.0f32; 4]; mesh.vertex_count()];
@@ -465,7 +465,7 @@ mod tests {
     fn nearest_weights_match_a_brute_force_search_over_the_triangle() {
         let t = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.5, 1.5, 0.0]];
         let at = |w: [f64; 3]| -> [f64; 3] { std::array::from_fn(|i| (0..3).map(|k| w[k] * t[k][i]).sum()) };
-        let mut rng = pelt_core::rng::Rng::new(7);
+        let mut rng = crate::rng::Rng::new(7);
         for _ in 0..200 {
             let mut uniform = |lo: f64, hi: f64| lo + (hi - lo) * rng.next_f64();
             let p = [uniform(-1.5, 3.5), uniform(-1.5, 3.0), uniform(-1.0, 1.0)];

@@ -1,6 +1,6 @@
 use super::halve_even_rgba8;
-use crate::export::mip::{MipAlpha, halve, rgba8_decoder, rgba8_encoder};
 use crate::rng::Rng;
+use crate::texture::mip::{MipAlpha, halve, rgba8_decoder, rgba8_encoder};
 
 /// Random RGBA8 layers with what shells hold: blocks of four identical texels, fully
 /// transparent and fully opaque texels, and arbitrary ones.
@@ -94,7 +94,7 @@ fn every_uniform_block_of_every_texel_value_is_kept() {
 
 #[test]
 fn byte_rounding_matches_the_library_round() {
-    use crate::export::mip::round_u8;
+    use crate::texture::mip::round_u8;
     let mut values = vec![
         0.0,
         -0.0,

@@ -38,7 +38,7 @@ const ESTIMATE_SLACK: f64 = 2.0;
 /// One level: its triangles (three surface vertex indices each) and the bound, in object units,
 /// on its distance from the full mesh (0 for the full mesh, level 0).
 #[derive(Debug, Clone, PartialEq)]
-pub(super) struct GeometryLevel {
+pub struct GeometryLevel {
     pub indices: Vec<u32>,
     pub error: f64,
 }
@@ -46,7 +46,7 @@ pub(super) struct GeometryLevel {
 /// The full mesh (`indices` over `vertices`) as level 0, then coarser levels while they pay.
 /// `colors` and `lengths` are per surface vertex; `tile` is a tile's size in object units, the
 /// distance one unit of any attribute counts as.
-pub(super) fn simplify_levels(
+pub fn simplify_levels(
     vertices: &[SurfaceVertex],
     indices: &[u32],
     colors: &[[f32; 4]],
@@ -115,7 +115,7 @@ pub(super) fn simplify_levels(
 /// The coarsest of `errors` (ascending, object units; level 0 first) within `most_pixels` at
 /// `pixels_per_unit`, the finest scale the object is seen at; level 0 without a scale (the camera
 /// inside the object's bounds) or with `most_pixels` 0.
-pub(super) fn choose(errors: &[f64], pixels_per_unit: Option<f64>, most_pixels: f32) -> usize {
+pub fn choose(errors: &[f64], pixels_per_unit: Option<f64>, most_pixels: f32) -> usize {
     let Some(ppu) = pixels_per_unit.filter(|_| most_pixels > 0.0) else {
         return 0;
     };
@@ -127,7 +127,7 @@ pub(super) fn choose(errors: &[f64], pixels_per_unit: Option<f64>, most_pixels: 
 
 /// The distinct edges `[a, b]` (`a < b`) of `triangles` (three indices each) after mapping each
 /// index through `source`, in ascending order.
-pub(super) fn edges(triangles: &[u32], source: &[u32]) -> Vec<[u32; 2]> {
+pub fn edges(triangles: &[u32], source: &[u32]) -> Vec<[u32; 2]> {
     let mut edges: Vec<[u32; 2]> = triangles
         .chunks_exact(3)
         .flat_map(|t| (0..3).map(move |k| [t[k], t[(k + 1) % 3]]))
@@ -141,11 +141,11 @@ pub(super) fn edges(triangles: &[u32], source: &[u32]) -> Vec<[u32; 2]> {
 }
 
 #[cfg(test)]
-pub(super) mod tests {
+pub mod tests {
     use super::*;
-    use crate::surface_mesh;
-    use pelt_core::mesh::shapes::{torus, torus_uvs};
-    use pelt_core::{FurMesh, MeshInput};
+    use crate::mesh::shapes::{torus, torus_uvs};
+    use crate::scene::surface_mesh;
+    use crate::{FurMesh, MeshInput};
 
     const MAJOR: f64 = 1.0;
     const MINOR: f64 = 0.35;
@@ -176,7 +176,7 @@ pub(super) mod tests {
     const AROUND: usize = 128;
 
     /// A torus of 128 × 64 quads with tile UVs 12 × 4 tiles around, as the GPU vertices split.
-    pub(crate) fn dense_torus() -> (FurMesh, surface_mesh::SurfaceMesh) {
+    pub fn dense_torus() -> (FurMesh, surface_mesh::SurfaceMesh) {
         let (around, across) = (AROUND, 64);
         let (positions, triangles) = torus(around, across);
         let mesh = FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap();
@@ -185,7 +185,7 @@ pub(super) mod tests {
     }
 
     /// The levels of `surface` under white and `lengths` (per surface vertex).
-    pub(crate) fn levels_of(surface: &surface_mesh::SurfaceMesh, lengths: &[f32]) -> Vec<GeometryLevel> {
+    pub fn levels_of(surface: &surface_mesh::SurfaceMesh, lengths: &[f32]) -> Vec<GeometryLevel> {
         let colors = vec![[1.0; 4]; surface.vertices.len()];
         simplify_levels(
             &surface.vertices,

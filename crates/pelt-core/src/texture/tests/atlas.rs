@@ -1,5 +1,5 @@
-use super::{parameter_name, random_bytes, with_threads};
-use crate::export::atlas::{AtlasLayout, pack_atlas, pack_validated};
+use crate::test_support::{parameter_name, random_bytes, with_threads};
+use crate::texture::atlas::{AtlasLayout, pack_atlas, pack_validated};
 
 #[test]
 fn layout_is_the_smallest_square_grid_that_holds_the_layers() {

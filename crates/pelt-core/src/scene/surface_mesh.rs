@@ -1,18 +1,18 @@
-//! The mesh as the skin and shell passes draw it: [`pelt_core::mesh::uv_split`] splits vertices where
+//! The mesh as the skin and shell passes draw it: [`crate::mesh::uv_split`] splits vertices where
 //! the tile UVs of the lapped patches jump and gives each copy its surface derivatives; this file
 //! packs them into GPU vertices (Lengyel et al. 2001, §2.1 and §2.4).
 
 use bytemuck::{Pod, Zeroable};
 
-use pelt_core::FurMesh;
-use pelt_core::error::Result;
-use pelt_core::mesh::split_at_uv_seams;
+use crate::FurMesh;
+use crate::error::Result;
+use crate::mesh::split_at_uv_seams;
 
 /// One GPU vertex of the skin and shells (vertex buffer 0; color and length live in buffers of
-/// their own so that [`super::FurScene::update_attributes`] rewrites only those).
+/// their own so that `FurScene::update_attributes` (pelt-render) rewrites only those).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub(super) struct SurfaceVertex {
+pub struct SurfaceVertex {
     pub position: [f32; 3],
     pub normal: [f32; 3],
     /// `∂P/∂u`: object units per tile unit along the tile's x, in the tangent plane.
@@ -25,13 +25,13 @@ pub(super) struct SurfaceVertex {
 
 /// The split mesh.
 #[derive(Debug, Clone)]
-pub(super) struct SurfaceMesh {
+pub struct SurfaceMesh {
     pub vertices: Vec<SurfaceVertex>,
     /// The mesh vertex each GPU vertex came from (to expand per-vertex colors and lengths).
     pub source: Vec<u32>,
     /// Three per triangle, in the mesh's triangle order.
     pub indices: Vec<u32>,
-    /// Tile units per object unit (see [`pelt_core::mesh::UvSplit::uv_scale`]).
+    /// Tile units per object unit (see [`crate::mesh::UvSplit::uv_scale`]).
     pub uv_scale: f64,
 }
 
@@ -39,7 +39,7 @@ pub(super) struct SurfaceMesh {
 ///
 /// # Errors
 /// As [`split_at_uv_seams`].
-pub(super) fn build(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result<SurfaceMesh> {
+pub fn build(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result<SurfaceMesh> {
     let split = split_at_uv_seams(mesh, corner_uvs)?;
     let (positions, normals, comb) = (mesh.positions(), mesh.normals(), mesh.comb());
     let vertices = (0..split.len())
@@ -64,13 +64,13 @@ pub(super) fn build(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result<Surf
 }
 
 /// `values` (one per mesh vertex) gathered for each GPU vertex.
-pub(super) fn expand<T: Copy>(values: &[T], source: &[u32]) -> Vec<T> {
+pub fn expand<T: Copy>(values: &[T], source: &[u32]) -> Vec<T> {
     source.iter().map(|&v| values[v as usize]).collect()
 }
 
 /// For each of `vertex_count` mesh vertices, its first surface vertex (of the copies a seam
 /// split makes), or `u32::MAX` for a vertex on no triangle.
-pub(super) fn first_copies(source: &[u32], vertex_count: usize) -> Vec<u32> {
+pub fn first_copies(source: &[u32], vertex_count: usize) -> Vec<u32> {
     let mut first = vec![u32::MAX; vertex_count];
     for (i, &v) in source.iter().enumerate().rev() {
         first[v as usize] = i as u32;

@@ -9,12 +9,12 @@ use super::fin_mesh::{self, FinMesh};
 use super::geometry_lod;
 use super::level_hosts::LevelHosts;
 use super::surface_mesh::{SurfaceMesh, first_copies};
-use pelt_core::FurMesh;
-use pelt_core::mesh::{fin_quads, fin_quads_of_edges};
+use crate::FurMesh;
+use crate::mesh::{fin_quads, fin_quads_of_edges};
 
 /// One geometric level of detail of a scene.
 #[derive(Debug, Clone, PartialEq)]
-pub(super) struct MeshLevel {
+pub struct MeshLevel {
     /// Object units the level may stray from the full mesh.
     pub error: f64,
     /// Its triangles in the surface index buffer.
@@ -28,7 +28,7 @@ pub(super) struct MeshLevel {
 }
 
 /// Every level of a scene.
-pub(super) struct SceneLevels {
+pub struct SceneLevels {
     /// The full mesh first.
     pub levels: Vec<MeshLevel>,
     /// The triangles of every level, one level after another.
@@ -111,6 +111,6 @@ impl SceneLevels {
 /// How many levels, finest first, still stand for the full mesh under these colors and lengths
 /// (per mesh vertex): the full mesh and every coarser level up to the first that would smear
 /// them.
-pub(super) fn drawable(hosts: &[LevelHosts], colors: &[[f32; 4]], lengths: &[f32]) -> usize {
+pub fn drawable(hosts: &[LevelHosts], colors: &[[f32; 4]], lengths: &[f32]) -> usize {
     1 + hosts.iter().take_while(|h| h.holds(colors, lengths)).count()
 }

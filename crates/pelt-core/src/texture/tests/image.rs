@@ -1,5 +1,5 @@
-use super::parameter_name;
-use crate::export::image::{Image, ImageRef, MAX_DIMENSION, layer_views};
+use crate::test_support::parameter_name;
+use crate::texture::image::{Image, ImageRef, MAX_DIMENSION, layer_views};
 
 #[test]
 fn image_ref_accepts_matching_length_and_exposes_rows() {

@@ -1,4 +1,4 @@
-//! Fin geometry: the quads of [`pelt_core::mesh::fins`] (one per mesh edge, Lengyel et al. 2001, §2.3,
+//! Fin geometry: the quads of [`crate::mesh::fins`] (one per mesh edge, Lengyel et al. 2001, §2.3,
 //! Figure 3) as GPU vertices, extruded in the vertex shader along each end's growth direction
 //! (normal + comb shear) and textured with the fin texture (§2.2, "Fin texture").
 //!
@@ -12,12 +12,12 @@ use bytemuck::{Pod, Zeroable};
 
 use std::ops::Range;
 
-use pelt_core::mesh::{FinQuad, quad_triangles};
+use crate::mesh::{FinQuad, quad_triangles};
 
 /// One GPU vertex of a fin (vertex buffer 0 of the fin pass).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub(super) struct FinVertex {
+pub struct FinVertex {
     /// Fin texture coordinate: `u` along the edge (tile units, wraps), `v` 0 at the top of the
     /// fur (the fin texture's row 0) and 1 at the skin.
     pub uv: [f32; 2],
@@ -31,7 +31,7 @@ pub(super) struct FinVertex {
 
 /// The fins of every geometric level of detail, one after another.
 #[derive(Debug, Clone)]
-pub(super) struct FinMesh {
+pub struct FinMesh {
     pub vertices: Vec<FinVertex>,
     /// The mesh vertex each fin corner stands on.
     pub source: Vec<u32>,
@@ -58,7 +58,7 @@ fn mean_length(quads: &[FinQuad]) -> f64 {
 /// Packs the fins of each level (`levels[k]`: the quads of level `k`'s edges), `surface_vertex[v]`
 /// a surface (GPU) vertex made from mesh vertex `v` (every edge end has one: edges come from
 /// triangles).
-pub(super) fn build(levels: &[Vec<FinQuad>], surface_vertex: &[u32]) -> FinMesh {
+pub fn build(levels: &[Vec<FinQuad>], surface_vertex: &[u32]) -> FinMesh {
     let total: usize = levels.iter().map(Vec::len).sum();
     let mut fins = FinMesh {
         vertices: Vec::with_capacity(4 * total),

@@ -82,7 +82,7 @@ impl<'a, T> ImageRef<'a, T> {
     }
 }
 
-/// An owned, validated image (what [`crate::export::pack_atlas`] returns); see [`ImageRef`].
+/// An owned, validated image (what [`crate::texture::pack_atlas`] returns); see [`ImageRef`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Image<T> {
     width: usize,

@@ -17,8 +17,8 @@
 use half::f16;
 use rayon::prelude::*;
 
-use crate::color::{Srgb8Encoder, srgb8_encoder, srgb8_to_linear_table};
 use crate::error::{PeltError, Result};
+use crate::texture::color::{Srgb8Encoder, srgb8_encoder, srgb8_to_linear_table};
 use crate::threads::pool;
 
 mod even;

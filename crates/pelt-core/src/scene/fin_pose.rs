@@ -6,9 +6,9 @@
 use std::ops::Range;
 
 use super::fin_cull::FinPlanes;
-use pelt_core::mesh::{fin_plane, midpoint};
+use crate::mesh::{fin_plane, midpoint};
 
-pub(super) struct PosedFinPlanes {
+pub struct PosedFinPlanes {
     planes: FinPlanes,
     /// Each fin's ends (mesh vertices).
     ends: Vec<[u32; 2]>,
@@ -94,7 +94,7 @@ mod tests {
         assert_eq!((planes.stale.len(), planes.stale.first()), (1, Some(&(1..2))));
         assert_eq!(
             planes.visible_indices(aside, 1..2),
-            pelt_core::mesh::quad_triangles(1)
+            crate::mesh::quad_triangles(1)
         );
     }
 }

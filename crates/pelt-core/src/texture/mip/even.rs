@@ -14,7 +14,7 @@
 use rayon::prelude::*;
 
 use super::{MipAlpha, decode_rgba8, encode_rgba8};
-use crate::color::{srgb8_encoder, srgb8_to_linear_table};
+use crate::texture::color::{srgb8_encoder, srgb8_to_linear_table};
 
 /// One level down for `layers` RGBA8 images of even `width` and `height` (layer-major), rows in
 /// parallel; the same bytes as the general filter.

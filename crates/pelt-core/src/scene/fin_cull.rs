@@ -10,7 +10,7 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
-use pelt_core::mesh::quad_triangles;
+use crate::mesh::quad_triangles;
 
 /// A fin `p` this far under the fade's zero (|p| = 1/2) is still kept, so that rounding in this
 /// f32 evaluation, which need not match the shader's bit for bit, never drops a fin the shader
@@ -22,7 +22,7 @@ const CHUNK: usize = 4096;
 
 /// Each fin's plane: the point its fade is evaluated at and its unit normal.
 #[derive(Debug, Clone, Default)]
-pub(super) struct FinPlanes {
+pub struct FinPlanes {
     centers: Vec<[f32; 3]>,
     normals: Vec<[f32; 3]>,
 }

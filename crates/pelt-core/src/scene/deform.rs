@@ -12,12 +12,12 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use super::surface_mesh::{SurfaceMesh, SurfaceVertex};
-use pelt_core::FurMesh;
-use pelt_core::error::Result;
-use pelt_core::mesh::{FaceDerivatives, SplitLayout};
+use crate::FurMesh;
+use crate::error::Result;
+use crate::mesh::{FaceDerivatives, SplitLayout};
 
 /// What a scene keeps of its rest shape to pose it.
-pub(super) struct Deformer {
+pub struct Deformer {
     /// The rest mesh: its triangles and adjacency give the posed normals.
     rest: FurMesh,
     /// The split vertices and the full mesh's triangles over them (the first level of the

@@ -1,7 +1,7 @@
 use half::f16;
 
-use super::{parameter_name, random_bytes, random_floats, with_threads};
-use crate::export::mip::{
+use crate::test_support::{parameter_name, random_bytes, random_floats, with_threads};
+use crate::texture::mip::{
     MipAlpha, MipLevels, MipOptions, chain_rgba8, full_mip_count, mip_chain_rgba8, mip_chain_rgba16f,
 };
 
