@@ -3,7 +3,7 @@
 //! premultiplied, depth tested but not written (the shells drawn next must still land on the
 //! skin behind a fin).
 
-use super::pass::{Model, PassPipelines, PassState, VertexInput};
+use super::pass::{Model, PassState, VertexInput, build_pipeline};
 use super::scene::FurScene;
 
 const KAJIYA_KAY: &str = concat!(
@@ -20,7 +20,7 @@ const PRT: &str = concat!(
 );
 
 /// Both sides drawn (a fin is seen from either side), depth not written, premultiplied "over".
-pub(super) fn state(model: Model) -> PassState<'static> {
+fn state(model: Model) -> PassState<'static> {
     PassState {
         label: "fins",
         source: match model {
@@ -35,18 +35,27 @@ pub(super) fn state(model: Model) -> PassState<'static> {
     }
 }
 
-/// Draws the first `indices` of the fin index buffer, where the frame has collected the fins the
-/// fade leaves visible (`fin_cull`); the vertex shader drops any faded out after all.
-pub(super) fn draw(
-    pass: &mut wgpu::RenderPass<'_>,
-    pipelines: &PassPipelines,
-    scene: &FurScene,
-    indices: u32,
-) {
-    if indices == 0 {
-        return;
+/// The fins' pipeline for one lighting model and target.
+pub(super) struct FinsPass(wgpu::RenderPipeline);
+
+impl FinsPass {
+    pub(super) fn new(
+        device: &wgpu::Device,
+        layout: &wgpu::PipelineLayout,
+        model: Model,
+        format: wgpu::TextureFormat,
+    ) -> Self {
+        FinsPass(build_pipeline(device, layout, &state(model), format))
     }
-    pass.set_pipeline(&pipelines.fins);
-    scene.fins.bind(pass);
-    pass.draw_indexed(0..indices, 0, 0..1);
+
+    /// Draws the first `indices` of the fin index buffer, where the frame has collected the fins
+    /// the fade leaves visible (`fin_cull`); the vertex shader drops any faded out after all.
+    pub(super) fn draw(&self, pass: &mut wgpu::RenderPass<'_>, scene: &FurScene, indices: u32) {
+        if indices == 0 {
+            return;
+        }
+        pass.set_pipeline(&self.0);
+        scene.fins.bind(pass);
+        pass.draw_indexed(0..indices, 0, 0..1);
+    }
 }

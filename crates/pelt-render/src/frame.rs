@@ -17,7 +17,7 @@ use super::readback::read_texels;
 use super::scene::FurScene;
 use super::settings::{RenderSettings, ShellMethod};
 use super::strands::{self, Bands};
-use super::{Renderer, fins, scoped, shells, skin};
+use super::{Renderer, scoped};
 use pelt_core::error::{PeltError, Result};
 use pelt_core::scene::geometry_lod;
 
@@ -288,7 +288,7 @@ impl Renderer {
             None => None,
         };
         let rotate = match transfer {
-            Some(_) => Some(&self.fur_pipelines()?.prt(&self.device)?.rotate),
+            Some(_) => Some(&self.fur_layouts()?.prt(&self.device)?.rotate),
             None => None,
         };
         let level = scene
@@ -429,13 +429,15 @@ impl Renderer {
                 if let Some(t) = transfer {
                     pass.set_bind_group(1, &t.render_group, &[]);
                 }
-                skin::draw(&mut pass, pipelines, scene, level, checked.model);
-                fins::draw(&mut pass, pipelines, scene, fin_indices.len() as u32);
+                pipelines.skin.draw(&mut pass, scene, level, checked.model);
+                pipelines.fins.draw(&mut pass, scene, fin_indices.len() as u32);
                 // Without strands, one band: the shells in one draw.
                 for k in 0..bands.draws() {
-                    strands::draw(&mut pass, pipelines, scene, &bands, k, strand_draw);
+                    pipelines.strands.draw(&mut pass, scene, &bands, k, strand_draw);
                     let shells = bands.shell_start(k)..bands.shell_start(k + 1).min(checked.info.shells);
-                    shells::draw(&mut pass, pipelines, scene, level, checked.model, shells, method);
+                    pipelines
+                        .shells
+                        .draw(&mut pass, scene, level, checked.model, (shells, method));
                 }
             }
             self.queue.submit([encoder.finish()]);

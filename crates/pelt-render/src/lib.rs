@@ -19,12 +19,13 @@
 //! Files: `camera.rs`, `lighting.rs`, `settings.rs` (the per-frame inputs, validated); `lod.rs`
 //! (the shell count and cross-fade per frame); `textures.rs` (volume upload, premultiplied),
 //! `upload_peak.rs` (the memory an upload needs), `transfer.rs` (PRT textures); `scene.rs`;
-//! `pass.rs` (what a pass declares: model, target, vertex input, state) and one file per pass,
-//! `skin.rs`, `fins.rs`, `shells.rs` (`marched.rs` and `planes.rs`, the shells' one-hull methods,
-//! share `march.wgsl`), `strands.rs`, with `common.wgsl`, `surface.wgsl` and the model's WGSL
-//! (`lighting.wgsl`, `surface_kk.wgsl`, `fin_kk.wgsl` for Kajiya–Kay; `prt.wgsl`,
-//! `surface_prt.wgsl`, `fin_prt.wgsl` for PRT) shared by their shaders; `pipelines.rs` (layouts,
-//! and the pipelines built from the passes' states per lighting model and target);
+//! `layouts.rs` (the bind group and pipeline layouts scenes and passes share), `pass.rs` (what a
+//! pass declares and the pipeline recipe) and one file per pass owning its shaders, pipelines and
+//! draw call: `skin.rs`, `fins.rs`, `shells.rs` (with the one-hull methods' shaders of
+//! `marched.rs` and `planes.rs`, which share `march.wgsl`), `strands.rs`; their WGSL shares
+//! `common.wgsl`, `surface.wgsl` and the model's WGSL (`lighting.wgsl`, `surface_kk.wgsl`,
+//! `fin_kk.wgsl` for Kajiya–Kay; `prt.wgsl`, `surface_prt.wgsl`, `fin_prt.wgsl` for PRT);
+//! `pipelines.rs` (the passes' pipelines per lighting model and target, built on first use);
 //! `prt_light.rs` (world SH) and `prt_rotate.rs` (the rotation compute pass); `frame.rs` (one
 //! frame) with `frame_uniforms.rs`, `image.rs` (the images returned), `occluders.rs` (another
 //! picture's depth starting a frame's, for compositing into it: [`Renderer::render_over`]),
@@ -36,6 +37,7 @@ mod frame;
 mod frame_uniforms;
 mod guard_strands;
 mod image;
+mod layouts;
 mod lighting;
 mod lod;
 mod marched;
@@ -282,5 +284,10 @@ impl Renderer {
         }
         let built = FurPipelines::new(&self.device)?;
         Ok(self.fur.get_or_init(|| built))
+    }
+
+    /// The fur layouts and samplers that scenes bind against.
+    fn fur_layouts(&self) -> Result<&layouts::FurLayouts> {
+        Ok(&self.fur_pipelines()?.layouts)
     }
 }

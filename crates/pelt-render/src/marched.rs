@@ -1,10 +1,9 @@
 //! Pass (c), marched ([`super::ShellMethod::Marched`]): the shells as one hull whose fragments
 //! march down through the layers (`marched.wgsl`), instead of one instanced mesh per shell. Same
 //! state as the instanced pass: back faces culled, depth written behind the alpha test,
-//! premultiplied "over" the skin and fins; [`shells::draw`] draws it.
+//! premultiplied "over" the skin and fins; [`super::shells::ShellsPass`] owns and draws it.
 
-use super::pass::{Model, PassState};
-use super::shells;
+use super::pass::Model;
 
 const KAJIYA_KAY: &str = concat!(
     include_str!("common.wgsl"),
@@ -23,13 +22,10 @@ const PRT: &str = concat!(
     include_str!("marched.wgsl")
 );
 
-pub(super) fn state(model: Model) -> PassState<'static> {
-    PassState {
-        label: "marched shells",
-        source: match model {
-            Model::KajiyaKay => KAJIYA_KAY,
-            Model::Prt => PRT,
-        },
-        ..shells::state(model)
+/// The marched hull's shader for `model`.
+pub(super) fn source(model: Model) -> &'static str {
+    match model {
+        Model::KajiyaKay => KAJIYA_KAY,
+        Model::Prt => PRT,
     }
 }

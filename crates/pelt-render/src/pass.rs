@@ -1,9 +1,9 @@
-//! What a fur pass declares and the pipelines it is drawn with (Lengyel et al. 2001, §2.3): the
-//! lighting [`Model`], the color [`Target`], the depth format, where vertices come from
-//! ([`VertexInput`] and its buffer layouts) and a pass's [`PassState`]. Each pass file (`skin.rs`,
-//! `fins.rs`, `shells.rs`, `marched.rs`, `planes.rs`, `strands.rs`) states only what is its own
-//! with these types; `pipelines.rs` builds the pipelines from the passes' states. Passes import
-//! this file, never `pipelines.rs`, so the arrows run one way.
+//! What every fur pass shares (Lengyel et al. 2001, §2.3): the lighting [`Model`], the color
+//! [`Target`], the depth format, where vertices come from ([`VertexInput`] and its buffer
+//! layouts), a pass's [`PassState`] and the recipe that turns it into a pipeline
+//! ([`build_pipeline`]). Each pass file (`skin.rs`, `fins.rs`, `shells.rs` with the hulls of
+//! `marched.rs` and `planes.rs`, `strands.rs`) owns its shaders, its state, its pipelines and its
+//! draw call.
 
 /// Depth target.
 pub(super) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -84,7 +84,7 @@ pub(super) enum VertexInput {
 }
 
 /// Buffer layouts: 0 geometry, 1 color (`vec4`), 2 length (`f32`).
-pub(super) fn vertex_layouts(input: VertexInput) -> Vec<Option<wgpu::VertexBufferLayout<'static>>> {
+fn vertex_layouts(input: VertexInput) -> Vec<Option<wgpu::VertexBufferLayout<'static>>> {
     let per_vertex = |array_stride, attributes| wgpu::VertexBufferLayout {
         array_stride,
         step_mode: wgpu::VertexStepMode::Vertex,
@@ -113,18 +113,6 @@ pub(super) struct PassState<'a> {
     pub blend: Option<wgpu::BlendState>,
 }
 
-/// The pipelines of the fur passes (skin, fins, shells) for one model and target.
-pub(super) struct PassPipelines {
-    pub skin: wgpu::RenderPipeline,
-    pub fins: wgpu::RenderPipeline,
-    pub shells: wgpu::RenderPipeline,
-    pub marched: wgpu::RenderPipeline,
-    pub planes: wgpu::RenderPipeline,
-    /// The guard strands writing depth, and without ([`super::StrandOrder::Sorted`]).
-    pub strands: wgpu::RenderPipeline,
-    pub strands_sorted: wgpu::RenderPipeline,
-}
-
 /// A plain 2D texture of one mip level: the shape of every target and depth buffer.
 pub(super) fn texture_2d(
     device: &wgpu::Device,
@@ -146,5 +134,53 @@ pub(super) fn texture_2d(
         format,
         usage,
         view_formats: &[],
+    })
+}
+
+/// One pass's pipeline from its state: the recipe every fur pass shares.
+pub(super) fn build_pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    state: &PassState<'_>,
+    format: wgpu::TextureFormat,
+) -> wgpu::RenderPipeline {
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(state.label),
+        source: wgpu::ShaderSource::Wgsl(state.source.into()),
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(state.label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs_main"),
+            compilation_options: Default::default(),
+            buffers: &vertex_layouts(state.input),
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: state.topology,
+            cull_mode: state.cull_mode,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(state.depth_write),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: wgpu::StencilState::default(),
+            bias: wgpu::DepthBiasState::default(),
+        }),
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs_main"),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format,
+                blend: state.blend,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
     })
 }

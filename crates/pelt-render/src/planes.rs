@@ -1,11 +1,10 @@
 //! Pass (c), virtual planes ([`super::ShellMethod::VirtualPlanes`], raycast-fur-virtual-planes
 //! §3): the hull of the marched shells, whose fragments trace the view ray through the planes'
-//! slices (`planes.wgsl`) instead of the shell layers; same state as the marched pass, drawn by
-//! [`super::shells::draw`]. Also the slices' upload: one texture array of `2N` layers, the
+//! slices (`planes.wgsl`) instead of the shell layers; same state as the marched pass, owned and drawn
+//! by [`super::shells::ShellsPass`]. Also the slices' upload: one texture array of `2N` layers, the
 //! slices premultiplied with their mip chains, as the fin texture is.
 
-use super::marched;
-use super::pass::{Model, PassState};
+use super::pass::Model;
 use super::textures::upload_with_mips;
 use pelt_core::error::Result;
 use pelt_core::volume::PlaneSlices;
@@ -27,14 +26,11 @@ const PRT: &str = concat!(
     include_str!("planes.wgsl")
 );
 
-pub(super) fn state(model: Model) -> PassState<'static> {
-    PassState {
-        label: "virtual planes",
-        source: match model {
-            Model::KajiyaKay => KAJIYA_KAY,
-            Model::Prt => PRT,
-        },
-        ..marched::state(model)
+/// The virtual planes' hull shader for `model`.
+pub(super) fn source(model: Model) -> &'static str {
+    match model {
+        Model::KajiyaKay => KAJIYA_KAY,
+        Model::Prt => PRT,
     }
 }
 
@@ -73,29 +69,4 @@ pub(super) fn upload_planes(
         tilt: slices.tilt,
         bytes,
     })
-}
-
-/// A scene without slices binds this: one empty slice per family (wgpu zero-fills a new
-/// texture), never read, since the planes pass refuses such a scene.
-pub(super) fn empty_planes(device: &wgpu::Device) -> wgpu::TextureView {
-    device
-        .create_texture(&wgpu::TextureDescriptor {
-            label: Some("no plane slices"),
-            size: wgpu::Extent3d {
-                width: 1,
-                height: 1,
-                depth_or_array_layers: 2,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba8UnormSrgb,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        })
-        .create_view(&wgpu::TextureViewDescriptor {
-            label: Some("no plane slices"),
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..Default::default()
-        })
 }

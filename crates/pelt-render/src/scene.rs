@@ -7,9 +7,9 @@ use wgpu::util::DeviceExt;
 use std::ops::Range;
 
 use super::frame_uniforms::FrameUniforms;
+use super::layouts::FurLayouts;
 use super::lod::{Extent, Levels};
 use super::pass::Model;
-use super::pipelines::FurPipelines;
 use super::planes::ScenePlanes;
 use super::prt_rotate::RotationUniforms;
 use super::textures::VolumeTextures;
@@ -282,7 +282,7 @@ impl FurScene {
         textures::validate(volume, &device.limits())?;
         let levels = Levels::new(volume.layers as u32);
         let surface = surface_mesh::build(mesh, corner_uvs)?;
-        let pipelines = renderer.fur_pipelines()?;
+        let layouts = renderer.fur_layouts()?;
         let colors = mesh
             .color()
             .map_or_else(|| vec![DEFAULT_COLOR; mesh.vertex_count()], <[_]>::to_vec);
@@ -332,10 +332,10 @@ impl FurScene {
                 });
                 let bind_group = fur_bind_group(
                     device,
-                    pipelines,
+                    layouts,
                     &uniforms,
                     &volume_gpu,
-                    &pipelines.no_planes,
+                    &layouts.no_planes,
                     &surface_gpu.geometry,
                 );
                 Ok::<_, PeltError>((surface_gpu, fins_gpu, volume_gpu, uniforms, bind_group))
@@ -463,8 +463,8 @@ impl FurScene {
                 transfer::premultiplied_levels(transfer, &self.alpha, &self.levels),
             )
         });
-        let pipelines = renderer.fur_pipelines()?;
-        let prt = pipelines.prt(device)?;
+        let layouts = renderer.fur_layouts()?;
+        let prt = layouts.prt(device)?;
         let (scene_transfer, bytes) = scoped(device, "uploading the transfer", || {
             let textures = transfer::upload(device, &renderer.queue, &per_texture, self.resolution, stride)?;
             let storage = |label: &str, contents: &[u8]| {
@@ -545,10 +545,10 @@ impl FurScene {
                 "is not the Renderer that uploaded this scene",
             ));
         }
-        let pipelines = renderer.fur_pipelines()?;
+        let layouts = renderer.fur_layouts()?;
         let Some(slices) = slices else {
             self.planes = None;
-            self.rebind(renderer, pipelines);
+            self.rebind(renderer, layouts);
             return Ok(());
         };
         check_slices(slices)?;
@@ -576,16 +576,16 @@ impl FurScene {
         })??;
         self.uploads.texture_bytes += planes.bytes;
         self.planes = Some(planes);
-        self.rebind(renderer, pipelines);
+        self.rebind(renderer, layouts);
         Ok(())
     }
 
     /// Makes group 0 anew with the current textures.
-    fn rebind(&mut self, renderer: &Renderer, pipelines: &FurPipelines) {
-        let planes = self.planes.as_ref().map_or(&pipelines.no_planes, |p| &p.view);
+    fn rebind(&mut self, renderer: &Renderer, layouts: &FurLayouts) {
+        let planes = self.planes.as_ref().map_or(&layouts.no_planes, |p| &p.view);
         self.bind_group = fur_bind_group(
             &renderer.device,
-            pipelines,
+            layouts,
             &self.uniforms,
             &self.volume_textures,
             planes,
@@ -647,7 +647,7 @@ impl FurScene {
                 ),
             ));
         }
-        let layout = &renderer.fur_pipelines()?.strand_group_layout;
+        let layout = &renderer.fur_layouts()?.strand_group_layout;
         let scene_strands = scoped(device, "uploading the guard strands", || {
             let storage = |label: &str, contents: &[u8]| {
                 device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -907,7 +907,7 @@ impl FurScene {
 /// skin's vertices and the virtual planes' slices.
 fn fur_bind_group(
     device: &wgpu::Device,
-    pipelines: &FurPipelines,
+    layouts: &FurLayouts,
     uniforms: &wgpu::Buffer,
     volume: &VolumeTextures,
     planes: &wgpu::TextureView,
@@ -920,8 +920,8 @@ fn fur_bind_group(
         view(&volume.shells),
         view(&volume.tangents),
         view(&volume.fin),
-        sampler(&pipelines.tile_sampler),
-        sampler(&pipelines.fin_sampler),
+        sampler(&layouts.tile_sampler),
+        sampler(&layouts.fin_sampler),
         skin.as_entire_binding(),
         view(planes),
     ];
@@ -935,7 +935,7 @@ fn fur_bind_group(
         .collect();
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("fur"),
-        layout: &pipelines.bind_group_layout,
+        layout: &layouts.bind_group_layout,
         entries: &entries,
     })
 }

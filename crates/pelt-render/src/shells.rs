@@ -6,9 +6,10 @@
 
 use std::ops::Range;
 
-use super::pass::{Model, PassPipelines, PassState, VertexInput};
+use super::pass::{Model, PassState, VertexInput, build_pipeline};
 use super::scene::FurScene;
 use super::settings::ShellMethod;
+use super::{marched, planes};
 use pelt_core::scene::scene_levels::MeshLevel;
 
 const KAJIYA_KAY: &str = concat!(
@@ -26,8 +27,9 @@ const PRT: &str = concat!(
     include_str!("shells.wgsl")
 );
 
-/// Back faces culled, depth written, premultiplied "over".
-pub(super) fn state(model: Model) -> PassState<'static> {
+/// Back faces culled, depth written, premultiplied "over" (the marched and virtual-plane hulls
+/// too, with their own shaders).
+fn state(model: Model) -> PassState<'static> {
     PassState {
         label: "shells",
         source: match model {
@@ -45,28 +47,66 @@ pub(super) fn state(model: Model) -> PassState<'static> {
     }
 }
 
-/// Draws shell instances `shells` (0 the innermost) of geometric level `level`: instanced, a
-/// copy of the mesh per shell, or marched ([`super::marched`]) or traced through the virtual
-/// planes ([`super::planes`]), their hull once with the range that starts at 0; `method` is resolved ([`ShellMethod::resolve`]), an `Auto` left over draws
-/// instanced.
-pub(super) fn draw(
-    pass: &mut wgpu::RenderPass<'_>,
-    pipelines: &PassPipelines,
-    scene: &FurScene,
-    level: &MeshLevel,
-    model: Model,
-    shells: Range<u32>,
-    method: ShellMethod,
-) {
-    if shells.is_empty() {
-        return;
+/// The shells' pipelines for one lighting model and target: instanced, and the one-hull methods
+/// (marched, virtual planes), which share the instanced state.
+pub(super) struct ShellsPass {
+    instanced: wgpu::RenderPipeline,
+    marched: wgpu::RenderPipeline,
+    planes: wgpu::RenderPipeline,
+}
+
+impl ShellsPass {
+    pub(super) fn new(
+        device: &wgpu::Device,
+        layout: &wgpu::PipelineLayout,
+        model: Model,
+        format: wgpu::TextureFormat,
+    ) -> Self {
+        let instanced = state(model);
+        let hull = |label, source| PassState {
+            label,
+            source,
+            ..state(model)
+        };
+        ShellsPass {
+            instanced: build_pipeline(device, layout, &instanced, format),
+            marched: build_pipeline(
+                device,
+                layout,
+                &hull("marched shells", marched::source(model)),
+                format,
+            ),
+            planes: build_pipeline(
+                device,
+                layout,
+                &hull("virtual planes", planes::source(model)),
+                format,
+            ),
+        }
     }
-    let (pipeline, instances) = match method {
-        ShellMethod::Instanced | ShellMethod::Auto => (&pipelines.shells, shells),
-        ShellMethod::Marched if shells.start == 0 => (&pipelines.marched, 0..1),
-        ShellMethod::VirtualPlanes if shells.start == 0 => (&pipelines.planes, 0..1),
-        ShellMethod::Marched | ShellMethod::VirtualPlanes => return,
-    };
-    pass.set_pipeline(pipeline);
-    scene.surface.draw(pass, model, level.indices.clone(), instances);
+
+    /// Draws shell instances `shells` (0 the innermost) of geometric level `level`: instanced, a
+    /// copy of the mesh per shell, or marched ([`super::marched`]) or traced through the virtual
+    /// planes ([`super::planes`]), their hull once with the range that starts at 0; `method` is
+    /// resolved ([`ShellMethod::resolve`]), an `Auto` left over draws instanced.
+    pub(super) fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        scene: &FurScene,
+        level: &MeshLevel,
+        model: Model,
+        (shells, method): (Range<u32>, ShellMethod),
+    ) {
+        if shells.is_empty() {
+            return;
+        }
+        let (pipeline, instances) = match method {
+            ShellMethod::Instanced | ShellMethod::Auto => (&self.instanced, shells),
+            ShellMethod::Marched if shells.start == 0 => (&self.marched, 0..1),
+            ShellMethod::VirtualPlanes if shells.start == 0 => (&self.planes, 0..1),
+            ShellMethod::Marched | ShellMethod::VirtualPlanes => return,
+        };
+        pass.set_pipeline(pipeline);
+        scene.surface.draw(pass, model, level.indices.clone(), instances);
+    }
 }

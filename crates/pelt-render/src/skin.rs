@@ -1,7 +1,7 @@
 //! Pass (a), the skin (Lengyel et al. 2001, §2.3): the opaque mesh textured with layer 0 of the
 //! shell texture times the vertex color, filling the depth buffer that fins and shells test.
 
-use super::pass::{Model, PassPipelines, PassState, VertexInput};
+use super::pass::{Model, PassState, VertexInput, build_pipeline};
 use super::scene::FurScene;
 use pelt_core::scene::scene_levels::MeshLevel;
 
@@ -21,7 +21,7 @@ const PRT: &str = concat!(
 );
 
 /// Back faces culled, depth written, no blending.
-pub(super) fn state(model: Model) -> PassState<'static> {
+fn state(model: Model) -> PassState<'static> {
     PassState {
         label: "skin",
         source: match model {
@@ -39,14 +39,28 @@ pub(super) fn state(model: Model) -> PassState<'static> {
     }
 }
 
-/// Draws the skin of geometric level `level` (bind group 1 is set for PRT).
-pub(super) fn draw(
-    pass: &mut wgpu::RenderPass<'_>,
-    pipelines: &PassPipelines,
-    scene: &FurScene,
-    level: &MeshLevel,
-    model: Model,
-) {
-    pass.set_pipeline(&pipelines.skin);
-    scene.surface.draw(pass, model, level.indices.clone(), 0..1);
+/// The skin's pipeline for one lighting model and target.
+pub(super) struct SkinPass(wgpu::RenderPipeline);
+
+impl SkinPass {
+    pub(super) fn new(
+        device: &wgpu::Device,
+        layout: &wgpu::PipelineLayout,
+        model: Model,
+        format: wgpu::TextureFormat,
+    ) -> Self {
+        SkinPass(build_pipeline(device, layout, &state(model), format))
+    }
+
+    /// Draws the skin of geometric level `level` (bind group 1 is set for PRT).
+    pub(super) fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        scene: &FurScene,
+        level: &MeshLevel,
+        model: Model,
+    ) {
+        pass.set_pipeline(&self.0);
+        scene.surface.draw(pass, model, level.indices.clone(), 0..1);
+    }
 }

@@ -5,7 +5,7 @@
 //! fragments that stand between the shells around it, and band `n` after every shell.
 
 use super::guard_strands::GpuStrand;
-use super::pass::{Model, PassPipelines, PassState, VertexInput};
+use super::pass::{Model, PassState, VertexInput, build_pipeline};
 use super::scene::FurScene;
 use super::settings::{RenderSettings, ShellMethod, StrandOrder};
 
@@ -24,7 +24,7 @@ const PRT: &str = concat!(
 
 /// One triangle strip, both sides drawn (a ribbon turns to the eye anyway),
 /// premultiplied "over"; depth written unless `sorted` ([`StrandOrder::Sorted`]).
-pub(super) fn state(model: Model, sorted: bool) -> PassState<'static> {
+fn state(model: Model, sorted: bool) -> PassState<'static> {
     PassState {
         label: if sorted { "sorted strands" } else { "strands" },
         source: match model {
@@ -129,30 +129,52 @@ impl Bands {
     }
 }
 
-/// The first `strands` of the scene's (those the strand LOD may keep, [`kept_strands`]), band
-/// `k`, `segments` of each; nothing when there are none.
-pub(super) fn draw(
-    pass: &mut wgpu::RenderPass<'_>,
-    pipelines: &PassPipelines,
-    scene: &FurScene,
-    bands: &Bands,
-    k: u32,
-    (strands, segments): (u32, u32),
-) {
-    let Some(guard) = &scene.strands else {
-        return;
-    };
-    if strands == 0 || segments == 0 {
-        return;
+/// The strands' pipelines for one lighting model and target: writing depth, and not
+/// ([`StrandOrder::Sorted`]).
+pub(super) struct StrandsPass {
+    depth_writing: wgpu::RenderPipeline,
+    sorted: wgpu::RenderPipeline,
+}
+
+impl StrandsPass {
+    /// `layout` holds the strands' group 2.
+    pub(super) fn new(
+        device: &wgpu::Device,
+        layout: &wgpu::PipelineLayout,
+        model: Model,
+        format: wgpu::TextureFormat,
+    ) -> Self {
+        StrandsPass {
+            depth_writing: build_pipeline(device, layout, &state(model, false), format),
+            sorted: build_pipeline(device, layout, &state(model, true), format),
+        }
     }
-    pass.set_pipeline(if bands.sorted {
-        &pipelines.strands_sorted
-    } else {
-        &pipelines.strands
-    });
-    pass.set_bind_group(2, &guard.bind_group, &[]);
-    // Each strand's block of the strip (`strands.wgsl`); at most 2^20 strands of 64 segments.
-    pass.draw(0..strands * (2 * segments + 4), k..k + 1);
+
+    /// The first `strands` of the scene's (those the strand LOD may keep, [`kept_strands`]),
+    /// band `k`, `segments` of each; nothing when there are none.
+    pub(super) fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        scene: &FurScene,
+        bands: &Bands,
+        k: u32,
+        (strands, segments): (u32, u32),
+    ) {
+        let Some(guard) = &scene.strands else {
+            return;
+        };
+        if strands == 0 || segments == 0 {
+            return;
+        }
+        pass.set_pipeline(if bands.sorted {
+            &self.sorted
+        } else {
+            &self.depth_writing
+        });
+        pass.set_bind_group(2, &guard.bind_group, &[]);
+        // Each strand's block of the strip (`strands.wgsl`); at most 2^20 strands of 64 segments.
+        pass.draw(0..strands * (2 * segments + 4), k..k + 1);
+    }
 }
 
 #[cfg(test)]
