@@ -7,6 +7,7 @@ numpy (float32 / uint32, C-contiguous; other numeric dtypes are converted). Ever
 
 from ._pelt import (
     PRESETS,
+    SCHEMA,
     STAGES,
     BakeCancelled,
     FurAsset,
@@ -44,6 +45,7 @@ from ._pelt import (
 
 __all__ = [
     "PRESETS",
+    "SCHEMA",
     "STAGES",
     "BakeCancelled",
     "FurAsset",

@@ -15,6 +15,21 @@ PRESETS: dict[str, dict[str, str | int | float | list[float]]]
 settings each writes (hair parameters, ``fur_depth`` and ``tile_size`` in object units for an
 object about 2 units across); the values ``pelt bake --preset`` uses."""
 
+class ParameterRange(TypedDict):
+    min: float
+    max: float
+    min_open: bool
+    unit: str
+
+class ParameterSet(TypedDict):
+    defaults: dict[str, object]
+    ranges: dict[str, ParameterRange]
+
+SCHEMA: dict[str, ParameterSet]
+"""The parameter sets (``hair``, ``volume``, ``transfer``): each set's defaults and the range and
+unit of each of its numbers, the one statement that its validation checks (``min_open``: the
+minimum itself is refused)."""
+
 class PeltError(Exception):
     """Base class of every error Pelt raises."""
 

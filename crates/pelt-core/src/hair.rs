@@ -19,7 +19,7 @@ use std::f64::consts::TAU;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Num, PeltError, Result, check_range};
+use crate::error::Result;
 use crate::rng::Rng;
 use crate::threads::pool;
 
@@ -123,64 +123,86 @@ impl Default for HairParams {
     }
 }
 
-fn check_pair(name: &str, pair: [f64; 2], lo: f64, hi: f64) -> Result<()> {
-    check_range(name, pair[0], lo, hi)?;
-    check_range(name, pair[1], lo, hi)?;
-    if pair[0] > pair[1] {
-        return Err(PeltError::parameter(
-            name,
-            format!(
-                "must be [min, max] with min <= max, got [{}, {}]",
-                pair[0], pair[1]
-            ),
-        ));
-    }
-    Ok(())
-}
+/// The ranges of [`HairParams`]' numbers (`crate::params`).
+mod ranges {
+    use super::*;
+    use crate::params::Range;
 
-fn check_color(name: &str, color: [f32; 3]) -> Result<()> {
-    for (i, &c) in color.iter().enumerate() {
-        if !(0.0..=1.0).contains(&c) {
-            return Err(PeltError::parameter(
-                name,
-                format!("component {i} must be in [0, 1], got {}", Num(f64::from(c))),
-            ));
-        }
-    }
-    Ok(())
+    pub const DENSITY: Range = Range::closed("density", 0.0, MAX_DENSITY as f64, "hairs per tile");
+    pub const GUARD_FRACTION: Range = Range::closed("guard_fraction", 0.0, 1.0, "share of the hairs");
+    pub const UNDERCOAT_LENGTH: Range = Range::closed("undercoat.length", 0.0, 1.0, "fur depths");
+    pub const UNDERCOAT_WIDTH: Range = Range::closed("undercoat.width", 0.0, MAX_WIDTH, "tile widths");
+    pub const OVERCOAT_LENGTH: Range = Range::closed("overcoat.length", 0.0, 1.0, "fur depths");
+    pub const OVERCOAT_WIDTH: Range = Range::closed("overcoat.width", 0.0, MAX_WIDTH, "tile widths");
+    pub const SEGMENTS: Range = Range::closed("segments", 1.0, MAX_SEGMENTS as f64, "segments per strand");
+    pub const TAPER: Range = Range::closed("taper", 0.0, 1.0, "tip width over base width");
+    pub const CURL: Range = Range::closed("curl", 0.0, 1.0, "share of the strand's height");
+    pub const HELIX_RADIUS: Range = Range::closed("helix_radius", 0.0, MAX_HELIX_RADIUS, "tile widths");
+    pub const HELIX_FREQUENCY: Range =
+        Range::closed("helix_frequency", 0.0, MAX_HELIX_FREQUENCY, "turns per strand");
+    pub const SLANT: Range = Range::closed("slant", 0.0, MAX_SLANT, "radians");
+    pub const SLANT_DIRECTION: Range = Range::closed("slant_direction", -TAU, TAU, "radians");
+    pub const LENGTH_JITTER: Range = Range::closed("length_jitter", 0.0, 1.0, "share of the height");
+    pub const CLUMP_STRENGTH: Range = Range::closed("clump_strength", 0.0, 1.0, "share of the way");
+    pub const CLUMP_COUNT: Range = Range::closed("clump_count", 0.0, MAX_CLUMPS as f64, "clumps per tile");
+    pub const ROOT_COLOR: Range = Range::closed("root_color", 0.0, 1.0, "linear RGB");
+    pub const TIP_COLOR: Range = Range::closed("tip_color", 0.0, 1.0, "linear RGB");
+    pub const COLOR_JITTER: Range = Range::closed("color_jitter", 0.0, 1.0, "share of the color");
 }
 
 impl HairParams {
+    /// Every number's range, as [`HairParams::validate`] checks it.
+    pub const RANGES: &'static [crate::params::Range] = {
+        use ranges::*;
+        &[
+            DENSITY,
+            GUARD_FRACTION,
+            UNDERCOAT_LENGTH,
+            UNDERCOAT_WIDTH,
+            OVERCOAT_LENGTH,
+            OVERCOAT_WIDTH,
+            SEGMENTS,
+            TAPER,
+            CURL,
+            HELIX_RADIUS,
+            HELIX_FREQUENCY,
+            SLANT,
+            SLANT_DIRECTION,
+            LENGTH_JITTER,
+            CLUMP_STRENGTH,
+            CLUMP_COUNT,
+            ROOT_COLOR,
+            TIP_COLOR,
+            COLOR_JITTER,
+        ]
+    };
+
     /// Checks every field against its documented range.
     ///
     /// # Errors
-    /// [`PeltError::InvalidParameter`] naming the first field out of range (NaN is out of every
+    /// [`crate::PeltError::InvalidParameter`] naming the first field out of range (NaN is out of every
     /// range); coat fields are named `undercoat.length`, `overcoat.width` and so on.
     pub fn validate(&self) -> Result<()> {
-        check_range("density", f64::from(self.density), 0.0, f64::from(MAX_DENSITY))?;
-        check_range("guard_fraction", self.guard_fraction, 0.0, 1.0)?;
-        check_pair("undercoat.length", self.undercoat.length, 0.0, 1.0)?;
-        check_pair("undercoat.width", self.undercoat.width, 0.0, MAX_WIDTH)?;
-        check_pair("overcoat.length", self.overcoat.length, 0.0, 1.0)?;
-        check_pair("overcoat.width", self.overcoat.width, 0.0, MAX_WIDTH)?;
-        check_range("segments", f64::from(self.segments), 1.0, f64::from(MAX_SEGMENTS))?;
-        check_range("taper", self.taper, 0.0, 1.0)?;
-        check_range("curl", self.curl, 0.0, 1.0)?;
-        check_range("helix_radius", self.helix_radius, 0.0, MAX_HELIX_RADIUS)?;
-        check_range("helix_frequency", self.helix_frequency, 0.0, MAX_HELIX_FREQUENCY)?;
-        check_range("slant", self.slant, 0.0, MAX_SLANT)?;
-        check_range("slant_direction", self.slant_direction, -TAU, TAU)?;
-        check_range("length_jitter", self.length_jitter, 0.0, 1.0)?;
-        check_range("clump_strength", self.clump_strength, 0.0, 1.0)?;
-        check_range(
-            "clump_count",
-            f64::from(self.clump_count),
-            0.0,
-            f64::from(MAX_CLUMPS),
-        )?;
-        check_color("root_color", self.root_color)?;
-        check_color("tip_color", self.tip_color)?;
-        check_range("color_jitter", self.color_jitter, 0.0, 1.0)
+        use ranges::*;
+        DENSITY.check(f64::from(self.density))?;
+        GUARD_FRACTION.check(self.guard_fraction)?;
+        UNDERCOAT_LENGTH.check_pair(self.undercoat.length)?;
+        UNDERCOAT_WIDTH.check_pair(self.undercoat.width)?;
+        OVERCOAT_LENGTH.check_pair(self.overcoat.length)?;
+        OVERCOAT_WIDTH.check_pair(self.overcoat.width)?;
+        SEGMENTS.check(f64::from(self.segments))?;
+        TAPER.check(self.taper)?;
+        CURL.check(self.curl)?;
+        HELIX_RADIUS.check(self.helix_radius)?;
+        HELIX_FREQUENCY.check(self.helix_frequency)?;
+        SLANT.check(self.slant)?;
+        SLANT_DIRECTION.check(self.slant_direction)?;
+        LENGTH_JITTER.check(self.length_jitter)?;
+        CLUMP_STRENGTH.check(self.clump_strength)?;
+        CLUMP_COUNT.check(f64::from(self.clump_count))?;
+        ROOT_COLOR.check_each(&self.root_color.map(f64::from))?;
+        TIP_COLOR.check_each(&self.tip_color.map(f64::from))?;
+        COLOR_JITTER.check(self.color_jitter)
     }
 
     /// The coat grown over a mesh with painted colors (`pelt_color`), which multiply the texels:
@@ -253,7 +275,7 @@ impl Strand {
 /// guard hairs. The result is bit-identical for any thread count.
 ///
 /// # Errors
-/// [`PeltError::InvalidParameter`] when `params` fails [`HairParams::validate`].
+/// [`crate::PeltError::InvalidParameter`] when `params` fails [`HairParams::validate`].
 pub fn grow_strands(params: &HairParams) -> Result<Vec<Strand>> {
     params.validate()?;
     Ok(pool().install(|| grow_validated(params)))
@@ -400,6 +422,7 @@ fn jitter_in_cell(cell: u32, grid: usize, rng: &mut Rng) -> [f64; 2] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::PeltError;
 
     fn grow_with_threads(params: &HairParams, threads: usize) -> Vec<Strand> {
         let pool = rayon::ThreadPoolBuilder::new()

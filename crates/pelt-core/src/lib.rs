@@ -21,6 +21,7 @@ pub mod heap;
 pub mod lapped;
 pub mod memory;
 pub mod mesh;
+pub mod params;
 pub mod pipeline;
 pub mod placement;
 pub mod presets;

@@ -121,6 +121,32 @@ fn presets(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
     Ok(out)
 }
 
+/// The parameter sets' schemas ([`pelt_core::params`]) as `{set: {"defaults": {...}, "ranges":
+/// {name: {"min", "max", "min_open", "unit"}}}}`: each number's range stated once, which the
+/// add-on's properties are tested against.
+fn schema(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
+    let sets: serde_json::Map<String, serde_json::Value> = pelt_core::params::schemas()
+        .into_iter()
+        .map(|set| {
+            let ranges: serde_json::Map<String, serde_json::Value> = set
+                .ranges
+                .iter()
+                .map(|r| {
+                    let range = serde_json::json!({
+                        "min": r.min, "max": r.max, "min_open": r.min_open, "unit": r.unit,
+                    });
+                    (r.name.to_string(), range)
+                })
+                .collect();
+            let value = serde_json::json!({"defaults": set.defaults, "ranges": ranges});
+            (set.name.to_string(), value)
+        })
+        .collect();
+    let text = serde_json::to_string(&sets)
+        .map_err(|e| pelt_core::PeltError::Internal(format!("schema: {e}")).into_pyerr())?;
+    py.import("json")?.call_method1("loads", (text,))
+}
+
 #[pymodule]
 fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", pelt_core::VERSION)?;
@@ -130,6 +156,7 @@ fn _pelt(m: &Bound<'_, PyModule>) -> PyResult<()> {
         pyo3::types::PyTuple::new(m.py(), pelt_core::pipeline::STAGES)?,
     )?;
     m.add("PRESETS", presets(m.py())?)?;
+    m.add("SCHEMA", schema(m.py())?)?;
     errors::register(m)?;
     m.add_class::<mesh::PyFurMesh>()?;
     m.add_class::<volume::PyHairParams>()?;

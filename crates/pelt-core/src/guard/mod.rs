@@ -9,7 +9,7 @@
 //! `guard_share` of the overcoat drawn as strands, so every hair is drawn once, in the shells or
 //! as a strand, and the two together cover what the full coat covers.
 
-use crate::error::{Num, PeltError, Result, check_range};
+use crate::error::{Num, PeltError, Result};
 use crate::hair::{Coat, HairParams, Strand, grow_strands};
 use crate::lapped::Patches;
 use crate::memory;
@@ -105,15 +105,12 @@ pub fn guard_hairs(
 /// # Errors
 /// [`PeltError::InvalidParameter`] naming `guard_share`.
 pub fn check_share(share: f64) -> Result<()> {
-    if share > 0.0 {
-        check_range("guard_share", share, 0.0, 1.0)
-    } else {
-        Err(PeltError::parameter(
-            "guard_share",
-            format!("must be in (0, 1], got {}", Num(share)),
-        ))
-    }
+    SHARE.check(share)
 }
+
+/// The range of the guard hairs' share (`crate::params`).
+pub const SHARE: crate::params::Range =
+    crate::params::Range::open_below("guard_share", 0.0, 1.0, "share of the overcoat");
 
 /// Checks what guard hairs need beyond [`HairParams::validate`].
 ///

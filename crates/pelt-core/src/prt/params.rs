@@ -7,7 +7,8 @@ use serde::{Deserialize, Serialize};
 use super::accumulate::Phase;
 use super::sh::{self, PAPER_ORDER};
 use super::sphere::DEFAULT_DIRECTIONS;
-use crate::error::{Result, check_range};
+use crate::error::Result;
+use crate::params::Range;
 
 /// Default extinction σ: optical depth ½ per texel width of path through density 1.
 ///
@@ -98,11 +99,38 @@ impl TransferParams {
     /// [`PeltError::InvalidParameter`] naming the first field out of range (NaN is out of every
     /// range).
     pub fn validate(&self) -> Result<()> {
+        use ranges::*;
+        // The order's own message counts bands; its range is ORDER's.
         sh::check_order(self.order)?;
-        check_range("directions", self.directions as f64, 16.0, MAX_DIRECTIONS as f64)?;
-        check_range("sigma", f64::from(self.sigma), 0.0, f64::from(MAX_SIGMA))?;
-        check_range("brute_step", f64::from(self.brute_step), 1e-3, 16.0)?;
-        check_range("sweep_step", f64::from(self.sweep_step), 0.05, 16.0)?;
-        check_range("sweep_max_samples", f64::from(self.sweep_max_samples), 1.0, 256.0)
+        DIRECTIONS.check(self.directions as f64)?;
+        SIGMA.check(f64::from(self.sigma))?;
+        BRUTE_STEP.check(f64::from(self.brute_step))?;
+        SWEEP_STEP.check(f64::from(self.sweep_step))?;
+        SWEEP_MAX_SAMPLES.check(f64::from(self.sweep_max_samples))
     }
+
+    /// Every number's range, as [`TransferParams::validate`] checks it.
+    pub const RANGES: &'static [Range] = {
+        use ranges::*;
+        &[
+            ORDER,
+            DIRECTIONS,
+            SIGMA,
+            BRUTE_STEP,
+            SWEEP_STEP,
+            SWEEP_MAX_SAMPLES,
+        ]
+    };
+}
+
+/// The ranges of [`TransferParams`]' numbers (`crate::params`).
+mod ranges {
+    use super::*;
+
+    pub const ORDER: Range = Range::closed("order", 1.0, sh::MAX_ORDER as f64, "bands");
+    pub const DIRECTIONS: Range = Range::closed("directions", 16.0, MAX_DIRECTIONS as f64, "directions");
+    pub const SIGMA: Range = Range::closed("sigma", 0.0, MAX_SIGMA as f64, "optical depth per texel");
+    pub const BRUTE_STEP: Range = Range::closed("brute_step", 1e-3, 16.0, "texel widths");
+    pub const SWEEP_STEP: Range = Range::closed("sweep_step", 0.05, 16.0, "texel widths");
+    pub const SWEEP_MAX_SAMPLES: Range = Range::closed("sweep_max_samples", 1.0, 256.0, "samples");
 }

@@ -30,7 +30,8 @@ pub const MAX_SUPERSAMPLE: u32 = 64;
 pub const MAX_RESOLUTION: usize = 1 << 16;
 
 /// How the covered share of a texel is computed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum CoverageMode {
     /// Closed-form area ([`disk_square_area`]).
     Exact,

@@ -3,8 +3,11 @@
 //! Its own file so that the bake (`bake.rs`) and its memory estimate (`peak.rs`) both read it and
 //! not each other.
 
+use serde::{Deserialize, Serialize};
+
 use super::coverage::CoverageMode;
-use crate::error::{PeltError, Result, check_range};
+use crate::error::Result;
+use crate::params::Range;
 
 /// Most shell layers.
 pub const MAX_LAYERS: usize = 256;
@@ -16,7 +19,8 @@ pub const MAX_FIN_SIZE: usize = 4096;
 pub const MAX_VERTICAL_FILTER: f64 = 8.0;
 
 /// How the hair volume is sampled.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct VolumeParams {
     /// Shell layers including the skin, `[1, MAX_LAYERS]`; default 16.
     pub layers: usize,
@@ -69,18 +73,41 @@ impl VolumeParams {
     /// # Errors
     /// [`PeltError::InvalidParameter`] naming the first field out of range.
     pub fn validate(&self) -> Result<()> {
-        check_range("layers", self.layers as f64, 1.0, MAX_LAYERS as f64)?;
-        check_range("resolution", self.resolution as f64, 1.0, MAX_RESOLUTION as f64)?;
-        check_range("vertical_filter", self.vertical_filter, 0.0, MAX_VERTICAL_FILTER)?;
-        check_range("fin_size[0]", self.fin_size[0] as f64, 1.0, MAX_FIN_SIZE as f64)?;
-        check_range("fin_size[1]", self.fin_size[1] as f64, 1.0, MAX_FIN_SIZE as f64)?;
-        crate::guard::check_share(self.guard_share)?;
-        if !(self.fin_slab > 0.0 && self.fin_slab <= 1.0) {
-            return Err(PeltError::parameter(
-                "fin_slab",
-                format!("must be in (0, 1], got {}", self.fin_slab),
-            ));
-        }
-        Ok(())
+        use ranges::*;
+        LAYERS.check(self.layers as f64)?;
+        RESOLUTION.check(self.resolution as f64)?;
+        VERTICAL_FILTER.check(self.vertical_filter)?;
+        FIN_WIDTH.check(self.fin_size[0] as f64)?;
+        FIN_HEIGHT.check(self.fin_size[1] as f64)?;
+        GUARD_SHARE.check(self.guard_share)?;
+        FIN_SLAB.check(self.fin_slab)
     }
+
+    /// Every number's range, as [`VolumeParams::validate`] checks it.
+    pub const RANGES: &'static [Range] = {
+        use ranges::*;
+        &[
+            LAYERS,
+            RESOLUTION,
+            VERTICAL_FILTER,
+            FIN_WIDTH,
+            FIN_HEIGHT,
+            GUARD_SHARE,
+            FIN_SLAB,
+        ]
+    };
+}
+
+/// The ranges of [`VolumeParams`]' numbers (`crate::params`).
+mod ranges {
+    use super::*;
+
+    pub const LAYERS: Range = Range::closed("layers", 1.0, MAX_LAYERS as f64, "layers, the skin included");
+    pub const RESOLUTION: Range = Range::closed("resolution", 1.0, MAX_RESOLUTION as f64, "texels per side");
+    pub const VERTICAL_FILTER: Range =
+        Range::closed("vertical_filter", 0.0, MAX_VERTICAL_FILTER, "layer spacings");
+    pub const FIN_WIDTH: Range = Range::closed("fin_size[0]", 1.0, MAX_FIN_SIZE as f64, "texels");
+    pub const FIN_HEIGHT: Range = Range::closed("fin_size[1]", 1.0, MAX_FIN_SIZE as f64, "texels");
+    pub const GUARD_SHARE: Range = crate::guard::SHARE;
+    pub const FIN_SLAB: Range = Range::open_below("fin_slab", 0.0, 1.0, "tile widths");
 }

@@ -1,0 +1,147 @@
+//! The exported schema against the sets' own `validate`: every range's ends are accepted and the
+//! values just past them refused with the range's name, and every number of a set has a range.
+
+use serde_json::Value;
+
+use super::schemas;
+use crate::error::{PeltError, Result};
+use crate::hair::HairParams;
+use crate::prt::TransferParams;
+use crate::volume::VolumeParams;
+
+/// Numbers that take any value: a seed.
+const UNBOUNDED: [&str; 1] = ["seed"];
+
+/// Deserializes `value` as the set `schema` names and validates it.
+fn validate(schema: &str, value: Value) -> Result<()> {
+    match schema {
+        "hair" => serde_json::from_value::<HairParams>(value).unwrap().validate(),
+        "volume" => serde_json::from_value::<VolumeParams>(value).unwrap().validate(),
+        "transfer" => serde_json::from_value::<TransferParams>(value)
+            .unwrap()
+            .validate(),
+        other => panic!("no set {other}"),
+    }
+}
+
+/// The field `name` (`a.b`, `a[i]`) of `root`.
+fn field<'a>(root: &'a mut Value, name: &str) -> &'a mut Value {
+    name.split('.').fold(root, |v, part| match part.split_once('[') {
+        Some((key, index)) => &mut v[key][index.trim_end_matches(']').parse::<usize>().unwrap()],
+        None => &mut v[part],
+    })
+}
+
+/// `defaults` with `name` set to `x` (each element of an array: a pair, a color).
+fn with(defaults: &Value, name: &str, x: f64) -> Value {
+    let mut value = defaults.clone();
+    let target = field(&mut value, name);
+    let integer = |v: &Value| v.is_u64() || v.is_i64();
+    let number = |old: &Value| {
+        if integer(old) {
+            Value::from(x as i64)
+        } else {
+            Value::from(x)
+        }
+    };
+    match target {
+        Value::Array(items) => items.iter_mut().for_each(|v| *v = number(v)),
+        v => *v = number(v),
+    }
+    value
+}
+
+fn refused_as(result: Result<()>) -> String {
+    match result {
+        Err(PeltError::InvalidParameter { name, .. }) => name,
+        other => panic!("expected a refusal, got {other:?}"),
+    }
+}
+
+#[test]
+fn every_range_is_the_one_validate_checks() {
+    for schema in schemas() {
+        let defaults = &schema.defaults;
+        validate(schema.name, defaults.clone()).unwrap();
+        for range in schema.ranges {
+            let integer = {
+                let mut copy = defaults.clone();
+                let f = field(&mut copy, range.name).clone();
+                f.is_u64() || f.as_array().is_some_and(|a| a[0].is_u64())
+            };
+            let step = if integer {
+                1.0
+            } else {
+                (range.max - range.min).abs().max(1.0) * 1e-4
+            };
+            let lowest = if range.min_open {
+                range.min + step
+            } else {
+                range.min
+            };
+            for inside in [lowest, range.max] {
+                let result = validate(schema.name, with(defaults, range.name, inside));
+                assert!(
+                    result.is_ok(),
+                    "{}.{} = {inside}: {result:?}",
+                    schema.name,
+                    range.name
+                );
+            }
+            let below = if range.min_open {
+                range.min
+            } else {
+                range.min - step
+            };
+            // An unsigned field cannot hold a value below 0 at all.
+            let outside = if integer && below < 0.0 {
+                vec![range.max + step]
+            } else {
+                vec![below, range.max + step]
+            };
+            for x in outside {
+                let name = refused_as(validate(schema.name, with(defaults, range.name, x)));
+                assert_eq!(name, range.name, "{}.{} = {x}", schema.name, range.name);
+            }
+        }
+    }
+}
+
+/// The numeric leaves of `value` under `prefix`, as the schema names them (an array of numbers
+/// is one leaf, or one per element where the schema names them `x[i]`).
+fn numbers(value: &Value, prefix: &str, out: &mut Vec<String>) {
+    match value {
+        Value::Number(_) => out.push(prefix.to_string()),
+        Value::Array(items) if items.iter().all(Value::is_number) => out.push(prefix.to_string()),
+        Value::Object(map) => {
+            for (key, v) in map {
+                let name = if prefix.is_empty() {
+                    key.clone()
+                } else {
+                    format!("{prefix}.{key}")
+                };
+                numbers(v, &name, out);
+            }
+        }
+        _ => {}
+    }
+}
+
+#[test]
+fn every_number_of_a_set_has_a_range() {
+    for schema in schemas() {
+        let mut leaves = Vec::new();
+        numbers(&schema.defaults, "", &mut leaves);
+        for leaf in leaves {
+            let named = schema
+                .ranges
+                .iter()
+                .any(|r| r.name == leaf || r.name.starts_with(&format!("{leaf}[")));
+            assert!(
+                named || UNBOUNDED.contains(&leaf.as_str()),
+                "{}.{leaf} has no range in the schema",
+                schema.name
+            );
+        }
+    }
+}

@@ -1,0 +1,82 @@
+"""The parameter schema (``pelt.SCHEMA``, each number's range stated once in the crate) against
+the add-on's properties and the module's own validation: a property may not let an artist type a
+value the bake refuses, and a default must lie inside its range."""
+
+import math
+
+import pelt
+import pytest
+
+# Add-on property -> (parameter set, parameter) of the schema.
+PROPERTIES = {
+    "density": ("hair", "density"),
+    "guard_fraction": ("hair", "guard_fraction"),
+    "taper": ("hair", "taper"),
+    "curl": ("hair", "curl"),
+    "helix_radius": ("hair", "helix_radius"),
+    "helix_frequency": ("hair", "helix_frequency"),
+    "slant": ("hair", "slant"),
+    "length_jitter": ("hair", "length_jitter"),
+    "clump_strength": ("hair", "clump_strength"),
+    "clump_count": ("hair", "clump_count"),
+    "root_color": ("hair", "root_color"),
+    "tip_color": ("hair", "tip_color"),
+    "color_jitter": ("hair", "color_jitter"),
+    "layers": ("volume", "layers"),
+    "guard_share": ("volume", "guard_share"),
+    "prt_order": ("transfer", "order"),
+}
+
+
+def test_every_set_states_defaults_and_ranges_with_units():
+    assert set(pelt.SCHEMA) == {"hair", "volume", "transfer"}
+    for name, schema in pelt.SCHEMA.items():
+        assert schema["ranges"], name
+        for parameter, r in schema["ranges"].items():
+            assert r["min"] <= r["max"] and r["unit"], (name, parameter)
+    assert pelt.SCHEMA["hair"]["ranges"]["slant"]["unit"] == "radians"
+    assert pelt.SCHEMA["volume"]["ranges"]["guard_share"]["min_open"]
+    assert pelt.SCHEMA["hair"]["defaults"]["density"] == pelt.HairParams().density
+
+
+@pytest.mark.parametrize("parameter", sorted(pelt.SCHEMA["hair"]["ranges"]))
+def test_hair_params_refuse_just_past_each_end_of_its_range(parameter):
+    r = pelt.SCHEMA["hair"]["ranges"][parameter]
+    default = pelt.SCHEMA["hair"]["defaults"]
+    field = parameter.split(".")[0]
+    value = default[field]
+    if isinstance(value, int) and r["min"] <= 0:
+        beyond = [r["max"] + 1]
+    else:
+        step = 1 if isinstance(value, int) else max(abs(r["max"] - r["min"]), 1.0) * 1e-3
+        beyond = [r["min"] - step, r["max"] + step]
+    for x in beyond:
+        x = int(x) if isinstance(value, int) else x
+        if "." in parameter:  # a coat's [min, max] pair
+            coat = dict(default[field])
+            coat[parameter.split(".")[1]] = [x, x]
+            kwargs = {field: coat}
+        elif isinstance(value, list):
+            kwargs = {field: [x] * len(value)}
+        else:
+            kwargs = {field: x}
+        with pytest.raises(pelt.InvalidParameterError, match=parameter.split(".")[0]):
+            pelt.HairParams(**kwargs)
+
+
+def test_the_addons_properties_stay_inside_the_schema(addon):
+    import bpy
+
+    properties = bpy.types.Object.bl_rna.properties["pelt"].fixed_type.properties
+    for prop_name, (set_name, parameter) in PROPERTIES.items():
+        r = pelt.SCHEMA[set_name]["ranges"][parameter]
+        prop = properties[prop_name]
+        where = f"{prop_name} ({set_name}.{parameter}, [{r['min']}, {r['max']}])"
+        assert prop.hard_max <= r["max"] * (1 + 1e-6), f"{where}: max {prop.hard_max}"
+        if r["min_open"]:
+            assert prop.hard_min > r["min"], f"{where}: min {prop.hard_min} must be above it"
+        else:
+            assert prop.hard_min >= r["min"] - 1e-6 * max(1.0, abs(r["min"])), f"{where}: min {prop.hard_min}"
+        defaults = list(prop.default_array) if getattr(prop, "is_array", False) else [prop.default]
+        for d in defaults:
+            assert r["min"] <= d <= r["max"] and math.isfinite(d), f"{where}: default {d}"
