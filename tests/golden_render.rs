@@ -1,8 +1,8 @@
 //! Golden images of the fur renderer on the CPU adapter (DESIGN.md §3; the ꟻLIP comparison and
 //! its bound, `RENDER_FLIP`, are in `common/golden.rs`): a UV sphere covered by lapped
 //! patches, with a small hair volume and its PRT transfer. Each image was looked at when it was
-//! written; regenerate them with `PELT_UPDATE_GOLDEN=1 cargo test --features render --test
-//! golden_render`, look at them again, and commit them with the change.
+//! written; regenerate them with `PELT_UPDATE_GOLDEN=1 cargo test --workspace --all-features
+//! --test golden_render`, look at them again, and commit them with the change.
 #![cfg(all(feature = "render", feature = "metrics"))]
 
 mod common;

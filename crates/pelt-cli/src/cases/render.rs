@@ -1,4 +1,4 @@
-//! Bench cases of the wgpu fur renderer (feature `render`): frames of Suzanne subdivided to
+//! Bench cases of the wgpu fur renderer (`pelt-render`): frames of Suzanne subdivided to
 //! about 62k triangles under lapped patches, 32 shells and fins, on the adapter [`Renderer`]
 //! picks (hardware first). Uploads are not timed; every frame is read back to the CPU.
 //!

@@ -1,5 +1,5 @@
 //! An object's own materials, kept on its bald faces: what Pelt's Blender fur does
-//! (`addon/geonodes.py`: a face bald at all three corners keeps the object's material, so a
+//! (`addon/blender/geonodes.py`: a face bald at all three corners keeps the object's material, so a
 //! head's eyes stay eyes) carried into glTF. Each such material becomes a plain
 //! metallic-roughness material on a skin primitive of its own, sharing the skin's vertices, with
 //! no shells, fins or fur extension on it; every other face is Pelt's furred skin.

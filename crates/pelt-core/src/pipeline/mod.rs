@@ -78,7 +78,7 @@ pub struct BakeParams {
     /// The PRT bake; `None` skips it (Kajiya–Kay lighting needs no transfer).
     pub transfer: Option<TransferChoice>,
     /// The slices of the virtual-planes renderer
-    /// ([`ShellMethod::VirtualPlanes`](crate::render::ShellMethod)); `None` (default) skips them,
+    /// (`pelt_render::ShellMethod::VirtualPlanes`); `None` (default) skips them,
     /// since only that method reads them.
     pub planes: Option<PlaneParams>,
 }
