@@ -8,8 +8,9 @@
 //! input. Cotangent weights are clamped to a positive range: negative weights (obtuse triangles)
 //! would make the energy indefinite, and near-degenerate triangles would make it ill-conditioned.
 
+use glam::{DVec3, Vec3};
+
 use crate::mesh::{FurMesh, NO_EDGE};
-use crate::vec3::{cross, dot, sub};
 
 /// Smallest edge weight; also the weight of an edge whose faces all have zero area.
 const MIN_WEIGHT: f64 = 1e-2;
@@ -26,8 +27,9 @@ pub(super) fn conj(a: [f64; 2]) -> [f64; 2] {
     [a[0], -a[1]]
 }
 
-pub(super) fn wide(a: [f32; 3]) -> [f64; 3] {
-    a.map(f64::from)
+/// A stored f32 vector widened to f64, where the field's geometry is computed.
+pub(super) fn wide(a: [f32; 3]) -> DVec3 {
+    Vec3::from(a).as_dvec3()
 }
 
 /// Sparse Hermitian operator `Σ_e w_e |z_b - r_e z_a|²` in CSR form, one row per vertex.
@@ -128,12 +130,12 @@ fn edge_weights(mesh: &FurMesh) -> Vec<f64> {
         }
         let p = tri.map(|v| wide(positions[v as usize]));
         for k in 0..3 {
-            let u = sub(p[(k + 1) % 3], p[k]);
-            let v = sub(p[(k + 2) % 3], p[k]);
-            let sine = dot(cross(u, v), cross(u, v)).sqrt();
+            let u = p[(k + 1) % 3] - p[k];
+            let v = p[(k + 2) % 3] - p[k];
+            let sine = u.cross(v).length();
             let edge = topology.face_edges()[f][(k + 1) % 3];
             if edge != NO_EDGE && sine > 0.0 {
-                weights[edge as usize] += 0.5 * dot(u, v) / sine;
+                weights[edge as usize] += 0.5 * u.dot(v) / sine;
             }
         }
     }
@@ -155,18 +157,17 @@ fn transport_angle(mesh: &FurMesh, a: usize, b: usize) -> f64 {
     let (na, nb) = (wide(mesh.normals()[a]), wide(mesh.normals()[b]));
     let ta = wide(mesh.tangents()[a]);
     let (tb, bb) = (wide(mesh.tangents()[b]), wide(mesh.bitangents()[b]));
-    let c = dot(na, nb);
+    let c = na.dot(nb);
     let moved = if c > -1.0 + 1e-9 {
         // Rodrigues' formula with axis·sin = na × nb and 1 - cos folded into 1/(1 + c).
-        let v = cross(na, nb);
-        let vxt = cross(v, ta);
-        let k = dot(v, ta) / (1.0 + c);
-        [0, 1, 2].map(|i| ta[i] * c + vxt[i] + v[i] * k)
+        let v = na.cross(nb);
+        let vxt = v.cross(ta);
+        let k = v.dot(ta) / (1.0 + c);
+        ta * c + vxt + v * k
     } else {
         // Opposite normals: no smallest rotation; project onto b's plane instead.
-        let d = dot(ta, nb);
-        [0, 1, 2].map(|i| ta[i] - d * nb[i])
+        ta - ta.dot(nb) * nb
     };
-    let (x, y) = (dot(moved, tb), dot(moved, bb));
+    let (x, y) = (moved.dot(tb), moved.dot(bb));
     if x == 0.0 && y == 0.0 { 0.0 } else { y.atan2(x) }
 }

@@ -36,7 +36,6 @@ use crate::cg;
 use crate::error::{PeltError, Result};
 use crate::mesh::{FurMesh, NO_COMPONENT, orthonormal_basis};
 use crate::threads::pool;
-use crate::vec3::{cross, dot, sub};
 use connection::{Connection, wide};
 
 /// A comb shorter than this share of the longest comb counts as unset.
@@ -82,7 +81,7 @@ impl FieldParams {
     /// [`PeltError::InvalidParameter`] naming the first field out of range.
     pub fn validate(&self) -> Result<()> {
         let d = wide(self.down);
-        if !d.iter().all(|c| c.is_finite()) || dot(d, d) == 0.0 {
+        if !d.is_finite() || d.length_squared() == 0.0 {
             return Err(PeltError::parameter(
                 "down",
                 format!("must be a finite nonzero vector, got {:?}", self.down),
@@ -258,23 +257,17 @@ fn read_combs(mesh: &FurMesh) -> Vec<Option<([f64; 2], f64)>> {
     let Some(combs) = mesh.comb() else {
         return vec![None; n];
     };
-    let longest = combs
-        .iter()
-        .map(|&c| dot(wide(c), wide(c)).sqrt())
-        .fold(0.0, f64::max);
+    let longest = combs.iter().map(|&c| wide(c).length()).fold(0.0, f64::max);
     (0..n)
         .map(|i| {
             let c = wide(combs[i]);
-            let length = dot(c, c).sqrt();
+            let length = c.length();
             if length == 0.0 || length <= TINY_COMB * longest {
                 return None;
             }
             let normal = wide(mesh.normals()[i]);
-            let along = dot(c, normal);
-            let (x, y) = (
-                dot(c, wide(mesh.tangents()[i])),
-                dot(c, wide(mesh.bitangents()[i])),
-            );
+            let along = c.dot(normal);
+            let (x, y) = (c.dot(wide(mesh.tangents()[i])), c.dot(wide(mesh.bitangents()[i])));
             let tangential = x.hypot(y);
             if tangential <= NORMAL_PARALLEL * length {
                 return None;
@@ -290,15 +283,15 @@ fn read_combs(mesh: &FurMesh) -> Vec<Option<([f64; 2], f64)>> {
 /// has a preferred direction.
 fn default_directions(mesh: &FurMesh, down: [f32; 3]) -> Vec<[f64; 2]> {
     let d = wide(down);
-    let length = dot(d, d).sqrt();
-    let d = d.map(|c| c / length);
+    let length = d.length();
+    let d = d / length;
     let secondary = wide(orthonormal_basis(down.map(|c| (f64::from(c) / length) as f32))[1]);
     (0..mesh.vertex_count())
         .map(|i| {
             let (t, b) = (wide(mesh.tangents()[i]), wide(mesh.bitangents()[i]));
             [
-                dot(d, t) + SECONDARY_WEIGHT * dot(secondary, t),
-                dot(d, b) + SECONDARY_WEIGHT * dot(secondary, b),
+                d.dot(t) + SECONDARY_WEIGHT * secondary.dot(t),
+                d.dot(b) + SECONDARY_WEIGHT * secondary.dot(b),
             ]
         })
         .collect()
@@ -315,8 +308,7 @@ fn vertex_areas(mesh: &FurMesh, components: &[u32]) -> (Vec<f64>, Vec<f64>) {
             continue;
         }
         let p = tri.map(|v| wide(positions[v as usize]));
-        let n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
-        let a = 0.5 * dot(n, n).sqrt();
+        let a = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length();
         for &v in tri {
             area[v as usize] += a / 3.0;
         }

@@ -1,6 +1,8 @@
 //! Tests of the comb field against analytic fields on the sphere, Poincaré–Hopf, robustness on
 //! awkward meshes, and thread-count independence.
 
+use glam::DVec3;
+
 use super::*;
 use crate::mesh::{MeshInput, shapes};
 
@@ -9,15 +11,13 @@ fn mesh(shape: (Vec<[f32; 3]>, Vec<[u32; 3]>)) -> FurMesh {
     FurMesh::new(MeshInput::new(&p, &t)).unwrap()
 }
 
-fn angle_deg(a: [f64; 3], b: [f64; 3]) -> f64 {
-    let c = dot(a, b) / (dot(a, a).sqrt() * dot(b, b).sqrt());
-    c.clamp(-1.0, 1.0).acos().to_degrees()
+fn angle_deg(a: DVec3, b: DVec3) -> f64 {
+    a.angle_between(b).to_degrees()
 }
 
 /// `v` minus its component along the unit `n`.
-fn tangential(v: [f64; 3], n: [f64; 3]) -> [f64; 3] {
-    let d = dot(v, n);
-    [0, 1, 2].map(|k| v[k] - d * n[k])
+fn tangential(v: DVec3, n: DVec3) -> DVec3 {
+    v - v.dot(n) * n
 }
 
 fn index_sum(field: &DirectionField) -> i32 {
@@ -28,15 +28,9 @@ fn index_sum(field: &DirectionField) -> i32 {
 fn assert_well_formed(m: &FurMesh, field: &DirectionField) {
     for i in 0..m.vertex_count() {
         let d = wide(field.direction[i]);
-        assert!(d.iter().all(|c| c.is_finite()), "vertex {i}: {d:?}");
-        assert!(
-            (dot(d, d).sqrt() - 1.0).abs() < 1e-5,
-            "vertex {i} not unit: {d:?}"
-        );
-        assert!(
-            dot(d, wide(m.normals()[i])).abs() < 1e-5,
-            "vertex {i} not tangent"
-        );
+        assert!(d.is_finite(), "vertex {i}: {d:?}");
+        assert!((d.length() - 1.0).abs() < 1e-5, "vertex {i} not unit: {d:?}");
+        assert!(d.dot(wide(m.normals()[i])).abs() < 1e-5, "vertex {i} not tangent");
         assert!(field.slant[i].is_finite() && (0.0..=std::f32::consts::FRAC_PI_2).contains(&field.slant[i]));
         assert!(field.strength[i].is_finite());
     }
@@ -54,7 +48,7 @@ fn without_combs_the_sphere_field_points_down_the_meridians() {
             continue;
         }
         // Analytic: −Z projected onto the sphere's tangent plane at p.
-        let expected = tangential([0.0, 0.0, -1.0], p);
+        let expected = tangential(DVec3::NEG_Z, p);
         worst = worst.max(angle_deg(wide(field.direction[i]), expected));
     }
     // The minimal-rotation transport differs from the sphere's own by O(h²), and the faint
@@ -99,10 +93,10 @@ fn indices_sum_to_the_euler_characteristic() {
 
 /// The image of the unit x axis of the plane under the inverse stereographic projection from the
 /// south pole, at the sphere point `p`: a field without zeros on the upper hemisphere.
-fn stereographic_x(p: [f64; 3]) -> [f64; 3] {
-    let (x, y) = (p[0] / (1.0 + p[2]), p[1] / (1.0 + p[2]));
+fn stereographic_x(p: DVec3) -> DVec3 {
+    let (x, y) = (p.x / (1.0 + p.z), p.y / (1.0 + p.z));
     let s = 1.0 + x * x + y * y;
-    [s - 2.0 * x * x, -2.0 * x * y, -2.0 * x]
+    DVec3::new(s - 2.0 * x * x, -2.0 * x * y, -2.0 * x)
 }
 
 #[test]
@@ -117,8 +111,7 @@ fn a_painted_hemisphere_is_followed_within_two_degrees_and_keeps_singularities_a
                 return [0.0; 3];
             }
             let d = stereographic_x(q);
-            let l = dot(d, d).sqrt();
-            [0, 1, 2].map(|k| (d[k] / l + normal_part * q[k]) as f32)
+            (d / d.length() + normal_part * q).as_vec3().to_array()
         })
         .collect();
     let m = FurMesh::new(MeshInput::new(&p, &t).with_comb(&comb)).unwrap();
@@ -186,7 +179,7 @@ fn a_floor_facing_up_takes_the_secondary_direction() {
     let field = comb_field(&m, &FieldParams::default()).unwrap();
     for i in 0..81 {
         assert!(
-            angle_deg(wide(field.direction[i]), [0.0, -1.0, 0.0]) < 1e-3,
+            angle_deg(wide(field.direction[i]), DVec3::NEG_Y) < 1e-3,
             "vertex {i}"
         );
     }

@@ -6,10 +6,10 @@
 //! 2017): continuous everywhere except where the normal points straight down, and cheap; the comb
 //! field measures its angles against it, so only its consistency matters, not its direction.
 
+use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 use super::topology::Topology;
-use crate::vec3::{cross, dot, sub};
 
 /// Fallback normal for a vertex whose triangles all have zero area (or that has none).
 const FALLBACK_NORMAL: [f32; 3] = [0.0, 0.0, 1.0];
@@ -17,21 +17,23 @@ const FALLBACK_NORMAL: [f32; 3] = [0.0, 0.0, 1.0];
 /// A triangle counts as degenerate when the sine of its corner angle at vertex 0 is below this.
 const DEGENERATE_SINE: f64 = 1e-6;
 
-fn wide(p: [f32; 3]) -> [f64; 3] {
-    p.map(f64::from)
+/// A position or direction widened to f64: squares of any f32 magnitude (up to 6.8e38 for a
+/// difference, and down to the subnormals) stay finite and non-zero, so every geometric test
+/// below is scale-free.
+fn wide(p: [f32; 3]) -> DVec3 {
+    Vec3::from(p).as_dvec3()
 }
 
-/// Euclidean length in f64: squares of any f32 magnitude (up to 6.8e38 for a difference, and
-/// down to the subnormals) stay finite and non-zero, so every geometric test below is scale-free.
+/// Euclidean length in f64.
 pub(super) fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
+    DVec3::from(a).length()
 }
 
 /// `a` scaled to unit length and rounded to f32, or `fallback` when it has none.
-fn normalize_or(a: [f64; 3], fallback: [f32; 3]) -> [f32; 3] {
-    let n = norm(a);
+fn normalize_or(a: DVec3, fallback: [f32; 3]) -> [f32; 3] {
+    let n = a.length();
     if n > 0.0 && n.is_finite() {
-        a.map(|c| (c / n) as f32)
+        (a / n).as_vec3().to_array()
     } else {
         fallback
     }
@@ -43,10 +45,9 @@ pub(super) fn face_normals(positions: &[[f32; 3]], triangles: &[[u32; 3]]) -> Ve
         .par_iter()
         .map(|t| {
             let p0 = wide(positions[t[0] as usize]);
-            cross(
-                sub(wide(positions[t[1] as usize]), p0),
-                sub(wide(positions[t[2] as usize]), p0),
-            )
+            (wide(positions[t[1] as usize]) - p0)
+                .cross(wide(positions[t[2] as usize]) - p0)
+                .to_array()
         })
         .collect()
 }
@@ -65,8 +66,8 @@ pub(super) fn degenerate_faces(
                 return true;
             }
             let p0 = wide(positions[t[0] as usize]);
-            let e1 = norm(sub(wide(positions[t[1] as usize]), p0));
-            let e2 = norm(sub(wide(positions[t[2] as usize]), p0));
+            let e1 = (wide(positions[t[1] as usize]) - p0).length();
+            let e2 = (wide(positions[t[2] as usize]) - p0).length();
             // |e1 × e2| = |e1| |e2| sin(angle): scale-free test for zero area
             norm(*n) <= DEGENERATE_SINE * e1 * e2
         })
@@ -78,10 +79,10 @@ pub(super) fn vertex_normals(topology: &Topology, face_normals: &[[f64; 3]]) -> 
     (0..topology.vertex_count())
         .into_par_iter()
         .map(|v| {
-            let sum = topology.vertex_faces(v).iter().fold([0.0f64; 3], |acc, &f| {
-                let n = face_normals[f as usize];
-                [acc[0] + n[0], acc[1] + n[1], acc[2] + n[2]]
-            });
+            let sum = topology
+                .vertex_faces(v)
+                .iter()
+                .fold(DVec3::ZERO, |acc, &f| acc + DVec3::from(face_normals[f as usize]));
             normalize_or(sum, FALLBACK_NORMAL)
         })
         .collect()
@@ -108,13 +109,8 @@ pub(super) fn tangent_frames(normals: &[[f32; 3]]) -> (Vec<[f32; 3]>, Vec<[f32; 
 }
 
 /// Two unit vectors `[t, b]` completing the unit vector `n` to a right-handed basis `(t, b, n)`
-/// (Duff et al. 2017).
+/// (Duff et al. 2017, as glam's `any_orthonormal_pair`).
 pub fn orthonormal_basis(n: [f32; 3]) -> [[f32; 3]; 2] {
-    let sign = 1.0f32.copysign(n[2]);
-    let a = -1.0 / (sign + n[2]);
-    let b = n[0] * n[1] * a;
-    [
-        [1.0 + sign * n[0] * n[0] * a, sign * b, -sign * n[0]],
-        [b, sign + n[1] * n[1] * a, -n[1]],
-    ]
+    let (t, b) = Vec3::from(n).any_orthonormal_pair();
+    [t.to_array(), b.to_array()]
 }
