@@ -313,14 +313,20 @@ def test_a_slow_worker_draws_half_size_first_then_sharpens(live):
     worker = session.worker
     worker.budget = 0.0  # every full frame is over it
     drawn(live, obj, view=view_of(obj, turn=0.1))  # a full frame that sets the worker slow
+    # Every frame the worker publishes, whether or not a redraw took it before the next (polling
+    # would miss the half-size frame when the full one follows before this thread runs again).
+    frames = []
+    publish = worker._publish
+
+    def record(frame, *, last):
+        frames.append(frame)
+        publish(frame, last=last)
+
+    worker._publish = record
     depsgraph = bpy.context.evaluated_depsgraph_get()
     session.request(obj, depsgraph, bpy.context.scene, view_of(obj, turn=0.3), projection(), WIDTH, HEIGHT)
-    frames = []
-    while len(frames) < 2:
-        assert worker.error is None and worker.alive
-        frame = session.take_frame()
-        if frame is not None:
-            frames.append(frame)
+    assert worker.wait_idle(120.0) and worker.error is None, worker.error
+    assert [f.scale for f in frames] == [0.5, 1.0]
     half, full = frames
     assert (half.scale, half.width, half.height) == (0.5, WIDTH // 2, HEIGHT // 2)
     assert (full.scale, full.width, full.height) == (1.0, WIDTH, HEIGHT)
