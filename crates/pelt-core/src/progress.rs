@@ -7,6 +7,7 @@
 //! callback that takes the Python GIL is called at most ~100 times per stage.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Mutex, PoisonError};
 
 use crate::error::{PeltError, Result};
 
@@ -19,6 +20,9 @@ pub struct Progress<'a> {
     total: usize,
     done: AtomicUsize,
     last_percent: AtomicUsize,
+    /// The last percent handed to the callback; held while the callback runs, so reports arrive
+    /// in order even when a thread that moved the percent forward is overtaken before it calls.
+    reported: Mutex<usize>,
     cancelled: AtomicBool,
 }
 
@@ -30,6 +34,7 @@ impl<'a> Progress<'a> {
             total: total.max(1),
             done: AtomicUsize::new(0),
             last_percent: AtomicUsize::new(0),
+            reported: Mutex::new(0),
             cancelled: AtomicBool::new(false),
         }
     }
@@ -48,11 +53,16 @@ impl<'a> Progress<'a> {
         let done = self.done.fetch_add(units, Ordering::Relaxed) + units;
         if let Some(callback) = self.callback {
             let percent = (done.min(self.total) * 100) / self.total;
-            // Only the thread that moves the percent forward reports it.
-            if self.last_percent.fetch_max(percent, Ordering::Relaxed) < percent
-                && !callback(percent as f64 / 100.0)
-            {
-                self.cancelled.store(true, Ordering::Relaxed);
+            // Only the thread that moves the percent forward reports it, and only if no thread
+            // has reported a higher one meanwhile: a progress bar never goes back.
+            if self.last_percent.fetch_max(percent, Ordering::Relaxed) < percent {
+                let mut reported = self.reported.lock().unwrap_or_else(PoisonError::into_inner);
+                if percent > *reported {
+                    *reported = percent;
+                    if !callback(percent as f64 / 100.0) {
+                        self.cancelled.store(true, Ordering::Relaxed);
+                    }
+                }
             }
         }
         self.check()
@@ -97,5 +107,30 @@ mod tests {
         assert_eq!(seen.len(), 50, "one report per percent up to the cancel");
         assert_eq!(seen.last().copied(), Some(0.5));
         assert!(Progress::none().advance(10).is_ok());
+    }
+
+    #[test]
+    fn reports_arrive_in_order_when_a_reporting_thread_is_overtaken() {
+        // The first report is slow (a callback waiting for Python's GIL): the other threads move
+        // on meanwhile, and their later percents must not be handed over before it.
+        let seen = Mutex::new(Vec::new());
+        let callback = |f: f64| {
+            if f <= 0.01 {
+                std::thread::sleep(std::time::Duration::from_millis(100));
+            }
+            seen.lock().unwrap_or_else(|e| e.into_inner()).push(f);
+            true
+        };
+        let progress = Progress::new(100, Some(&callback));
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(4).build().unwrap();
+        pool.install(|| {
+            use rayon::prelude::*;
+            (0..100)
+                .into_par_iter()
+                .for_each(|_| progress.advance(1).unwrap());
+        });
+        let seen = seen.into_inner().unwrap_or_else(|e| e.into_inner());
+        assert!(seen.windows(2).all(|w| w[0] < w[1]), "out of order: {seen:?}");
+        assert_eq!(seen.last().copied(), Some(1.0));
     }
 }
