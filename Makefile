@@ -11,7 +11,7 @@ VERSION := $(shell sed -n 's/^version = "\(.*\)"/\1/p' Cargo.toml | head -n 1)
 APT_PACKAGES := g++ mesa-vulkan-drivers libvulkan1 libegl1 libegl-mesa0 libgl1-mesa-dri \
 	xvfb xauth libx11-xcb1 libxcursor1 libxi6 libxrandr2 libxkbcommon0 libxkbcommon-x11-0 chromium
 PY_REQUIREMENTS := bpy==5.0.1 pytest==9.2.0 maturin==1.16.0 ruff==0.17.6 hypothesis==6.140.0 jsonschema==4.25.1 \
-	flip-evaluator==1.7
+	flip-evaluator==1.7 mypy==2.4.1
 PLOT_REQUIREMENTS := matplotlib==3.11.2
 # The Khronos glTF-Validator (a JavaScript library), pinned; installed into build/node.
 GLTF_VALIDATOR := gltf-validator@2.0.0-dev.3.10

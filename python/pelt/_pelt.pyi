@@ -2,7 +2,7 @@
 
 import os
 from collections.abc import Callable, Sequence
-from typing import Literal, TypedDict
+from typing import Literal, TypedDict, final, type_check_only
 
 import numpy as np
 import numpy.typing as npt
@@ -15,20 +15,24 @@ PRESETS: dict[str, dict[str, str | int | float | list[float]]]
 settings each writes (hair parameters, ``fur_depth`` and ``tile_size`` in object units for an
 object about 2 units across); the values ``pelt bake --preset`` uses."""
 
+@type_check_only
 class ParameterRange(TypedDict):
     min: float
     max: float
     min_open: bool
+    min_field: str | None
     unit: str
 
+@type_check_only
 class ParameterSet(TypedDict):
     defaults: dict[str, object]
     ranges: dict[str, ParameterRange]
 
 SCHEMA: dict[str, ParameterSet]
-"""The parameter sets (``hair``, ``volume``, ``transfer``): each set's defaults and the range and
-unit of each of its numbers, the one statement that its validation checks (``min_open``: the
-minimum itself is refused)."""
+"""The parameter sets (``patches``, ``field``, ``hair``, ``volume``, ``transfer``): each set's
+defaults and the range and unit of each of its numbers, the one statement that its validation
+checks (``min_open``: the minimum itself is refused; ``min_field``: the range starts at that
+field's value, ``min`` being the lowest it allows)."""
 
 class PeltError(Exception):
     """Base class of every error Pelt raises."""
@@ -49,6 +53,7 @@ class BakeCancelled(PeltError):
 class RenderError(PeltError):
     """The GPU renderer failed."""
 
+@type_check_only
 class MeshStats(TypedDict):
     vertices: int
     faces: int
@@ -62,6 +67,7 @@ class MeshStats(TypedDict):
     bbox_min: list[float]
     bbox_max: list[float]
 
+@final
 class FurMesh:
     """A validated triangle mesh with per-vertex hair attributes.
 
@@ -74,8 +80,8 @@ class FurMesh:
     :class:`InvalidMeshError` naming the first bad element. Releases the GIL while it works.
     """
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         positions: npt.ArrayLike,
         triangles: npt.ArrayLike,
         *,
@@ -84,7 +90,7 @@ class FurMesh:
         comb: npt.ArrayLike | None = None,
         length: npt.ArrayLike | None = None,
         polygons: npt.ArrayLike | None = None,
-    ) -> None: ...
+    ) -> FurMesh: ...
     def stats(self) -> MeshStats: ...
     @property
     def vertex_count(self) -> int: ...
@@ -111,6 +117,7 @@ class FurMesh:
     @property
     def edges(self) -> npt.NDArray[np.uint32]: ...
 
+@type_check_only
 class PatchQuality(TypedDict):
     patch_count: int
     furred_faces: int
@@ -123,6 +130,7 @@ class PatchQuality(TypedDict):
     face_alignment_deg: npt.NDArray[np.float32]
     face_stretch: npt.NDArray[np.float32]
 
+@final
 class Patches:
     """A lapped patch layout (see :func:`build_patches`)."""
 
@@ -151,7 +159,7 @@ class Patches:
         *,
         width: int = 512,
         height: int = 512,
-        view: tuple[float, float, float] = (0.0, 1.0, -0.3),
+        view: tuple[float, float, float] = ...,
         hair_length: float = 0.03,
         hair_every: int = 1,
     ) -> npt.NDArray[np.uint8]:
@@ -202,10 +210,12 @@ def set_memory_limit(limit: float | None) -> None:
 def physical_memory() -> int:
     """Bytes of physical memory (a container's limit when smaller)."""
 
+@type_check_only
 class CoatParams(TypedDict):
     length: list[float]
     width: list[float]
 
+@final
 class HairParams:
     """Parameters of the hair grown in one tile (see ``help(pelt.HairParams)`` for every field
     with its default and range). Keywords set fields; attributes read and write them; a bad value
@@ -229,11 +239,12 @@ class HairParams:
     root_color: list[float]
     tip_color: list[float]
     color_jitter: float
-    def __init__(self, **fields: object) -> None: ...
+    def __new__(cls, **fields: object) -> HairParams: ...
     def to_dict(self) -> dict[str, object]: ...
     @staticmethod
     def fields() -> list[str]: ...
 
+@type_check_only
 class VolumeStats(TypedDict):
     strands: int
     tallest: float
@@ -242,6 +253,7 @@ class VolumeStats(TypedDict):
     trimmed: int
     mean_coverage: list[float]
 
+@type_check_only
 class HairVolume(TypedDict):
     """Arrays of a baked hair volume. ``shells``/``tangents`` ``[L, R, R, 4] uint8`` (straight
     alpha, sRGB color; tangent packed ``0.5·d + 0.5``), ``coverage`` (= ``density``)
@@ -267,7 +279,7 @@ def bake_volume(
     *,
     coverage: str = "exact",
     vertical_filter: float = 0.0,
-    fin_size: tuple[int, int] = (512, 128),
+    fin_size: tuple[int, int] = ...,
     fin_slab: float = 0.1,
     trim: bool = True,
     lod: bool = True,
@@ -281,6 +293,7 @@ def bake_volume(
     ``guard_share`` of the overcoat that is drawn as strands (:attr:`FurAsset.guard_hairs`);
     ``progress(fraction)`` returning ``False`` cancels with :class:`BakeCancelled`."""
 
+@type_check_only
 class AtlasLayout(TypedDict):
     layers: int
     tile: int
@@ -293,6 +306,7 @@ def pack_atlas(layers: npt.NDArray[np.uint8]) -> tuple[npt.NDArray[np.uint8], At
     """Lay ``[L, R, R, C]`` layers out in a grid (``ceil(sqrt(L))`` columns, layer 0 top left,
     rows top to bottom); unused cells are zero."""
 
+@type_check_only
 class BandRow(TypedDict):
     order: int
     coefficients: int
@@ -303,6 +317,7 @@ class BandRow(TypedDict):
     bytes_f16: int
     bytes_u8: int
 
+@type_check_only
 class TransferResult(TypedDict):
     coefficients: npt.NDArray[np.float32]
     order: int
@@ -320,11 +335,11 @@ def bake_transfer(
     *,
     layer_spacing: float,
     order: int | None = None,
-    tolerance: float = 0.025,
+    tolerance: float = ...,
     directions: int = 256,
     phase: Literal["isotropic", "kajiya-kay"] = "isotropic",
     method: Literal["sweep", "brute"] = "sweep",
-    sigma: float = 0.5,
+    sigma: float = ...,
     progress: Callable[[float], bool | None] | None = None,
 ) -> TransferResult:
     """Bake the precomputed radiance transfer of a hair density volume.
@@ -374,17 +389,20 @@ def sh_rotate(coefficients: npt.ArrayLike, rotation: npt.ArrayLike) -> npt.NDArr
     Ruedenberg); a rotation that is not orthonormal and proper raises
     :class:`InvalidParameterError` naming ``rotation``."""
 
+@type_check_only
 class StageReport(TypedDict):
     stage: Literal["patches", "volume", "guard_hairs", "planes", "transfer"]
     ran: bool
     seconds: float
     summary: str
 
+@type_check_only
 class PlaneSlices(TypedDict):
     planes: int
     tilt: tuple[float, float]
     slices: npt.NDArray[np.uint8]
 
+@type_check_only
 class GuardHairs(TypedDict):
     """A ``guard_share`` of the overcoat's strands over the mesh, placed where the shells would
     show them (the volume then holds the rest of the coat): every point of every strand, root
@@ -398,6 +416,7 @@ class GuardHairs(TypedDict):
     root_triangles: npt.NDArray[np.uint32]  # (S,) the mesh triangle each root stands on
     root_weights: npt.NDArray[np.float32]  # (S, 3) its barycentric weights there, by corner
 
+@final
 class FurAsset:
     """The result of :meth:`Pipeline.bake`: every stage's output, shared with the pipeline's
     cache (the getters copy arrays out)."""
@@ -429,6 +448,7 @@ class FurAsset:
     @property
     def resolution(self) -> int: ...
 
+@final
 class Pipeline:
     """A bake cache, one per furred object: keeps the last result of each stage (patches, volume,
     transfer) keyed by exactly the inputs it reads, so a re-bake runs only what changed (a new
@@ -452,11 +472,11 @@ class Pipeline:
         layers: int = 16,
         resolution: int = 128,
         coverage: str = "exact",
-        fin_size: tuple[int, int] = (512, 128),
+        fin_size: tuple[int, int] = ...,
         fur_depth: float | None = None,
         transfer: bool = True,
         order: int | None = None,
-        tolerance: float = 0.025,
+        tolerance: float = ...,
         directions: int = 256,
         phase: Literal["isotropic", "kajiya-kay"] = "kajiya-kay",
         guard_hairs: bool = False,
@@ -487,11 +507,11 @@ class Pipeline:
         layers: int = 16,
         resolution: int = 128,
         coverage: str = "exact",
-        fin_size: tuple[int, int] = (512, 128),
+        fin_size: tuple[int, int] = ...,
         fur_depth: float | None = None,
         transfer: bool = True,
         order: int | None = None,
-        tolerance: float = 0.025,
+        tolerance: float = ...,
         directions: int = 256,
         phase: Literal["isotropic", "kajiya-kay"] = "kajiya-kay",
         guard_hairs: bool = False,
@@ -504,6 +524,7 @@ class Pipeline:
 
 # The wgpu preview renderer.
 
+@type_check_only
 class LightingDict(TypedDict, total=False):
     model: Literal["kajiya-kay", "prt"]
     direction: tuple[float, float, float]
@@ -519,11 +540,13 @@ class LightingDict(TypedDict, total=False):
     environment: npt.ArrayLike
     light_radius: float
 
+@type_check_only
 class AdapterInfo(TypedDict):
     name: str
     backend: str
     device_type: str
 
+@type_check_only
 class UploadStats(TypedDict):
     texture_bytes: int
     geometry_bytes: int
@@ -531,6 +554,7 @@ class UploadStats(TypedDict):
     transfer_bytes: int
     pose_bytes: int
 
+@type_check_only
 class FrameInfo(TypedDict):
     shells: int
     level: int
@@ -541,12 +565,13 @@ class FrameInfo(TypedDict):
     mesh_level: int
     triangles: int
 
+@final
 class Preview:
     """The real-time preview of one baked asset: a wgpu device (hardware first, or Mesa's CPU
     adapter) with the asset's mesh, patches, hair volume, transfer and guard hairs (drawn as
     strands over the shells) uploaded once."""
 
-    def __init__(self, asset: FurAsset, *, adapter: Literal["auto", "cpu", "gpu"] = "auto") -> None:
+    def __new__(cls, asset: FurAsset, *, adapter: Literal["auto", "cpu", "gpu"] = "auto") -> Preview:
         """Open a device (``"auto"``: a GPU when there is one, else the CPU adapter; ``"cpu"``,
         ``"gpu"``: only that kind, :class:`RenderError` when there is none) and upload ``asset``
         (GIL released)."""
@@ -563,7 +588,7 @@ class Preview:
         lod: bool = False,
         linear: bool = False,
         fur_depth: float | None = None,
-        background: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0),
+        background: tuple[float, float, float, float] = ...,
         min_shells: int = 2,
         max_shells: int = 64,
         shells_per_pixel: float = 1.0,
@@ -654,8 +679,9 @@ class Preview:
 
 # Exports of baked assets (glTF 2.0 binaries, texture sets, asset folders; schema in docs/export.md).
 
-GltfMode = Literal["engine", "geometry"]
+_GltfMode = Literal["engine", "geometry"]
 
+@type_check_only
 class SkinBinding(TypedDict):
     """One object's binding to ``skeletons[skeleton]``: ``joints`` ``[V, K]`` node indices and
     ``weights`` ``[V, K]`` (non-negative; zero weights are ignored; every vertex needs one)."""
@@ -664,6 +690,7 @@ class SkinBinding(TypedDict):
     joints: npt.ArrayLike
     weights: npt.ArrayLike
 
+@type_check_only
 class OwnMaterialDict(TypedDict, total=False):
     """One of the object's own materials: ``name`` (required, 1 to 64 characters), ``base_color``
     linear RGBA in ``[0, 1]`` (default 0.8 grey, opaque), ``metallic`` (0) and ``roughness`` (0.5)."""
@@ -673,6 +700,7 @@ class OwnMaterialDict(TypedDict, total=False):
     metallic: float
     roughness: float
 
+@type_check_only
 class MaterialSlotsDict(TypedDict):
     """An object's material slots (``None`` for an empty one) and the slot of each triangle
     ``[T]``: a triangle bald at its three corners keeps its slot's material, as Pelt's Blender fur
@@ -681,6 +709,7 @@ class MaterialSlotsDict(TypedDict):
     slots: Sequence[OwnMaterialDict | None]
     triangle_slot: npt.ArrayLike
 
+@type_check_only
 class AnimationDict(TypedDict):
     """Sampled animation: ``times`` ``[T]`` seconds (increasing), ``poses`` ``[T, N, 4, 4]``
     every node's matrix relative to its parent, row-major."""
@@ -689,6 +718,7 @@ class AnimationDict(TypedDict):
     times: npt.ArrayLike
     poses: npt.ArrayLike
 
+@type_check_only
 class SkeletonDict(TypedDict, total=False):
     """A node hierarchy: ``names`` ``[N]``, ``parents`` ``[N]`` (-1 for a root), ``rest``
     ``[N, 4, 4]`` matrices relative to the parent, row-major; optional ``animations``."""
@@ -698,6 +728,7 @@ class SkeletonDict(TypedDict, total=False):
     rest: npt.ArrayLike
     animations: Sequence[AnimationDict]
 
+@type_check_only
 class WeightReport(TypedDict):
     """What binding an object changed: ``vertices`` bound, ``reduced`` (more than four joints,
     the strongest four kept), ``renormalized`` (weights that did not sum to 1)."""
@@ -706,8 +737,9 @@ class WeightReport(TypedDict):
     reduced: int
     renormalized: int
 
-TextureFormat = Literal["png", "ktx2", "exr"]
+_TextureFormat = Literal["png", "ktx2", "exr"]
 
+@type_check_only
 class ManifestFile(TypedDict, total=False):
     path: str
     kind: str
@@ -721,15 +753,17 @@ class ManifestFile(TypedDict, total=False):
     texture: int
     levels: int
     layout: str
-    mode: GltfMode
+    mode: _GltfMode
     bytes: int
     meaning: str
 
+@type_check_only
 class ManifestObject(TypedDict):
     name: str
     stack: dict[str, object]
     files: list[ManifestFile]
 
+@type_check_only
 class Manifest(TypedDict):
     format: Literal["pelt-asset"]
     version: int
@@ -741,7 +775,7 @@ def export_gltf(
     asset: FurAsset | Sequence[FurAsset],
     path: str | os.PathLike[str],
     *,
-    mode: GltfMode = "engine",
+    mode: _GltfMode = "engine",
     name: str | Sequence[str] | None = None,
     fins: bool = True,
     shells: int | None = None,
@@ -772,7 +806,7 @@ def write_texture_set(
     asset: FurAsset | Sequence[FurAsset],
     folder: str | os.PathLike[str],
     *,
-    formats: str | Sequence[TextureFormat] | None = None,
+    formats: str | Sequence[_TextureFormat] | None = None,
     name: str | Sequence[str] | None = None,
 ) -> Manifest:
     """Write every texture of ``asset`` into ``folder`` in ``formats`` (``"png,ktx2,exr"`` or a
@@ -783,25 +817,28 @@ def write_asset(
     asset: FurAsset | Sequence[FurAsset],
     folder: str | os.PathLike[str],
     *,
-    formats: str | Sequence[TextureFormat] | None = None,
-    modes: Sequence[GltfMode] | None = None,
+    formats: str | Sequence[_TextureFormat] | None = None,
+    modes: Sequence[_GltfMode] | None = None,
     name: str | Sequence[str] | None = None,
     fins: bool = True,
-    glb_stem: str = "pelt",
+    glb_stem: str = ...,
 ) -> Manifest:
     """:func:`write_texture_set` plus one ``<glb_stem>_<mode>.glb`` per mode (default engine and
     geometry), all listed in ``pelt.json``. Returns the manifest (GIL released)."""
 
+@type_check_only
 class SunLight(TypedDict, total=False):
     type: Literal["sun"]
     direction: tuple[float, float, float]
     strength: float
     color: tuple[float, float, float]
 
+@type_check_only
 class EnvironmentLight(TypedDict):
     type: Literal["environment"]
     sh: npt.ArrayLike
 
+@type_check_only
 class ReferenceInfo(TypedDict):
     samples: int
     relative_error: float
@@ -840,3 +877,7 @@ def render_reference(
     paper's method: single scattering, attenuation toward light and eye). Bad input (a camera
     inside the mesh, zero samples, an asset without strands) raises
     :class:`InvalidParameterError` naming it."""
+
+def _panic_for_test(message: str) -> None:
+    """Panics inside the library on purpose; raises :class:`PeltError` (tests check no panic
+    crosses into Python)."""

@@ -25,11 +25,31 @@ PROPERTIES = {
     "layers": ("volume", "layers"),
     "guard_share": ("volume", "guard_share"),
     "prt_order": ("transfer", "order"),
+    "tile_size": ("patches", "tile_size"),
+}
+
+# Keyword arguments of the module's functions that stand for a schema field: their default is the
+# crate's. (`Pipeline.bake`'s `phase` is the pipeline's own choice, Kajiya-Kay, see its docs.)
+KEYWORDS = {
+    "tile_size": ("patches", "tile_size"),
+    "seed": ("patches", "seed"),
+    "layers": ("volume", "layers"),
+    "resolution": ("volume", "resolution"),
+    "coverage": ("volume", "coverage"),
+    "vertical_filter": ("volume", "vertical_filter"),
+    "fin_slab": ("volume", "fin_slab"),
+    "trim": ("volume", "trim"),
+    "lod": ("volume", "lod"),
+    "mipmaps": ("volume", "mipmaps"),
+    "guard_hairs": ("volume", "guard_hairs"),
+    "guard_share": ("volume", "guard_share"),
+    "directions": ("transfer", "directions"),
+    "method": ("transfer", "method"),
 }
 
 
 def test_every_set_states_defaults_and_ranges_with_units():
-    assert set(pelt.SCHEMA) == {"hair", "volume", "transfer"}
+    assert set(pelt.SCHEMA) == {"patches", "field", "hair", "volume", "transfer"}
     for name, schema in pelt.SCHEMA.items():
         assert schema["ranges"], name
         for parameter, r in schema["ranges"].items():
@@ -37,6 +57,26 @@ def test_every_set_states_defaults_and_ranges_with_units():
     assert pelt.SCHEMA["hair"]["ranges"]["slant"]["unit"] == "radians"
     assert pelt.SCHEMA["volume"]["ranges"]["guard_share"]["min_open"]
     assert pelt.SCHEMA["hair"]["defaults"]["density"] == pelt.HairParams().density
+    assert pelt.SCHEMA["patches"]["ranges"]["max_stretch"]["min_field"] == "stretch_tolerance"
+
+
+@pytest.mark.parametrize(
+    "function",
+    [pelt.Pipeline.bake, pelt.Pipeline.peak_bytes, pelt.bake_volume, pelt.bake_transfer, pelt.build_patches],
+    ids=lambda f: f.__qualname__,
+)
+def test_keyword_defaults_are_the_crate_s(function):
+    import inspect
+
+    checked = 0
+    for name, parameter in inspect.signature(function).parameters.items():
+        default = parameter.default
+        if name not in KEYWORDS or default in (None, Ellipsis, inspect.Parameter.empty):
+            continue
+        set_name, field = KEYWORDS[name]
+        assert default == pelt.SCHEMA[set_name]["defaults"][field], f"{function.__qualname__}({name}=...)"
+        checked += 1
+    assert checked, "no keyword of the schema checked"
 
 
 @pytest.mark.parametrize("parameter", sorted(pelt.SCHEMA["hair"]["ranges"]))

@@ -37,14 +37,11 @@ pub fn golden_dir() -> PathBuf {
 
 /// An 8-bit RGBA PNG: width, height, pixels.
 pub fn read_png(path: &Path) -> (usize, usize, Vec<u8>) {
-    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
-        .read_info()
-        .unwrap();
-    let mut data = vec![0; reader.output_buffer_size().unwrap()];
-    let info = reader.next_frame(&mut data).unwrap();
-    data.truncate(info.buffer_size());
-    (info.width as usize, info.height as usize, data)
+    let rgba = image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .into_rgba8();
+    let (width, height) = rgba.dimensions();
+    (width as usize, height as usize, rgba.into_raw())
 }
 
 fn save(path: &Path, width: usize, height: usize, pixels: &[u8]) {

@@ -51,16 +51,12 @@ fn bake(dir: &Path) {
 
 /// Decodes an 8-bit RGBA PNG.
 fn read_png(path: &Path) -> (u32, u32, Vec<u8>) {
-    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
-    let mut reader = decoder.read_info().unwrap();
-    let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
-    let info = reader.next_frame(&mut pixels).unwrap();
-    assert_eq!(
-        (info.color_type, info.bit_depth),
-        (png::ColorType::Rgba, png::BitDepth::Eight)
-    );
-    pixels.truncate(info.buffer_size());
-    (info.width, info.height, pixels)
+    let decoded = image::open(path).unwrap();
+    let image::DynamicImage::ImageRgba8(rgba) = decoded else {
+        panic!("expected 8-bit RGBA, got {:?}", decoded.color());
+    };
+    let (width, height) = rgba.dimensions();
+    (width, height, rgba.into_raw())
 }
 
 #[test]

@@ -133,7 +133,8 @@ fn schema(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
                 .iter()
                 .map(|r| {
                     let range = serde_json::json!({
-                        "min": r.min, "max": r.max, "min_open": r.min_open, "unit": r.unit,
+                        "min": r.min, "max": r.max, "min_open": r.min_open,
+                        "min_field": r.min_field, "unit": r.unit,
                     });
                     (r.name.to_string(), range)
                 })

@@ -1,21 +1,23 @@
 //! OpenEXR writer for float images (single-part scanline files, `HALF` or `FLOAT` channels),
-//! written by hand from the OpenEXR file layout.
+//! through the `exr` crate.
 //!
 //! Float data of the bake (per-layer coverage, density, PRT transfer coefficients; Lengyel et al.
 //! 2001 §2.2 and the PRT shell-fur paper §2.2) must keep its range and precision, which 8- or
-//! 16-bit PNG cannot. The file is: magic number, version field, one header (the eight required
-//! attributes, in alphabetical order), the line offset table, then the scanline blocks. Inside a
-//! block each scanline stores its channels one after the other in alphabetical order of their
-//! names, little-endian. `ZIP` compression packs 16 scanlines per block: bytes split into two
-//! halves (even then odd positions), a delta predictor, then zlib; a block that would not shrink
-//! is stored raw, which readers recognise by its size. Blocks are compressed in parallel and
-//! concatenated in order, so the bytes do not depend on the thread count.
+//! 16-bit PNG cannot. Pelt checks what the crate would accept silently (non-finite samples, which
+//! Pelt promises never to write) and gives named errors; the crate lays out the file. Blocks are
+//! compressed in Pelt's pool and written in increasing line order, so the bytes do not depend on
+//! the thread count.
 
-use std::io::Write;
+use std::io::{Cursor, Write};
 use std::path::Path;
 
-use flate2::Compression;
-use flate2::write::ZlibEncoder;
+use ::exr::block::UncompressedBlock;
+use ::exr::block::writer::ChunksWriter;
+use ::exr::image::write::layers::{LayersWriter, WritableLayers};
+use ::exr::prelude::{
+    AnyChannel, AnyChannels, Blocks, Encoding, FlatSamples, Image, Layer, LayerAttributes, LineOrder,
+    SmallVec,
+};
 use half::f16;
 use rayon::prelude::*;
 
@@ -24,10 +26,6 @@ use crate::error::{PeltError, Result};
 use crate::texture::image::ImageRef;
 use crate::threads::pool;
 
-/// First four bytes of every OpenEXR file (20000630 little-endian).
-const MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
-/// Format version 2 in the low byte; flag bits above it.
-const VERSION: u32 = 2;
 /// Version flag: attribute or channel names longer than 31 bytes occur.
 const LONG_NAMES: u32 = 0x400;
 /// Names up to this length need no [`LONG_NAMES`] flag.
@@ -39,25 +37,21 @@ const MAX_CHUNK_BYTES: usize = i32::MAX as usize;
 
 /// A sample type OpenEXR can store: `f32` (`FLOAT`) or [`half::f16`] (`HALF`).
 pub trait ExrSample: Copy + Send + Sync + private::Sealed {
-    /// The channel's pixel type code in the channel list.
-    #[doc(hidden)]
-    const PIXEL_TYPE: i32;
     /// Bytes per sample in the file.
     #[doc(hidden)]
     const BYTES: usize;
-    /// Appends the sample little-endian.
+    /// One channel's samples as the `exr` crate holds them.
     #[doc(hidden)]
-    fn append_le(self, out: &mut Vec<u8>);
+    fn flat_samples(samples: impl Iterator<Item = Self>) -> FlatSamples;
     /// The value, for finiteness checks and messages.
     #[doc(hidden)]
     fn to_f64(self) -> f64;
 }
 
 impl ExrSample for f32 {
-    const PIXEL_TYPE: i32 = 2;
     const BYTES: usize = 4;
-    fn append_le(self, out: &mut Vec<u8>) {
-        out.extend_from_slice(&self.to_le_bytes());
+    fn flat_samples(samples: impl Iterator<Item = Self>) -> FlatSamples {
+        FlatSamples::F32(samples.collect())
     }
     fn to_f64(self) -> f64 {
         f64::from(self)
@@ -65,10 +59,9 @@ impl ExrSample for f32 {
 }
 
 impl ExrSample for f16 {
-    const PIXEL_TYPE: i32 = 1;
     const BYTES: usize = 2;
-    fn append_le(self, out: &mut Vec<u8>) {
-        out.extend_from_slice(&self.to_le_bytes());
+    fn flat_samples(samples: impl Iterator<Item = Self>) -> FlatSamples {
+        FlatSamples::F16(samples.collect())
     }
     fn to_f64(self) -> f64 {
         f64::from(self)
@@ -92,11 +85,11 @@ pub enum ExrCompression {
 }
 
 impl ExrCompression {
-    /// Code of the `compression` attribute.
-    fn code(self) -> u8 {
+    /// The `exr` crate's name for it.
+    fn exr(self) -> ::exr::compression::Compression {
         match self {
-            ExrCompression::None => 0,
-            ExrCompression::Zip => 3,
+            ExrCompression::None => ::exr::compression::Compression::Uncompressed,
+            ExrCompression::Zip => ::exr::compression::Compression::ZIP16,
         }
     }
 
@@ -161,7 +154,8 @@ pub fn save_exr<T: ExrSample>(
     save_to_path(path.as_ref(), |out| out.write_all(&bytes).map_err(writer_error))
 }
 
-/// The whole file in memory, compressing blocks in the current rayon pool.
+/// The whole file in memory, its blocks compressed in the current rayon pool and written in
+/// increasing line order, so the bytes do not depend on the thread count.
 pub(crate) fn encode_exr<T: ExrSample>(image: &ImageRef<'_, T>, options: &ExrOptions) -> Result<Vec<u8>> {
     let names = channel_names(image.channels(), options)?;
     check_finite(image, &names)?;
@@ -177,40 +171,57 @@ pub(crate) fn encode_exr<T: ExrSample>(image: &ImageRef<'_, T>, options: &ExrOpt
             ),
         ));
     }
-    // Channels are stored in alphabetical (byte-wise) order of their names.
-    let mut order: Vec<usize> = (0..names.len()).collect();
-    order.sort_by(|&a, &b| names[a].as_bytes().cmp(names[b].as_bytes()));
-
-    let header = header::<T>(image, &names, &order, options.compression);
-    let blocks = image.height().div_ceil(lines);
-    let packed: Vec<Vec<u8>> = (0..blocks)
-        .into_par_iter()
-        .map(|b| {
-            let rows = b * lines..((b + 1) * lines).min(image.height());
-            let raw = raw_block(image, &order, rows);
-            match options.compression {
-                ExrCompression::None => Ok(raw),
-                ExrCompression::Zip => zip_block(raw),
-            }
+    let channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = names
+        .iter()
+        .enumerate()
+        .map(|(c, name)| {
+            let samples = image.data().iter().skip(c).step_by(image.channels()).copied();
+            AnyChannel::new(name.as_str(), T::flat_samples(samples))
         })
-        .collect::<Result<_>>()?;
-
-    let table_bytes = 8 * blocks;
-    let data_bytes: usize = packed.iter().map(|p| 8 + p.len()).sum();
-    let mut out = Vec::with_capacity(header.len() + table_bytes + data_bytes);
-    out.extend_from_slice(&header);
-    let mut offset = (header.len() + table_bytes) as u64;
-    for p in &packed {
-        out.extend_from_slice(&offset.to_le_bytes());
-        offset += (8 + p.len()) as u64;
+        .collect();
+    let encoding = Encoding {
+        compression: options.compression.exr(),
+        blocks: Blocks::ScanLines,
+        // INCREASING_Y: blocks from the top row down, matching the image's row order.
+        line_order: LineOrder::Increasing,
+    };
+    let layer = Layer::new(
+        (image.width(), image.height()),
+        LayerAttributes::default(),
+        encoding,
+        AnyChannels::sort(channels),
+    );
+    let file = Image::from_layer(layer);
+    let headers = file.layer_data.infer_headers(&file.attributes);
+    let layers = file.layer_data.create_writer(&headers);
+    let mut out = Cursor::new(Vec::new());
+    ::exr::block::write(&mut out, headers, true, |meta, chunks| {
+        // Blocks are extracted and compressed in the current pool (Pelt's, or the caller's when
+        // the texture set encodes files in parallel), then written in file order.
+        let indices: Vec<_> = meta.enumerate_ordered_header_block_indices().collect();
+        let compressed: Vec<_> = indices
+            .into_par_iter()
+            .map(|(in_header, index)| {
+                let data = layers.extract_uncompressed_block(&meta.headers, index);
+                let block = UncompressedBlock { index, data };
+                block
+                    .compress_to_chunk(&meta.headers)
+                    .map(|chunk| (in_header, chunk))
+            })
+            .collect::<std::result::Result<_, _>>()?;
+        for (in_header, chunk) in compressed {
+            chunks.write_chunk(in_header, chunk)?;
+        }
+        Ok(())
+    })
+    .map_err(|e| PeltError::Internal(format!("OpenEXR encoder: {e}")))?;
+    let mut bytes = out.into_inner();
+    // The spec's "long names" bit (version field, bit 10) covers channel names over 31 bytes too;
+    // the crate sets it for attribute names only.
+    if names.iter().any(|n| n.len() > SHORT_NAME_MAX) {
+        bytes[5] |= (LONG_NAMES >> 8) as u8;
     }
-    for (b, p) in packed.iter().enumerate() {
-        // Both fit in i32: the first row is below the height (≤ i32::MAX) and blocks are capped.
-        out.extend_from_slice(&((b * lines) as i32).to_le_bytes());
-        out.extend_from_slice(&(p.len() as i32).to_le_bytes());
-        out.extend_from_slice(p);
-    }
-    Ok(out)
+    Ok(bytes)
 }
 
 /// The validated channel names, in the image's channel order.
@@ -261,108 +272,4 @@ fn check_finite<T: ExrSample>(image: &ImageRef<'_, T>, names: &[String]) -> Resu
             image.data()[i].to_f64()
         ),
     ))
-}
-
-/// Magic number, version field and header attributes, ended by a NUL byte.
-fn header<T: ExrSample>(
-    image: &ImageRef<'_, T>,
-    names: &[String],
-    order: &[usize],
-    compression: ExrCompression,
-) -> Vec<u8> {
-    let long = names.iter().any(|n| n.len() > SHORT_NAME_MAX);
-    let mut out = Vec::with_capacity(512);
-    out.extend_from_slice(&MAGIC);
-    out.extend_from_slice(&(VERSION | if long { LONG_NAMES } else { 0 }).to_le_bytes());
-
-    let mut chlist = Vec::new();
-    for &c in order {
-        chlist.extend_from_slice(names[c].as_bytes());
-        chlist.push(0);
-        chlist.extend_from_slice(&T::PIXEL_TYPE.to_le_bytes());
-        // pLinear and three reserved bytes, then x and y sampling of 1 (no subsampling).
-        chlist.extend_from_slice(&[0; 4]);
-        chlist.extend_from_slice(&1i32.to_le_bytes());
-        chlist.extend_from_slice(&1i32.to_le_bytes());
-    }
-    chlist.push(0);
-    // The validated sides are at most i32::MAX, so the largest coordinate fits in i32.
-    let window: Vec<u8> = [0, 0, image.width() as i32 - 1, image.height() as i32 - 1]
-        .iter()
-        .flat_map(|v| v.to_le_bytes())
-        .collect();
-    let floats = |values: &[f32]| -> Vec<u8> { values.iter().flat_map(|v| v.to_le_bytes()).collect() };
-
-    attribute(&mut out, "channels", "chlist", &chlist);
-    attribute(&mut out, "compression", "compression", &[compression.code()]);
-    attribute(&mut out, "dataWindow", "box2i", &window);
-    attribute(&mut out, "displayWindow", "box2i", &window);
-    // INCREASING_Y: blocks from the top row down, matching the image's row order.
-    attribute(&mut out, "lineOrder", "lineOrder", &[0]);
-    attribute(&mut out, "pixelAspectRatio", "float", &floats(&[1.0]));
-    attribute(&mut out, "screenWindowCenter", "v2f", &floats(&[0.0, 0.0]));
-    attribute(&mut out, "screenWindowWidth", "float", &floats(&[1.0]));
-    out.push(0);
-    out
-}
-
-/// One attribute: name, type name (both NUL-terminated), value size and value.
-fn attribute(out: &mut Vec<u8>, name: &str, type_name: &str, value: &[u8]) {
-    out.extend_from_slice(name.as_bytes());
-    out.push(0);
-    out.extend_from_slice(type_name.as_bytes());
-    out.push(0);
-    // Header values are a few hundred bytes at most (255-byte names, four channels).
-    out.extend_from_slice(&(value.len() as i32).to_le_bytes());
-    out.extend_from_slice(value);
-}
-
-/// Uncompressed block: per scanline, each channel's samples in `order`, little-endian.
-fn raw_block<T: ExrSample>(
-    image: &ImageRef<'_, T>,
-    order: &[usize],
-    rows: std::ops::Range<usize>,
-) -> Vec<u8> {
-    let channels = image.channels();
-    let mut out = Vec::with_capacity(rows.len() * image.width() * channels * T::BYTES);
-    for y in rows {
-        let Some(row) = image.row(y) else { break };
-        for &c in order {
-            for pixel in row.chunks_exact(channels) {
-                pixel[c].append_le(&mut out);
-            }
-        }
-    }
-    out
-}
-
-/// ZIP compression of one block; the raw bytes when compression would not shrink them.
-fn zip_block(raw: Vec<u8>) -> Result<Vec<u8>> {
-    if raw.is_empty() {
-        return Ok(raw);
-    }
-    // Bytes at even positions first, odd positions second: the low and high bytes of the
-    // samples end up in separate runs, each smoother than the mix.
-    let half = raw.len().div_ceil(2);
-    let mut split = vec![0u8; raw.len()];
-    for (i, &byte) in raw.iter().enumerate() {
-        split[if i % 2 == 0 { i / 2 } else { half + i / 2 }] = byte;
-    }
-    // Delta predictor: each byte becomes its difference from the previous one, biased by 128.
-    let mut previous = split[0];
-    for byte in &mut split[1..] {
-        let current = *byte;
-        *byte = current.wrapping_sub(previous).wrapping_add(128);
-        previous = current;
-    }
-    let mut encoder = ZlibEncoder::new(Vec::with_capacity(raw.len() / 2), Compression::default());
-    let compressed = encoder
-        .write_all(&split)
-        .and_then(|()| encoder.finish())
-        .map_err(|e| PeltError::Internal(format!("zlib on an in-memory buffer failed: {e}")))?;
-    Ok(if compressed.len() < raw.len() {
-        compressed
-    } else {
-        raw
-    })
 }

@@ -1,5 +1,5 @@
-//! KTX2 writer for uncompressed 2D and 2D-array textures with mipmaps, written by hand from the
-//! KTX 2.0 specification and the Khronos Data Format specification.
+//! KTX2 writer for uncompressed 2D and 2D-array textures with mipmaps, written by hand (the `ktx2`
+//! crate only reads) from the KTX 2.0 specification and the Khronos Data Format specification.
 //!
 //! Engines sample the shell layers of Lengyel et al. 2001 (§2.2) as one 2D-array texture, with the
 //! mipmaps their level of detail relies on (§2.4); KTX2 carries exactly that to Vulkan, WebGPU,

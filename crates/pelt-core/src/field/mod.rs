@@ -35,6 +35,7 @@ use serde::{Deserialize, Serialize};
 use crate::cg;
 use crate::error::{PeltError, Result};
 use crate::mesh::{FurMesh, NO_COMPONENT, orthonormal_basis};
+use crate::params::Range;
 use crate::threads::pool;
 use connection::{Connection, wide};
 
@@ -87,20 +88,20 @@ impl FieldParams {
                 format!("must be a finite nonzero vector, got {:?}", self.down),
             ));
         }
-        if !(1e-3..=10.0).contains(&self.blend) {
-            return Err(PeltError::parameter(
-                "blend",
-                format!("must be in [0.001, 10], got {}", self.blend),
-            ));
-        }
-        if !(1.0..=1e6).contains(&self.comb_weight) {
-            return Err(PeltError::parameter(
-                "comb_weight",
-                format!("must be in [1, 1000000], got {}", self.comb_weight),
-            ));
-        }
-        Ok(())
+        ranges::BLEND.check(self.blend)?;
+        ranges::COMB_WEIGHT.check(self.comb_weight)
     }
+
+    /// Each number's range (`crate::params`); `down` is any finite nonzero vector.
+    pub const RANGES: &'static [Range] = &[ranges::BLEND, ranges::COMB_WEIGHT];
+}
+
+/// The ranges of [`FieldParams`]' numbers.
+mod ranges {
+    use crate::params::Range;
+
+    pub const BLEND: Range = Range::closed("blend", 1e-3, 10.0, "share of √(component area)");
+    pub const COMB_WEIGHT: Range = Range::closed("comb_weight", 1.0, 1e6, "weight");
 }
 
 /// The direction field of a mesh.

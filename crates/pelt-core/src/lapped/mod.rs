@@ -37,9 +37,10 @@ pub use quality::{PatchQuality, STRETCH_WITHIN};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::error::{PeltError, Result, check_range};
+use crate::error::{PeltError, Result};
 use crate::field::{self, FieldParams, Singularity};
 use crate::mesh::FurMesh;
+use crate::params::Range;
 use crate::progress::{Progress, ProgressCallback};
 use crate::rng::Rng;
 use crate::threads::pool;
@@ -102,33 +103,46 @@ impl PatchParams {
     /// # Errors
     /// [`PeltError::InvalidParameter`] naming the first field out of range.
     pub fn validate(&self) -> Result<()> {
-        if !(self.tile_size.is_finite() && self.tile_size > 0.0) {
-            return Err(PeltError::parameter(
-                "tile_size",
-                format!(
-                    "must be a finite number > 0 (world units), got {}",
-                    self.tile_size
-                ),
-            ));
-        }
-        check_range("max_alignment_deg", self.max_alignment_deg, 0.1, 45.0)?;
-        check_range(
-            "max_face_alignment_deg",
-            self.max_face_alignment_deg,
-            self.max_alignment_deg,
-            180.0,
-        )?;
-        check_range("stretch_tolerance", self.stretch_tolerance, 1.01, 4.0)?;
-        check_range("max_stretched_fraction", self.max_stretched_fraction, 0.0, 1.0)?;
-        check_range("max_stretch", self.max_stretch, self.stretch_tolerance, 16.0)?;
-        if !(1..=1 << 24).contains(&self.max_patch_faces) {
-            return Err(PeltError::parameter(
-                "max_patch_faces",
-                format!("must be in [1, 16777216], got {}", self.max_patch_faces),
-            ));
-        }
+        use ranges::*;
+        TILE_SIZE.check(self.tile_size)?;
+        MAX_ALIGNMENT_DEG.check(self.max_alignment_deg)?;
+        MAX_FACE_ALIGNMENT_DEG.check_above(self.max_face_alignment_deg, self.max_alignment_deg)?;
+        STRETCH_TOLERANCE.check(self.stretch_tolerance)?;
+        MAX_STRETCHED_FRACTION.check(self.max_stretched_fraction)?;
+        MAX_STRETCH.check_above(self.max_stretch, self.stretch_tolerance)?;
+        MAX_PATCH_FACES.check(self.max_patch_faces as f64)?;
         self.field.validate()
     }
+
+    /// Each number's range (`crate::params`); the comb field's are [`FieldParams::RANGES`].
+    pub const RANGES: &'static [Range] = {
+        use ranges::*;
+        &[
+            TILE_SIZE,
+            MAX_ALIGNMENT_DEG,
+            MAX_FACE_ALIGNMENT_DEG,
+            STRETCH_TOLERANCE,
+            MAX_STRETCHED_FRACTION,
+            MAX_STRETCH,
+            MAX_PATCH_FACES,
+        ]
+    };
+}
+
+/// The ranges of [`PatchParams`]' numbers.
+mod ranges {
+    use crate::params::Range;
+
+    pub const TILE_SIZE: Range = Range::open_below("tile_size", 0.0, f64::MAX, "object units");
+    pub const MAX_ALIGNMENT_DEG: Range = Range::closed("max_alignment_deg", 0.1, 45.0, "degrees");
+    pub const MAX_FACE_ALIGNMENT_DEG: Range =
+        Range::above_field("max_face_alignment_deg", &MAX_ALIGNMENT_DEG, 180.0, "degrees");
+    pub const STRETCH_TOLERANCE: Range = Range::closed("stretch_tolerance", 1.01, 4.0, "stretch ratio");
+    pub const MAX_STRETCHED_FRACTION: Range =
+        Range::closed("max_stretched_fraction", 0.0, 1.0, "share of faces");
+    pub const MAX_STRETCH: Range =
+        Range::above_field("max_stretch", &STRETCH_TOLERANCE, 16.0, "stretch ratio");
+    pub const MAX_PATCH_FACES: Range = Range::closed("max_patch_faces", 1.0, (1u32 << 24) as f64, "faces");
 }
 
 /// A patch layout and the field it follows.

@@ -1,8 +1,9 @@
 //! One schema per parameter set: every number's range and unit is stated once, as a [`Range`]
 //! constant beside its set, which the set's `validate` checks and [`schemas`] exports with the
-//! set's defaults (Python `pelt.schema()`, against which the add-on's properties are tested).
-//! Ranges that depend on another field (a stretch limit above the stretch tolerance) stay in the
-//! set's `validate` and are named in its docs.
+//! set's defaults (Python `pelt.SCHEMA`, against which the add-on's properties and the
+//! module's keyword defaults are tested).
+//! A range whose lower end is another field's value (a stretch limit above the stretch tolerance)
+//! names that field in `min_field`; `min` is then the lowest that field allows.
 
 use serde::Serialize;
 
@@ -18,6 +19,9 @@ pub struct Range {
     /// The value `min` itself is refused.
     pub min_open: bool,
     pub max: f64,
+    /// The field whose value is the real lower end, when it depends on one (checked by the set's
+    /// `validate`).
+    pub min_field: Option<&'static str>,
     /// What the number counts, in words (`"tile widths"`, `"radians"`, `"share"`).
     pub unit: &'static str,
 }
@@ -30,6 +34,24 @@ impl Range {
             min,
             min_open: false,
             max,
+            min_field: None,
+            unit,
+        }
+    }
+
+    /// `[value of min_field, max]`; `min` is the lowest `min_field` itself allows.
+    pub const fn above_field(
+        name: &'static str,
+        min_field: &'static Range,
+        max: f64,
+        unit: &'static str,
+    ) -> Range {
+        Range {
+            name,
+            min: min_field.min,
+            min_open: false,
+            max,
+            min_field: Some(min_field.name),
             unit,
         }
     }
@@ -41,6 +63,7 @@ impl Range {
             min,
             min_open: true,
             max,
+            min_field: None,
             unit,
         }
     }
@@ -55,6 +78,14 @@ impl Range {
             }
     }
 
+    /// `value` checked against `[lowest, max]`, `lowest` being the value of `min_field`.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] when `value` is outside.
+    pub fn check_above(&self, value: f64, lowest: f64) -> Result<()> {
+        check_range(self.name, value, lowest, self.max)
+    }
+
     /// `value`, or an error naming the parameter, its range and the value.
     ///
     /// # Errors
@@ -66,14 +97,14 @@ impl Range {
         if self.contains(value) {
             return Ok(());
         }
+        let range = if self.max == f64::MAX {
+            format!("a finite number > {} ({})", Num(self.min), self.unit)
+        } else {
+            format!("in ({}, {}]", Num(self.min), Num(self.max))
+        };
         Err(PeltError::parameter(
             self.name,
-            format!(
-                "must be in ({}, {}], got {}",
-                Num(self.min),
-                Num(self.max),
-                Num(value)
-            ),
+            format!("must be {range}, got {}", Num(value)),
         ))
     }
 
@@ -137,7 +168,14 @@ pub fn schemas() -> Vec<Schema> {
             ranges,
         }
     }
+    let mut patches = schema::<crate::lapped::PatchParams>("patches", crate::lapped::PatchParams::RANGES);
+    // The comb field's numbers are a set of their own (Python passes them flat, as `blend`).
+    if let Some(map) = patches.defaults.as_object_mut() {
+        map.remove("field");
+    }
     vec![
+        patches,
+        schema::<crate::field::FieldParams>("field", crate::field::FieldParams::RANGES),
         schema::<crate::hair::HairParams>("hair", crate::hair::HairParams::RANGES),
         schema::<crate::volume::VolumeParams>("volume", crate::volume::VolumeParams::RANGES),
         schema::<crate::prt::TransferParams>("transfer", crate::prt::TransferParams::RANGES),

@@ -5,12 +5,14 @@ use serde_json::Value;
 
 use super::schemas;
 use crate::error::{PeltError, Result};
+use crate::field::FieldParams;
 use crate::hair::HairParams;
+use crate::lapped::PatchParams;
 use crate::prt::TransferParams;
 use crate::volume::VolumeParams;
 
-/// Numbers that take any value: a seed.
-const UNBOUNDED: [&str; 1] = ["seed"];
+/// Numbers that take any value: a seed; a direction (any finite nonzero vector).
+const UNBOUNDED: [&str; 2] = ["seed", "down"];
 
 /// Deserializes `value` as the set `schema` names and validates it.
 fn validate(schema: &str, value: Value) -> Result<()> {
@@ -20,6 +22,8 @@ fn validate(schema: &str, value: Value) -> Result<()> {
         "transfer" => serde_json::from_value::<TransferParams>(value)
             .unwrap()
             .validate(),
+        "patches" => serde_json::from_value::<PatchParams>(value).unwrap().validate(),
+        "field" => serde_json::from_value::<FieldParams>(value).unwrap().validate(),
         other => panic!("no set {other}"),
     }
 }
@@ -74,13 +78,19 @@ fn every_range_is_the_one_validate_checks() {
             } else {
                 (range.max - range.min).abs().max(1.0) * 1e-4
             };
-            let lowest = if range.min_open {
-                range.min + step
-            } else {
-                range.min
+            // A dependent range starts at its field's value (the defaults' here).
+            let min = match range.min_field {
+                Some(other) => field(&mut defaults.clone(), other).as_f64().unwrap(),
+                None => range.min,
             };
+            let lowest = if range.min_open { min + step } else { min };
             for inside in [lowest, range.max] {
-                let result = validate(schema.name, with(defaults, range.name, inside));
+                let mut value = with(defaults, range.name, inside);
+                // Ranges that start at this field's value move up with it.
+                for dependent in schema.ranges.iter().filter(|r| r.min_field == Some(range.name)) {
+                    value = with(&value, dependent.name, dependent.max);
+                }
+                let result = validate(schema.name, value);
                 assert!(
                     result.is_ok(),
                     "{}.{} = {inside}: {result:?}",
@@ -88,17 +98,13 @@ fn every_range_is_the_one_validate_checks() {
                     range.name
                 );
             }
-            let below = if range.min_open {
-                range.min
-            } else {
-                range.min - step
-            };
-            // An unsigned field cannot hold a value below 0 at all.
-            let outside = if integer && below < 0.0 {
-                vec![range.max + step]
-            } else {
-                vec![below, range.max + step]
-            };
+            let below = if range.min_open { min } else { min - step };
+            // An unsigned field cannot hold a value below 0 at all, nor JSON a value past f64::MAX.
+            let mut outside = vec![range.max + step];
+            outside.retain(|x| x.is_finite());
+            if !(integer && below < 0.0) {
+                outside.push(below);
+            }
             for x in outside {
                 let name = refused_as(validate(schema.name, with(defaults, range.name, x)));
                 assert_eq!(name, range.name, "{}.{} = {x}", schema.name, range.name);

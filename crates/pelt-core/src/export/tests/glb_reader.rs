@@ -111,14 +111,12 @@ impl Glb {
     }
 }
 
-/// Decodes an 8-bit RGBA PNG with the `png` crate.
+/// Decodes an 8-bit RGBA PNG with the `image` crate.
 pub(super) fn decode_png(data: &[u8]) -> (Vec<u8>, u32, u32) {
-    let decoder = ::png::Decoder::new(std::io::Cursor::new(data));
-    let mut reader = decoder.read_info().unwrap();
-    let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
-    let info = reader.next_frame(&mut pixels).unwrap();
-    assert_eq!(info.color_type, ::png::ColorType::Rgba);
-    assert_eq!(info.bit_depth, ::png::BitDepth::Eight);
-    pixels.truncate(info.buffer_size());
-    (pixels, info.width, info.height)
+    let decoded = image::load_from_memory_with_format(data, image::ImageFormat::Png).unwrap();
+    let image::DynamicImage::ImageRgba8(rgba) = decoded else {
+        panic!("expected 8-bit RGBA, got {:?}", decoded.color());
+    };
+    let (width, height) = rgba.dimensions();
+    (rgba.into_raw(), width, height)
 }
