@@ -11,7 +11,7 @@ use std::sync::OnceLock;
 
 use common::golden::{RENDER_FLIP, check_render, flip_mean, golden_dir, read_png};
 use common::volume::{small_hair, small_volume};
-use common::{column_major, look_at_rows, perspective_rows};
+use common::{column_major, perspective, view_matrix};
 use pelt::hair::grow_strands;
 use pelt::lapped::{PatchParams, build_patches};
 use pelt::mesh::shapes::{uv_sphere, uv_sphere_polygons};
@@ -105,8 +105,8 @@ fn plain() -> &'static FurScene {
 /// Perspective camera at `eye` looking at `target`, z up, `fov` degrees.
 fn camera(eye: [f64; 3], target: [f64; 3], fov: f64) -> Camera {
     Camera {
-        view: column_major(look_at_rows(eye, target, [0.0, 0.0, 1.0])),
-        projection: column_major(perspective_rows(fov, 0.1, 50.0)),
+        view: column_major(view_matrix(eye, target, [0.0, 0.0, 1.0])),
+        projection: column_major(perspective(fov, 0.1, 50.0)),
         width: SIDE,
         height: SIDE,
     }

@@ -17,7 +17,7 @@ use pelt::render::{
 use pelt::{FurMesh, MeshInput};
 
 use common::torus::{FurredTorus, covered};
-use common::{column_major, look_at, parameter_name};
+use common::{column_major, look_at, parameter_name, perspective};
 
 const AROUND: usize = 32;
 const ACROSS: usize = 16;
@@ -38,15 +38,9 @@ fn scene() -> FurScene {
 
 /// Perspective camera (60° field of view) looking at the torus from above and to the side.
 fn oblique(size: u32) -> Camera {
-    let (near, far, t) = (0.5, 10.0, 1.0 / (30f64.to_radians().tan()));
     Camera {
         view: look_at([0.0, -2.6, 2.2], [0.0, 0.0, 1.0]),
-        projection: column_major([
-            [t, 0.0, 0.0, 0.0],
-            [0.0, t, 0.0, 0.0],
-            [0.0, 0.0, far / (near - far), near * far / (near - far)],
-            [0.0, 0.0, -1.0, 0.0],
-        ]),
+        projection: column_major(perspective(60.0, 0.5, 10.0)),
         width: size,
         height: size,
     }

@@ -12,7 +12,7 @@ use pelt::PeltError;
 use pelt::render::{Camera, FurScene, Lighting, RenderSettings, RgbaImage};
 
 use common::torus::{FurredTorus, covered};
-use common::{column_major, look_at, perspective_rows};
+use common::{column_major, look_at, perspective};
 
 const AROUND: usize = 128;
 const ACROSS: usize = 64;
@@ -34,7 +34,7 @@ fn camera(distance: f64) -> Camera {
     let eye = [0.0, -0.8 * distance, 0.6 * distance];
     Camera {
         view: look_at(eye, [0.0, 0.0, 1.0]),
-        projection: column_major(perspective_rows(30.0, 0.1, 100.0)),
+        projection: column_major(perspective(30.0, 0.1, 100.0)),
         width: SIZE,
         height: SIZE,
     }

@@ -9,7 +9,8 @@ mod common;
 use std::sync::OnceLock;
 
 use common::volume::small_volume;
-use common::{column_major, look_at_rows, mul, orthographic, parameter_name, perspective_rows};
+use common::{column_major, orthographic, parameter_name, perspective, view_matrix};
+use glam::{DMat3, DMat4};
 use pelt::prt::pack::{PackedF16, pack_f16, texel_index};
 use pelt::prt::sh;
 use pelt::prt::volume_input::VolumeInput;
@@ -90,8 +91,8 @@ fn grid(n: usize, place: impl Fn([f64; 3]) -> [f64; 3]) -> (FurMesh, Vec<[[f32; 
 /// A 64² perspective camera (50° field of view) at `eye`, looking at the grid's centre, z up.
 fn looking_at_the_grid_from(eye: [f64; 3]) -> Camera {
     Camera {
-        view: column_major(look_at_rows(eye, [0.0; 3], [0.0, 0.0, 1.0])),
-        projection: column_major(perspective_rows(50.0, 0.5, 10.0)),
+        view: column_major(view_matrix(eye, [0.0; 3], [0.0, 0.0, 1.0])),
+        projection: column_major(perspective(50.0, 0.5, 10.0)),
         width: 64,
         height: 64,
     }
@@ -137,7 +138,7 @@ fn skin_radiance_is_albedo_times_the_transfer_dot_product() {
     // a texel centre (row r shows texel row 63 − r, v growing with y).
     let side = 64;
     let camera = Camera {
-        view: column_major(look_at_rows([0.0, 0.0, 3.0], [0.0; 3], [0.0, 1.0, 0.0])),
+        view: column_major(view_matrix([0.0, 0.0, 3.0], [0.0; 3], [0.0, 1.0, 0.0])),
         projection: orthographic(1.0, 0.5, 5.5),
         width: side,
         height: side,
@@ -242,8 +243,8 @@ fn render_all(scene: &FurScene, camera: &Camera, lighting: &Lighting) -> LinearI
 #[test]
 fn rotating_object_light_and_camera_together_leaves_the_image_unchanged() {
     let side = 96;
-    let view = look_at_rows([0.8, -2.2, 2.0], [0.0; 3], [0.0, 0.0, 1.0]);
-    let projection = column_major(perspective_rows(50.0, 0.5, 10.0));
+    let view = view_matrix([0.8, -2.2, 2.0], [0.0; 3], [0.0, 0.0, 1.0]);
+    let projection = column_major(perspective(50.0, 0.5, 10.0));
     let lighting = lighting();
     let (mesh, uvs) = grid(8, |p| p);
     let straight = render_all(
@@ -285,14 +286,10 @@ fn rotating_object_light_and_camera_together_leaves_the_image_unchanged() {
         }),
         ..lighting.clone()
     };
-    let qt = [
-        [q[0][0], q[1][0], q[2][0], 0.0],
-        [q[0][1], q[1][1], q[2][1], 0.0],
-        [q[0][2], q[1][2], q[2][2], 0.0],
-        [0.0, 0.0, 0.0, 1.0],
-    ];
+    // Q's rows as columns: Qᵀ.
+    let qt = DMat4::from_mat3(DMat3::from_cols_array_2d(&q));
     let turned_camera = Camera {
-        view: column_major(mul(&view, &qt)),
+        view: column_major(view * qt),
         projection,
         width: side,
         height: side,
@@ -357,8 +354,8 @@ fn transfer_from_another_bake_or_missing_is_named_and_the_scene_survives() {
     let (mesh, uvs) = grid(4, |p| p);
     let mut scene = FurScene::new(&f.renderer, &mesh, &uvs, &f.volume).unwrap();
     let camera = Camera {
-        view: column_major(look_at_rows([0.0, -1.5, 3.0], [0.0; 3], [0.0, 0.0, 1.0])),
-        projection: column_major(perspective_rows(50.0, 0.5, 10.0)),
+        view: column_major(view_matrix([0.0, -1.5, 3.0], [0.0; 3], [0.0, 0.0, 1.0])),
+        projection: column_major(perspective(50.0, 0.5, 10.0)),
         width: 32,
         height: 32,
     };

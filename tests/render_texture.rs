@@ -12,14 +12,14 @@ use pelt::render::{AdapterChoice, Camera, FurScene, Lighting, RenderSettings, Re
 use pelt::volume::{VolumeParams, bake_volume};
 use pelt::{FurMesh, MeshInput, PeltError};
 
-use common::{column_major, look_at, perspective_rows};
+use common::{column_major, look_at, perspective};
 
 const SIZE: u32 = 48;
 
 fn camera(width: u32, height: u32) -> Camera {
     Camera {
         view: look_at([0.0, -2.6, 2.2], [0.0, 0.0, 1.0]),
-        projection: column_major(perspective_rows(60.0, 0.5, 10.0)),
+        projection: column_major(perspective(60.0, 0.5, 10.0)),
         width,
         height,
     }

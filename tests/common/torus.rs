@@ -9,7 +9,7 @@ use pelt::volume::HairVolume;
 use pelt::{FurMesh, MeshInput};
 
 use super::volume::small_volume;
-use super::{column_major, look_at_rows, perspective_rows};
+use super::{column_major, perspective, view_matrix};
 
 pub struct FurredTorus {
     pub renderer: Renderer,
@@ -66,7 +66,7 @@ pub fn differing(a: &RgbaImage, b: &RgbaImage, tolerance: u8) -> f64 {
 pub fn perspective_camera(view: DMat4, size: u32) -> Camera {
     Camera {
         view: view.as_mat4().to_cols_array(),
-        projection: column_major(perspective_rows(60.0, 0.5, 10.0)),
+        projection: column_major(perspective(60.0, 0.5, 10.0)),
         width: size,
         height: size,
     }
@@ -74,5 +74,5 @@ pub fn perspective_camera(view: DMat4, size: u32) -> Camera {
 
 /// The view from above and to the side of the torus, looking at its centre.
 pub fn oblique_view() -> DMat4 {
-    DMat4::from_cols_array_2d(&look_at_rows([0.0, -2.6, 2.2], [0.0; 3], [0.0, 0.0, 1.0])).transpose()
+    view_matrix([0.0, -2.6, 2.2], [0.0; 3], [0.0, 0.0, 1.0])
 }

@@ -35,8 +35,6 @@ pub mod scene;
 mod test_support;
 pub mod texture;
 pub mod threads;
-#[doc(hidden)]
-pub mod vec3;
 pub mod volume;
 
 pub use error::{MeshError, PeltError, Result};

@@ -2,59 +2,32 @@
 //! viewer's position in object space that lighting (Lengyel et al. 2001, §2.4: the half vector)
 //! and the fin fade (§2.3: fin normal · view direction) need.
 
+use glam::{DMat4, DVec4, Mat4, Vec4};
 pub use pelt_core::camera::{Camera, MAX_IMAGE_SIDE};
 use pelt_core::error::{PeltError, Result};
 
 /// What the shaders need from the camera, computed in f64 once per frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct CameraFrame {
-    /// `projection · view`, column-major.
-    pub view_proj: [f32; 16],
-    /// Its inverse, column-major (clip space back to object space).
-    pub inverse_view_proj: [f32; 16],
+    /// `projection · view`.
+    pub view_proj: Mat4,
+    /// Its inverse (clip space back to object space).
+    pub inverse_view_proj: Mat4,
     /// The eye in object space, homogeneous: `w = 1` a position (perspective), `w = 0` the unit
     /// direction toward the viewer (orthographic).
-    pub eye: [f32; 4],
+    pub eye: Vec4,
 }
 
-type M4 = [[f64; 4]; 4];
-
-/// Column-major f32 to `m[row][col]` in f64.
-fn rows(m: &[f32; 16]) -> M4 {
-    std::array::from_fn(|r| std::array::from_fn(|c| f64::from(m[c * 4 + r])))
-}
-
-fn mul(a: &M4, b: &M4) -> M4 {
-    std::array::from_fn(|r| std::array::from_fn(|c| (0..4).map(|k| a[r][k] * b[k][c]).sum()))
-}
-
-/// Inverse by cofactors, or `None` when the determinant is (relatively) zero.
-pub(super) fn invert(m: &M4) -> Option<M4> {
-    let minor = |skip_r: usize, skip_c: usize| {
-        // The three indices other than `skip`, in order.
-        let idx = |skip: usize| -> [usize; 3] { std::array::from_fn(|k| k + usize::from(k >= skip)) };
-        let (r, c) = (idx(skip_r), idx(skip_c));
-        let e = |i: usize, j: usize| m[r[i]][c[j]];
-        e(0, 0) * (e(1, 1) * e(2, 2) - e(1, 2) * e(2, 1)) - e(0, 1) * (e(1, 0) * e(2, 2) - e(1, 2) * e(2, 0))
-            + e(0, 2) * (e(1, 0) * e(2, 1) - e(1, 1) * e(2, 0))
-    };
-    let cof: M4 = std::array::from_fn(|r| {
-        std::array::from_fn(|c| {
-            let sign = if (r + c) % 2 == 0 { 1.0 } else { -1.0 };
-            sign * minor(r, c)
-        })
-    });
-    let det: f64 = (0..4).map(|c| m[0][c] * cof[0][c]).sum();
+/// The inverse of `m`, or `None` when its determinant is (relatively) zero.
+pub(super) fn invert(m: &DMat4) -> Option<DMat4> {
+    let det = m.determinant();
     // Relative to the product of the column lengths (Hadamard's bound on |det|), which scales
     // with the matrix column by column: a camera 1000 units away is as invertible as one nearby.
-    let bound: f64 = (0..4)
-        .map(|c| (0..4).map(|r| m[r][c] * m[r][c]).sum::<f64>().sqrt())
-        .product();
+    let bound: f64 = (0..4).map(|c| m.col(c).length()).product();
     if !det.is_finite() || bound.is_nan() || det.abs() <= 1e-12 * bound {
         return None;
     }
-    // inverse = adjugate / det, the adjugate being the transposed cofactor matrix
-    Some(std::array::from_fn(|r| std::array::from_fn(|c| cof[c][r] / det)))
+    Some(m.inverse())
 }
 
 impl CameraFrame {
@@ -62,15 +35,16 @@ impl CameraFrame {
     /// derives what the shaders need.
     pub(super) fn of(camera: &Camera, max_side: u32) -> Result<CameraFrame> {
         camera.check(max_side)?;
-        let (view, proj) = (rows(&camera.view), rows(&camera.projection));
+        let wide = |m: &[f32; 16]| Mat4::from_cols_array(m).as_dmat4();
+        let (view, proj) = (wide(&camera.view), wide(&camera.projection));
         let inverse_view = invert(&view)
             .ok_or_else(|| PeltError::parameter("camera.view", "is singular (not invertible)"))?;
         let inverse_proj = invert(&proj)
             .ok_or_else(|| PeltError::parameter("camera.projection", "is singular (not invertible)"))?;
-        let last = proj[3];
-        let eye_view = match (last[0] == 0.0 && last[1] == 0.0, last[2] != 0.0, last[3] != 0.0) {
-            (true, true, false) => [0.0, 0.0, 0.0, 1.0],
-            (true, false, true) => [0.0, 0.0, 1.0, 0.0],
+        let last = proj.row(3);
+        let eye_view = match (last.x == 0.0 && last.y == 0.0, last.z != 0.0, last.w != 0.0) {
+            (true, true, false) => DVec4::W,
+            (true, false, true) => DVec4::Z,
             _ => {
                 return Err(PeltError::parameter(
                     "camera.projection",
@@ -78,30 +52,28 @@ impl CameraFrame {
                 ));
             }
         };
-        let eye: [f64; 4] = std::array::from_fn(|r| (0..4).map(|k| inverse_view[r][k] * eye_view[k]).sum());
-        let eye = if eye_view[3] == 1.0 {
-            [eye[0] / eye[3], eye[1] / eye[3], eye[2] / eye[3], 1.0]
+        let eye = inverse_view * eye_view;
+        let eye = if eye_view.w == 1.0 {
+            (eye.truncate() / eye.w).extend(1.0)
         } else {
-            let len = (eye[0] * eye[0] + eye[1] * eye[1] + eye[2] * eye[2]).sqrt();
-            [eye[0] / len, eye[1] / len, eye[2] / len, 0.0]
+            let toward = eye.truncate();
+            (toward / toward.length()).extend(0.0)
         };
-        if !eye.iter().all(|v| v.is_finite()) {
+        if !eye.is_finite() {
             return Err(PeltError::parameter(
                 "camera.view",
                 "does not give a finite eye position",
             ));
         }
-        let vp = mul(&proj, &view);
-        let view_proj: [f32; 16] = std::array::from_fn(|i| vp[i % 4][i / 4] as f32);
-        let inverse = mul(&inverse_view, &inverse_proj);
-        let inverse_view_proj: [f32; 16] = std::array::from_fn(|i| inverse[i % 4][i / 4] as f32);
-        if !view_proj.iter().chain(&inverse_view_proj).all(|v| v.is_finite()) {
+        let view_proj = (proj * view).as_mat4();
+        let inverse_view_proj = (inverse_view * inverse_proj).as_mat4();
+        if !(view_proj.is_finite() && inverse_view_proj.is_finite()) {
             return Err(PeltError::parameter("camera", "projection · view overflows f32"));
         }
         Ok(CameraFrame {
             view_proj,
             inverse_view_proj,
-            eye: eye.map(|v| v as f32),
+            eye: eye.as_vec4(),
         })
     }
 }
@@ -109,14 +81,10 @@ impl CameraFrame {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DVec3;
 
-    fn translation(z: f64) -> M4 {
-        [
-            [1.0, 0.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0, 0.0],
-            [0.0, 0.0, 1.0, z],
-            [0.0, 0.0, 0.0, 1.0],
-        ]
+    fn translation(z: f64) -> DMat4 {
+        DMat4::from_translation(DVec3::new(0.0, 0.0, z))
     }
 
     #[test]
@@ -124,12 +92,13 @@ mod tests {
         // A camera 1000 (or 1e9) units away was called singular by an absolute threshold.
         for z in [-1.0, -1000.0, -1e9] {
             let inverse = invert(&translation(z)).expect("a translation is invertible");
-            assert_eq!(inverse[2][3], -z);
+            assert_eq!(inverse.w_axis.z, -z);
         }
+        // Row 2 becomes (0, 0, 0, −5): z is flattened away.
         let mut flat = translation(-5.0);
-        flat[2] = [0.0, 0.0, 0.0, -5.0];
+        flat.z_axis.z = 0.0;
         assert!(invert(&flat).is_none());
-        let tiny = translation(0.0).map(|row| row.map(|v| v * 1e-30));
+        let tiny = translation(0.0) * 1e-30;
         assert!(
             invert(&tiny).is_some(),
             "a uniformly tiny scale is still invertible"

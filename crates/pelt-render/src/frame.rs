@@ -362,7 +362,7 @@ impl Renderer {
                 .fin_planes
                 .lock()
                 .unwrap_or_else(std::sync::PoisonError::into_inner)
-                .visible_indices(checked.camera.eye, level.fins.clone())
+                .visible_indices(checked.camera.eye.to_array(), level.fins.clone())
         } else {
             Vec::new()
         };

@@ -62,8 +62,8 @@ impl FrameUniforms {
         let coarse = levels.bases.get(k + 1).copied().unwrap_or(levels.bases[k]);
         let v3 = |v: [f32; 3]| [v[0], v[1], v[2], 0.0];
         FrameUniforms {
-            view_proj: camera.view_proj,
-            eye: camera.eye,
+            view_proj: camera.view_proj.to_cols_array(),
+            eye: camera.eye.to_array(),
             light_direction: v3(light.direction),
             light_color: v3(light.color),
             ambient: v3(light.ambient),

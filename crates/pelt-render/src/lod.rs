@@ -10,6 +10,8 @@
 //! `shells_per_pixel` is the shell count wanted, clamped to `[min_shells, max_shells]`; it falls
 //! between two levels' counts `S_{k+1} ≤ s < S_k`, and `τ = (S_k − s) / (S_k − S_{k+1})`.
 
+use glam::{DVec3, Mat4};
+
 use super::camera::Camera;
 use super::settings::RenderSettings;
 
@@ -68,7 +70,7 @@ impl Levels {
 /// The mesh's bounding sphere and painted lengths, what the schedule reads from the scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Extent {
-    pub center: [f64; 3],
+    pub center: DVec3,
     pub radius: f64,
     /// The longest painted length multiplier.
     pub max_length: f64,
@@ -76,39 +78,38 @@ pub(super) struct Extent {
 
 /// Pixels per object unit at `center` seen by `camera` (validated), or `None` when the camera
 /// is inside the sphere of `radius` (or behind its centre).
-fn pixels_per_unit(camera: &Camera, center: [f64; 3], radius: f64) -> Option<f64> {
+fn pixels_per_unit(camera: &Camera, center: DVec3, radius: f64) -> Option<f64> {
     projected_scale(camera, center, radius, 0.0)
 }
 
 /// The most pixels per object unit anywhere on the sphere of `radius` around `center` (at its
 /// point nearest the eye), or `None` as [`pixels_per_unit`].
-pub(super) fn nearest_pixels_per_unit(camera: &Camera, center: [f64; 3], radius: f64) -> Option<f64> {
+pub(super) fn nearest_pixels_per_unit(camera: &Camera, center: DVec3, radius: f64) -> Option<f64> {
     projected_scale(camera, center, radius, radius)
 }
 
 /// Pixels per object unit at depth `center` moved `toward` object units toward the eye.
-fn projected_scale(camera: &Camera, center: [f64; 3], radius: f64, toward: f64) -> Option<f64> {
-    let at = |m: &[f32; 16], r: usize, c: usize| f64::from(m[c * 4 + r]);
-    let (view, proj) = (&camera.view, &camera.projection);
-    let view_point: [f64; 4] =
-        std::array::from_fn(|r| (0..3).map(|c| at(view, r, c) * center[c]).sum::<f64>() + at(view, r, 3));
+fn projected_scale(camera: &Camera, center: DVec3, radius: f64, toward: f64) -> Option<f64> {
+    let view = Mat4::from_cols_array(&camera.view).as_dmat4();
+    let proj = Mat4::from_cols_array(&camera.projection).as_dmat4();
+    let view_point = view * center.extend(1.0);
     // The view matrix may scale: object units to view units along its longest axis.
-    let scale = (0..3)
-        .map(|c| (0..3).map(|r| at(view, r, c).powi(2)).sum::<f64>().sqrt())
+    let scale = [view.x_axis, view.y_axis, view.z_axis]
+        .map(|axis| axis.truncate().length())
+        .into_iter()
         .fold(0.0, f64::max);
-    let perspective = at(proj, 3, 2) != 0.0;
-    let w: f64 =
-        (0..4).map(|k| at(proj, 3, k) * view_point[k]).sum::<f64>() - toward * scale * at(proj, 3, 2).abs();
+    let last = proj.row(3);
+    let perspective = last.z != 0.0;
+    let w = last.dot(view_point) - toward * scale * last.z.abs();
     // The eye looks down −z: a centre closer than the radius has the camera inside the sphere.
-    if perspective && -view_point[2] <= radius * scale {
+    if perspective && -view_point.z <= radius * scale {
         return None;
     }
     if w.is_nan() || w <= 0.0 {
         return None;
     }
     let half_extent = 0.5
-        * (at(proj, 0, 0).abs() * f64::from(camera.width))
-            .max(at(proj, 1, 1).abs() * f64::from(camera.height));
+        * (proj.x_axis.x.abs() * f64::from(camera.width)).max(proj.y_axis.y.abs() * f64::from(camera.height));
     let ppu = scale * half_extent / w;
     ppu.is_finite().then_some(ppu)
 }

@@ -174,9 +174,9 @@ impl OccluderPass {
             texture.size(),
         );
         let uniforms = OccluderUniforms {
-            view_proj: camera.view_proj,
-            inverse_view_proj: camera.inverse_view_proj,
-            eye: camera.eye,
+            view_proj: camera.view_proj.to_cols_array(),
+            inverse_view_proj: camera.inverse_view_proj.to_cols_array(),
+            eye: camera.eye.to_array(),
             bias_size: [occluders.bias, size.0 as f32, size.1 as f32, 0.0],
         };
         let buffer = device.create_buffer(&wgpu::BufferDescriptor {

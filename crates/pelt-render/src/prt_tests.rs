@@ -6,21 +6,16 @@ use super::prt_light::WorldLighting;
 use super::prt_rotate::{RotatePipeline, RotationUniforms};
 use super::readback::read_buffer;
 use super::{AdapterChoice, Renderer};
+use glam::{DVec3, Vec3};
 use pelt_core::prt::sh::{self, MAX_ORDER, ShRotation};
 use pelt_core::rng::Rng;
 use pelt_core::scene::surface_mesh::SurfaceVertex;
-use pelt_core::vec3::{cross, dot};
 
-fn unit(v: [f64; 3]) -> [f64; 3] {
-    let l = dot(v, v).sqrt();
-    v.map(|c| c / l)
-}
-
-fn random_direction(rng: &mut Rng) -> [f64; 3] {
+fn random_direction(rng: &mut Rng) -> DVec3 {
     loop {
-        let v = [0; 3].map(|_| 2.0 * rng.next_f64() - 1.0);
-        if (0.01..1.0).contains(&dot(v, v)) {
-            return unit(v);
+        let v = DVec3::from_array([0; 3].map(|_| 2.0 * rng.next_f64() - 1.0));
+        if (0.01..1.0).contains(&v.length_squared()) {
+            return v.normalize();
         }
     }
 }
@@ -29,29 +24,31 @@ fn random_direction(rng: &mut Rng) -> [f64; 3] {
 /// nearly (the Euler angles' gimbal), and a dP/du along the normal (no usable tangent).
 fn vertices() -> Vec<SurfaceVertex> {
     let mut rng = Rng::new(7);
-    let mut frames: Vec<([f64; 3], [f64; 3], bool)> = (0..40)
+    let mut frames: Vec<(DVec3, DVec3, bool)> = (0..40)
         .map(|i| (random_direction(&mut rng), random_direction(&mut rng), i % 3 == 0))
         .collect();
-    frames.extend([
-        ([0.0, 0.0, 1.0], [0.6, 0.8, 0.3], false),
-        ([0.0, 0.0, -1.0], [0.6, -0.8, 0.0], false),
-        ([1e-6, 0.0, 1.0], [0.0, 1.0, 0.0], true),
-        ([0.0, 2e-3, -1.0], [1.0, 0.0, 0.0], false),
-        ([0.3, -0.4, 0.5], [0.6, -0.8, 1.0], false),
-    ]);
+    frames.extend(
+        [
+            ([0.0, 0.0, 1.0], [0.6, 0.8, 0.3], false),
+            ([0.0, 0.0, -1.0], [0.6, -0.8, 0.0], false),
+            ([1e-6, 0.0, 1.0], [0.0, 1.0, 0.0], true),
+            ([0.0, 2e-3, -1.0], [1.0, 0.0, 0.0], false),
+            ([0.3, -0.4, 0.5], [0.6, -0.8, 1.0], false),
+        ]
+        .map(|(n, u, mirrored)| (DVec3::from(n), DVec3::from(u), mirrored)),
+    );
     frames
         .into_iter()
         .map(|(n, u, mirrored)| {
-            let n = unit(n);
+            let n = n.normalize();
             // dP/du deliberately off the tangent plane and not unit; dP/dv roughly n × dP/du.
-            let dpdu = u.map(|c| 1.7 * c);
-            let side = cross(n, dpdu);
-            let dpdv = side.map(|c| if mirrored { -0.5 * c } else { 0.5 * c });
+            let dpdu = 1.7 * u;
+            let dpdv = n.cross(dpdu) * if mirrored { -0.5 } else { 0.5 };
             SurfaceVertex {
                 position: [0.0; 3],
-                normal: n.map(|c| c as f32),
-                dpdu: dpdu.map(|c| c as f32),
-                dpdv: dpdv.map(|c| c as f32),
+                normal: n.as_vec3().to_array(),
+                dpdu: dpdu.as_vec3().to_array(),
+                dpdv: dpdv.as_vec3().to_array(),
                 uv: [0.0; 2],
                 comb: [0.0; 3],
             }
@@ -62,20 +59,17 @@ fn vertices() -> Vec<SurfaceVertex> {
 /// The tile frame of a vertex as the shader builds it: rows x, y, z (world to tile), and
 /// whether y is mirrored.
 fn frame_of(v: &SurfaceVertex) -> ([[f64; 3]; 3], bool) {
-    let z = unit(v.normal.map(f64::from));
-    let dpdu = v.dpdu.map(f64::from);
-    let mut x: [f64; 3] = std::array::from_fn(|i| dpdu[i] - z[i] * dot(z, dpdu));
-    if dot(x, x) <= 1e-8 * dot(dpdu, dpdu) {
-        let a = if z[0].abs() > 0.9 {
-            [0.0, 1.0, 0.0]
-        } else {
-            [1.0, 0.0, 0.0]
-        };
-        x = std::array::from_fn(|i| a[i] - z[i] * dot(z, a));
+    let wide = |a: [f32; 3]| Vec3::from(a).as_dvec3();
+    let z = wide(v.normal).normalize();
+    let dpdu = wide(v.dpdu);
+    let mut x = dpdu - z * z.dot(dpdu);
+    if x.length_squared() <= 1e-8 * dpdu.length_squared() {
+        let a = if z.x.abs() > 0.9 { DVec3::Y } else { DVec3::X };
+        x = a - z * z.dot(a);
     }
-    let x = unit(x);
-    let y = cross(z, x);
-    ([x, y, z], dot(y, v.dpdv.map(f64::from)) < 0.0)
+    let x = x.normalize();
+    let y = z.cross(x);
+    ([x, y, z].map(|v| v.to_array()), y.dot(wide(v.dpdv)) < 0.0)
 }
 
 /// The pass's output for `vertices` under `light`: `n²` rows per vertex.
@@ -191,7 +185,10 @@ fn the_directional_light_fades_out_past_each_vertex_terminator() {
     let got = run_pass(&renderer, &vertices, order, &world);
     let (mut lit, mut dark) = (0, 0);
     for (i, v) in vertices.iter().enumerate() {
-        let facing = dot(unit(v.normal.map(f64::from)), sun_direction.map(f64::from));
+        let facing = Vec3::from(v.normal)
+            .as_dvec3()
+            .normalize()
+            .dot(Vec3::from(sun_direction).as_dvec3());
         let share = (facing / 0.3 + 1.0).clamp(0.0, 1.0);
         lit += usize::from(share == 1.0);
         dark += usize::from(share == 0.0);

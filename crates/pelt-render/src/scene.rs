@@ -2,6 +2,7 @@
 //! textures — and updated in place when only colors or lengths change (Lengyel et al. 2001, §3:
 //! per-vertex color and length are interactive controls, so they must not re-upload the rest).
 
+use glam::{DVec3, Vec3};
 use wgpu::util::DeviceExt;
 
 use std::ops::Range;
@@ -233,23 +234,14 @@ fn longest(lengths: &[f32]) -> f64 {
 
 /// The bounding sphere (centre of the bounding box, farthest vertex) and longest length.
 fn extent(positions: &[[f32; 3]], lengths: &[f32]) -> Extent {
-    let (lo, hi) = positions
-        .iter()
-        .fold(([f64::MAX; 3], [f64::MIN; 3]), |(lo, hi), p| {
-            (
-                std::array::from_fn(|i| lo[i].min(f64::from(p[i]))),
-                std::array::from_fn(|i| hi[i].max(f64::from(p[i]))),
-            )
-        });
-    let center: [f64; 3] = std::array::from_fn(|i| 0.5 * (lo[i] + hi[i]));
-    let radius = positions.iter().fold(0.0f64, |r, p| {
-        r.max(
-            (0..3)
-                .map(|i| (f64::from(p[i]) - center[i]).powi(2))
-                .sum::<f64>()
-                .sqrt(),
-        )
+    let wide = |p: &[f32; 3]| Vec3::from(*p).as_dvec3();
+    let (lo, hi) = positions.iter().fold((DVec3::MAX, DVec3::MIN), |(lo, hi), p| {
+        (lo.min(wide(p)), hi.max(wide(p)))
     });
+    let center = 0.5 * (lo + hi);
+    let radius = positions
+        .iter()
+        .fold(0.0f64, |r, p| r.max(wide(p).distance(center)));
     Extent {
         center,
         radius,

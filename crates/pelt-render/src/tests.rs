@@ -7,77 +7,47 @@ use super::image::RgbaImage;
 use super::lighting::Lighting;
 use super::settings::RenderSettings;
 use super::textures::premultiply;
+use glam::dcamera::rh::proj::directx;
+use glam::dcamera::rh::view::look_at_mat4;
+use glam::{DMat4, DVec4, Vec4};
 use pelt_core::error::PeltError;
 use pelt_core::scene::{fin_mesh, surface_mesh};
 use pelt_core::texture::color::{linear_to_srgb, srgb_to_linear};
 use pelt_core::{FurMesh, MeshInput};
 
-fn column_major(rows: [[f64; 4]; 4]) -> [f32; 16] {
-    std::array::from_fn(|i| rows[i % 4][i / 4] as f32)
-}
-
-/// A right-handed look-at view matrix, written out from its definition.
+/// A right-handed look-at view matrix, column-major.
 fn look_at(eye: [f64; 3], target: [f64; 3], up: [f64; 3]) -> [f32; 16] {
-    let norm = |v: [f64; 3]| {
-        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        v.map(|c| c / l)
-    };
-    let cross = |a: [f64; 3], b: [f64; 3]| {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let f = norm([target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]]);
-    let s = norm(cross(f, up));
-    let u = cross(s, f);
-    column_major([
-        [s[0], s[1], s[2], -dot(s, eye)],
-        [u[0], u[1], u[2], -dot(u, eye)],
-        [-f[0], -f[1], -f[2], dot(f, eye)],
-        [0.0, 0.0, 0.0, 1.0],
-    ])
+    look_at_mat4(eye.into(), target.into(), up.into())
+        .as_mat4()
+        .to_cols_array()
 }
 
+/// A 90° vertical field of view (focal length 1) on a square image, view depths 0.1 to 10.
 fn perspective() -> [f32; 16] {
-    let (near, far, t) = (0.1, 10.0, 1.0);
-    column_major([
-        [t, 0.0, 0.0, 0.0],
-        [0.0, t, 0.0, 0.0],
-        [0.0, 0.0, far / (near - far), near * far / (near - far)],
-        [0.0, 0.0, -1.0, 0.0],
-    ])
+    directx::perspective(std::f64::consts::FRAC_PI_2, 1.0, 0.1, 10.0)
+        .as_mat4()
+        .to_cols_array()
 }
 
-fn orthographic() -> [f32; 16] {
-    column_major([
-        [0.5, 0.0, 0.0, 0.0],
-        [0.0, 0.5, 0.0, 0.0],
-        [0.0, 0.0, -0.1, 0.5],
-        [0.0, 0.0, 0.0, 1.0],
-    ])
+/// `[-half, half]²` of the view plane, view depths `near..far` to clip depth `0..1`.
+fn orthographic(half: f64, near: f64, far: f64) -> [f32; 16] {
+    directx::orthographic(-half, half, -half, half, near, far)
+        .as_mat4()
+        .to_cols_array()
 }
 
 #[test]
 fn inverse_times_matrix_is_identity_and_singular_is_refused() {
-    let m = [
-        [2.0, 0.5, -1.0, 3.0],
-        [0.0, 1.5, 0.25, -2.0],
-        [1.0, -0.5, 4.0, 0.5],
-        [0.0, 0.0, 0.3, 1.0],
-    ];
-    let inv = invert(&m).unwrap();
-    let product: [[f64; 4]; 4] =
-        std::array::from_fn(|r| std::array::from_fn(|c| (0..4).map(|k| m[r][k] * inv[k][c]).sum()));
-    for (r, row) in product.iter().enumerate() {
-        for (c, v) in row.iter().enumerate() {
-            assert!((v - f64::from(u8::from(r == c))).abs() < 1e-12, "({r},{c}) = {v}");
-        }
-    }
+    let m = DMat4::from_rows(
+        DVec4::new(2.0, 0.5, -1.0, 3.0),
+        DVec4::new(0.0, 1.5, 0.25, -2.0),
+        DVec4::new(1.0, -0.5, 4.0, 0.5),
+        DVec4::new(0.0, 0.0, 0.3, 1.0),
+    );
+    let product = m * invert(&m).unwrap();
+    assert!(product.abs_diff_eq(DMat4::IDENTITY, 1e-12), "{product}");
     let mut singular = m;
-    singular[3] = [4.0, 1.0, -2.0, 6.0]; // twice row 0
+    singular.set_row(3, DVec4::new(4.0, 1.0, -2.0, 6.0)); // twice row 0
     assert!(invert(&singular).is_none());
 }
 
@@ -92,29 +62,28 @@ fn camera_finds_the_eye_for_perspective_and_orthographic_projections() {
         height: 32,
     };
     let frame = CameraFrame::of(&camera, 8192).unwrap();
-    for (got, want) in frame.eye.iter().zip(eye) {
+    for (got, want) in frame.eye.to_array().iter().zip(eye) {
         assert!((f64::from(*got) - want).abs() < 1e-5, "{:?}", frame.eye);
     }
-    assert_eq!(frame.eye[3], 1.0);
+    assert_eq!(frame.eye.w, 1.0);
     // The target projects to the centre of the image.
-    let p = [0.0f32, 0.5, 0.0, 1.0];
-    let clip: [f32; 4] = std::array::from_fn(|r| (0..4).map(|k| frame.view_proj[k * 4 + r] * p[k]).sum());
+    let clip = frame.view_proj * Vec4::new(0.0, 0.5, 0.0, 1.0);
     assert!(
-        clip[0].abs() < 1e-5 && clip[1].abs() < 1e-5 && clip[3] > 0.0,
+        clip.x.abs() < 1e-5 && clip.y.abs() < 1e-5 && clip.w > 0.0,
         "{clip:?}"
     );
 
     let ortho = Camera {
-        projection: orthographic(),
+        projection: orthographic(2.0, -5.0, 5.0),
         ..camera
     };
     let frame = CameraFrame::of(&ortho, 8192).unwrap();
     let toward = [1.0, -3.5, 2.0];
     let len = (1.0f64 + 3.5 * 3.5 + 4.0).sqrt();
-    for (got, want) in frame.eye.iter().zip(toward) {
+    for (got, want) in frame.eye.to_array().iter().zip(toward) {
         assert!((f64::from(*got) - want / len).abs() < 1e-5, "{:?}", frame.eye);
     }
-    assert_eq!(frame.eye[3], 0.0);
+    assert_eq!(frame.eye.w, 0.0);
 }
 
 fn parameter_name(e: PeltError) -> String {
@@ -408,19 +377,14 @@ fn lod_follows_the_projected_fur_depth_between_the_levels() {
     use super::lod::{Extent, Levels, choose};
     let levels = Levels::new(17); // 16, 8, 4, 2, 1, 0 shells
     let extent = Extent {
-        center: [0.0; 3],
+        center: glam::DVec3::ZERO,
         radius: 1.0,
         max_length: 1.0,
     };
     // Orthographic over [-2, 2]² on 200² pixels: 50 pixels per unit, fur 0.1 deep = 5 pixels.
     let camera = Camera {
         view: look_at([0.0, 0.0, 3.0], [0.0; 3], [0.0, 1.0, 0.0]),
-        projection: column_major([
-            [0.5, 0.0, 0.0, 0.0],
-            [0.0, 0.5, 0.0, 0.0],
-            [0.0, 0.0, -0.2, -0.1],
-            [0.0, 0.0, 0.0, 1.0],
-        ]),
+        projection: orthographic(2.0, 0.5, 5.5),
         width: 200,
         height: 200,
     };
@@ -587,9 +551,8 @@ fn opengl_projections_map_near_and_far_to_wgpu_depth() {
     let frame = CameraFrame::of(&camera, 4096).unwrap();
     // Object points straight ahead at view depth d (object z = 3 − d).
     let depth = |d: f64| {
-        let p = [0.0f32, 0.0, (3.0 - d) as f32, 1.0];
-        let clip: [f32; 4] = std::array::from_fn(|r| (0..4).map(|k| frame.view_proj[k * 4 + r] * p[k]).sum());
-        f64::from(clip[2] / clip[3])
+        let clip = frame.view_proj * Vec4::new(0.0, 0.0, (3.0 - d) as f32, 1.0);
+        f64::from(clip.z / clip.w)
     };
     assert!(depth(near).abs() < 1e-6, "{}", depth(near));
     assert!((depth(far) - 1.0).abs() < 1e-5, "{}", depth(far));
@@ -598,5 +561,5 @@ fn opengl_projections_map_near_and_far_to_wgpu_depth() {
     let want = (far / (near - far) * -d + near * far / (near - far)) / d;
     assert!((depth(d) - want).abs() < 1e-6);
     // Eye found as for any wgpu camera.
-    assert!((frame.eye[2] - 3.0).abs() < 1e-6 && frame.eye[3] == 1.0);
+    assert!((frame.eye.z - 3.0).abs() < 1e-6 && frame.eye.w == 1.0);
 }

@@ -8,6 +8,9 @@
 
 use std::sync::OnceLock;
 
+use glam::DVec3;
+use glam::dcamera::rh::proj::directx;
+use glam::dcamera::rh::view::look_at_mat4;
 use rayon::prelude::*;
 
 use super::{BenchOptions, CaseResult, time_fallible};
@@ -21,7 +24,6 @@ use pelt_core::prt::sh::{self, ShRotation};
 use pelt_core::prt::volume_input::VolumeInput;
 use pelt_core::prt::{TransferParams, bake_transfer};
 use pelt_core::threads::pool;
-use pelt_core::vec3::{cross, dot};
 use pelt_core::volume::{HairVolume, VolumeParams, bake_volume};
 use pelt_render::{
     AdapterChoice, Camera, FurScene, LightModel, Lighting, Prt, RenderSettings, Renderer, ShellMethod,
@@ -50,37 +52,15 @@ pub(super) const FUR_DEPTH: f32 = 0.04;
 /// World units per tile of the hair texture.
 pub(super) const TILE: f64 = 0.25;
 
-fn column_major(rows: [[f64; 4]; 4]) -> [f32; 16] {
-    std::array::from_fn(|i| rows[i % 4][i / 4] as f32)
-}
-
 /// A camera `distance` units in front of Suzanne (she faces −y), a little above and to the side,
 /// 40° vertical field of view, `width × height` pixels.
 pub(super) fn camera(distance: f64, width: u32, height: u32) -> Camera {
-    let eye = [0.35 * distance, -distance, 0.25 * distance];
-    let norm = |v: [f64; 3]| {
-        let l = dot(v, v).sqrt();
-        v.map(|c| c / l)
-    };
-    let f = norm(eye.map(|c| -c));
-    let s = norm(cross(f, [0.0, 0.0, 1.0]));
-    let u = cross(s, f);
-    let (near, far) = (0.1, 10.0 * distance);
-    let t = 1.0 / 20f64.to_radians().tan();
+    let eye = DVec3::new(0.35 * distance, -distance, 0.25 * distance);
     let aspect = f64::from(width) / f64::from(height);
+    let projection = directx::perspective(40f64.to_radians(), aspect, 0.1, 10.0 * distance);
     Camera {
-        view: column_major([
-            [s[0], s[1], s[2], -dot(s, eye)],
-            [u[0], u[1], u[2], -dot(u, eye)],
-            [-f[0], -f[1], -f[2], dot(f, eye)],
-            [0.0, 0.0, 0.0, 1.0],
-        ]),
-        projection: column_major([
-            [t / aspect, 0.0, 0.0, 0.0],
-            [0.0, t, 0.0, 0.0],
-            [0.0, 0.0, far / (near - far), near * far / (near - far)],
-            [0.0, 0.0, -1.0, 0.0],
-        ]),
+        view: look_at_mat4(eye, DVec3::ZERO, DVec3::Z).as_mat4().to_cols_array(),
+        projection: projection.as_mat4().to_cols_array(),
         width,
         height,
     }
@@ -95,10 +75,10 @@ fn rotate_on_cpu(frames: &[[[f64; 3]; 3]], light: &[[f64; 3]]) -> Result<Vec<[f6
         frames
             .par_iter()
             .map(|&[n, dpdu, _]| {
-                let x: [f64; 3] = std::array::from_fn(|i| dpdu[i] - n[i] * dot(n, dpdu));
-                let l = dot(x, x).sqrt().max(1e-30);
-                let x = x.map(|c| c / l);
-                let rotation = ShRotation::new(order, [x, cross(n, x), n])?;
+                let (n, dpdu) = (DVec3::from(n), DVec3::from(dpdu));
+                let x = dpdu - n * n.dot(dpdu);
+                let x = x / x.length().max(1e-30);
+                let rotation = ShRotation::new(order, [x, n.cross(x), n].map(|v| v.to_array()))?;
                 let rotated = channels
                     .iter()
                     .map(|c| rotation.apply(c))

@@ -2,6 +2,9 @@
 //! (+Z up, as in Blender, from which Pelt's meshes come), a zoom factor relative to the distance
 //! that frames the sphere, and the light direction as yaw and pitch in object space.
 
+use glam::dcamera::rh::proj::directx;
+use glam::dcamera::rh::view::look_at_mat4;
+use glam::{DVec3, Vec3};
 use pelt_render::Camera;
 
 /// Vertical field of view.
@@ -20,7 +23,7 @@ const START_PITCH: f64 = 15.0 * std::f64::consts::PI / 180.0;
 /// The mesh's bounding sphere, fur included.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sphere {
-    pub centre: [f64; 3],
+    pub centre: DVec3,
     pub radius: f64,
 }
 
@@ -28,21 +31,20 @@ impl Sphere {
     /// The sphere around the box of `positions`, grown by `fur` (the tallest hair); a point
     /// mesh still gets a positive radius.
     pub fn around(positions: &[[f32; 3]], fur: f64) -> Sphere {
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        for p in positions {
-            for k in 0..3 {
-                lo[k] = lo[k].min(f64::from(p[k]));
-                hi[k] = hi[k].max(f64::from(p[k]));
-            }
-        }
-        if positions.is_empty() {
-            (lo, hi) = ([0.0; 3], [0.0; 3]);
-        }
-        let centre: [f64; 3] = std::array::from_fn(|k| 0.5 * (lo[k] + hi[k]));
+        let wide = |p: &[f32; 3]| Vec3::from(*p).as_dvec3();
+        let (lo, hi) = positions
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(wide(p)), hi.max(wide(p)))
+            });
+        let centre = if positions.is_empty() {
+            DVec3::ZERO
+        } else {
+            0.5 * (lo + hi)
+        };
         let reach = positions
             .iter()
-            .map(|p| length(std::array::from_fn(|k| f64::from(p[k]) - centre[k])))
+            .map(|p| wide(p).distance(centre))
             .fold(0.0, f64::max);
         let radius = reach + fur.max(0.0);
         Sphere {
@@ -84,10 +86,10 @@ impl Orbit {
     }
 
     /// The eye's unit direction from the centre.
-    fn direction(&self) -> [f64; 3] {
+    fn direction(&self) -> DVec3 {
         let (sy, cy) = self.yaw.sin_cos();
         let (sp, cp) = self.pitch.sin_cos();
-        [cp * sy, -cp * cy, sp]
+        DVec3::new(cp * sy, -cp * cy, sp)
     }
 
     /// The camera for a `width × height` image of `sphere`.
@@ -96,13 +98,16 @@ impl Orbit {
         // The narrower of the two fields of view must hold the sphere.
         let half = ((FOV_Y / 2.0).tan() * aspect.min(1.0)).atan();
         let distance = self.zoom * sphere.radius / half.sin();
-        let d = self.direction();
-        let eye: [f64; 3] = std::array::from_fn(|k| sphere.centre[k] + distance * d[k]);
+        let eye = sphere.centre + distance * self.direction();
         let near = (distance - sphere.radius).max(0.01 * sphere.radius);
         let far = distance + sphere.radius;
+        // +Z up: the pitch limit keeps the view off the up axis. The projection is onto wgpu's
+        // clip space (depth in [0, 1], y up).
+        let view = look_at_mat4(eye, sphere.centre, DVec3::Z);
+        let projection = directx::perspective(FOV_Y, aspect, near, far);
         Camera {
-            view: look_at(eye, sphere.centre),
-            projection: perspective(FOV_Y, aspect, near, far),
+            view: view.as_mat4().to_cols_array(),
+            projection: projection.as_mat4().to_cols_array(),
             width,
             height,
         }
@@ -139,54 +144,6 @@ impl Angles {
         let (sp, cp) = self.pitch.sin_cos();
         [cp * sy, -cp * cy, sp].map(|v| v as f32)
     }
-}
-
-fn length(v: [f64; 3]) -> f64 {
-    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
-}
-
-fn normalized(v: [f64; 3]) -> [f64; 3] {
-    let l = length(v);
-    v.map(|x| x / l)
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-/// Column-major view matrix of a camera at `eye` looking at `target`, +Z up (the orbit's pitch
-/// limit keeps the view off the up axis).
-fn look_at(eye: [f64; 3], target: [f64; 3]) -> [f32; 16] {
-    let forward = normalized(std::array::from_fn(|k| target[k] - eye[k]));
-    let right = normalized(cross(forward, [0.0, 0.0, 1.0]));
-    let up = cross(right, forward);
-    let rows = [
-        [right[0], right[1], right[2], -dot(right, eye)],
-        [up[0], up[1], up[2], -dot(up, eye)],
-        [-forward[0], -forward[1], -forward[2], dot(forward, eye)],
-        [0.0, 0.0, 0.0, 1.0],
-    ];
-    std::array::from_fn(|i| rows[i % 4][i / 4] as f32)
-}
-
-/// Column-major right-handed perspective projection onto wgpu's clip space (depth `[0, 1]`).
-fn perspective(fov_y: f64, aspect: f64, near: f64, far: f64) -> [f32; 16] {
-    let f = 1.0 / (fov_y / 2.0).tan();
-    let rows = [
-        [f / aspect, 0.0, 0.0, 0.0],
-        [0.0, f, 0.0, 0.0],
-        [0.0, 0.0, far / (near - far), near * far / (near - far)],
-        [0.0, 0.0, -1.0, 0.0],
-    ];
-    std::array::from_fn(|i| rows[i % 4][i / 4] as f32)
 }
 
 #[cfg(test)]

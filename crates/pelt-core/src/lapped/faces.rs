@@ -7,7 +7,7 @@
 //! in face coordinates (Praun et al. 2000, §4.2: the patch is parameterized so that the
 //! texture's axes follow the tangent field).
 
-use crate::vec3::{cross, dot};
+use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 use crate::mesh::{FurMesh, NO_EDGE, orthonormal_basis};
@@ -15,10 +15,15 @@ use crate::mesh::{FurMesh, NO_EDGE, orthonormal_basis};
 /// Marks a face that belongs to no unit (bald).
 pub(super) const NO_UNIT: u32 = u32::MAX;
 
-fn unit_or(v: [f64; 3], fallback: Option<[f64; 3]>) -> Option<[f64; 3]> {
-    let l = dot(v, v).sqrt();
+/// Widens an f32 vector to f64.
+fn wide(a: [f32; 3]) -> DVec3 {
+    Vec3::from(a).as_dvec3()
+}
+
+fn unit_or(v: DVec3, fallback: Option<DVec3>) -> Option<DVec3> {
+    let l = v.length();
     if l > 0.0 && l.is_finite() {
-        Some(v.map(|c| c / l))
+        Some(v / l)
     } else {
         fallback
     }
@@ -62,31 +67,24 @@ impl Face {
 /// Normal and the field at the centroid of face `f`: the mean of the unnormalized field at the
 /// corners (direction × strength), so that a corner on a parting (where the field passes through
 /// zero between opposite directions) does not pull the face to the wrong side.
-fn normal_and_field(
-    mesh: &FurMesh,
-    f: usize,
-    direction: &[[f32; 3]],
-    strength: &[f32],
-) -> ([f64; 3], [f64; 3]) {
-    let wide = |a: [f32; 3]| a.map(f64::from);
+fn normal_and_field(mesh: &FurMesh, f: usize, direction: &[[f32; 3]], strength: &[f32]) -> (DVec3, DVec3) {
     let tri = mesh.triangles()[f];
     let p = tri.map(|v| wide(mesh.positions()[v as usize]));
-    let e = |a: usize, b: usize| [0, 1, 2].map(|k| p[b][k] - p[a][k]);
     let vertex_normals = tri
         .iter()
         .map(|&v| wide(mesh.normals()[v as usize]))
-        .fold([0.0; 3], |s, n| [s[0] + n[0], s[1] + n[1], s[2] + n[2]]);
+        .fold(DVec3::ZERO, |s, n| s + n);
     let normal = (!mesh.degenerate_faces()[f])
-        .then(|| unit_or(cross(e(0, 1), e(0, 2)), None))
+        .then(|| unit_or((p[1] - p[0]).cross(p[2] - p[0]), None))
         .flatten()
         .or_else(|| unit_or(vertex_normals, None))
-        .unwrap_or([0.0, 0.0, 1.0]);
-    let field = [0, 1, 2].map(|k| {
+        .unwrap_or(DVec3::Z);
+    let field = DVec3::from_array([0, 1, 2].map(|k| {
         tri.iter()
             .map(|&v| f64::from(strength[v as usize]).max(0.0) * f64::from(direction[v as usize][k]))
             .sum::<f64>()
             / 3.0
-    });
+    }));
     (normal, field)
 }
 
@@ -94,28 +92,23 @@ fn normal_and_field(
 /// unit (polygon) share one target direction, the area-weighted mean of their fields, so that a
 /// polygon straddling a parting is not torn between opposite targets.
 pub(super) fn frames(mesh: &FurMesh, direction: &[[f32; 3]], strength: &[f32], units: &Units) -> Vec<Face> {
-    let wide = |a: [f32; 3]| a.map(f64::from);
-    let fields: Vec<([f64; 3], [f64; 3])> = (0..mesh.face_count())
+    let fields: Vec<(DVec3, DVec3)> = (0..mesh.face_count())
         .into_par_iter()
         .map(|f| normal_and_field(mesh, f, direction, strength))
         .collect();
     let area_of = |f: usize| {
         let p = mesh.triangles()[f].map(|v| wide(mesh.positions()[v as usize]));
-        let n = cross(
-            [0, 1, 2].map(|k| p[1][k] - p[0][k]),
-            [0, 1, 2].map(|k| p[2][k] - p[0][k]),
-        );
-        dot(n, n).sqrt() / 2.0
+        (p[1] - p[0]).cross(p[2] - p[0]).length() / 2.0
     };
-    let unit_field: Vec<[f64; 3]> = (0..units.len() as u32)
+    let unit_field: Vec<DVec3> = (0..units.len() as u32)
         .into_par_iter()
         .map(|u| {
             // The area-weighted mean, dimensionless like the other candidates below.
-            let (sum, total) = units.faces(u).iter().fold(([0.0; 3], 0.0), |(s, t), &f| {
+            let (sum, total) = units.faces(u).iter().fold((DVec3::ZERO, 0.0), |(s, t), &f| {
                 let (a, v) = (area_of(f as usize), fields[f as usize].1);
-                ([s[0] + a * v[0], s[1] + a * v[1], s[2] + a * v[2]], t + a)
+                (s + a * v, t + a)
             });
-            if total > 0.0 { sum.map(|c| c / total) } else { sum }
+            if total > 0.0 { sum / total } else { sum }
         })
         .collect();
     (0..mesh.face_count())
@@ -125,12 +118,9 @@ pub(super) fn frames(mesh: &FurMesh, direction: &[[f32; 3]], strength: &[f32], u
             let p = tri.map(|v| wide(mesh.positions()[v as usize]));
             let degenerate = mesh.degenerate_faces()[f];
             let (normal, field) = fields[f];
-            let in_plane = |d: [f64; 3]| {
-                let k = dot(d, normal);
-                [0, 1, 2].map(|i| d[i] - k * normal[i])
-            };
+            let in_plane = |d: DVec3| d - d.dot(normal) * normal;
             let dirs = tri.map(|v| wide(direction[v as usize]));
-            let sum = [0, 1, 2].map(|k| dirs[0][k] + dirs[1][k] + dirs[2][k]);
+            let sum = dirs[0] + dirs[1] + dirs[2];
             let unit = units.of_face[f];
             let shared = if unit == NO_UNIT {
                 field
@@ -142,17 +132,17 @@ pub(super) fn frames(mesh: &FurMesh, direction: &[[f32; 3]], strength: &[f32], u
                 .into_iter()
                 .chain(dirs)
                 .map(in_plane)
-                .find(|d| dot(*d, *d) > 1e-12)
+                .find(|d| d.length_squared() > 1e-12)
                 .and_then(|d| unit_or(d, None))
                 .unwrap_or_else(|| {
-                    let [t, _] = orthonormal_basis(normal.map(|c| c as f32));
+                    let [t, _] = orthonormal_basis(normal.as_vec3().to_array());
                     wide(t)
                 });
-            let across = cross(normal, along);
-            let centroid = [0, 1, 2].map(|k| (p[0][k] + p[1][k] + p[2][k]) / 3.0);
+            let across = normal.cross(along);
+            let centroid = (p[0] + p[1] + p[2]) / 3.0;
             let corners = p.map(|q| {
-                let r = [0, 1, 2].map(|k| q[k] - centroid[k]);
-                [dot(r, along), dot(r, across)]
+                let r = q - centroid;
+                [r.dot(along), r.dot(across)]
             });
             let (area, grad_area) = if degenerate {
                 (0.0, [[0.0; 2]; 3])

@@ -34,6 +34,7 @@ mod quality;
 pub use picture::{MAX_SIDE, PictureParams, picture};
 pub use quality::{PatchQuality, STRETCH_WITHIN};
 
+use glam::Vec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -200,8 +201,9 @@ pub const MIN_TILES_ACROSS: f64 = 1.0 / (1u64 << 20) as f64;
 /// tiles or tell the mesh's corners apart.
 fn check_tiles_across(mesh: &FurMesh, tile_size: f64) -> Result<()> {
     let stats = mesh.stats();
-    let diagonal = crate::vec3::sub(stats.bbox_max.map(f64::from), stats.bbox_min.map(f64::from));
-    let length = crate::vec3::dot(diagonal, diagonal).sqrt();
+    let length = Vec3::from(stats.bbox_max)
+        .as_dvec3()
+        .distance(Vec3::from(stats.bbox_min).as_dvec3());
     let tiles = length / tile_size;
     if (MIN_TILES_ACROSS..=MAX_TILES_ACROSS).contains(&tiles) || length == 0.0 {
         return Ok(());

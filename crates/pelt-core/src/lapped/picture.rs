@@ -3,6 +3,8 @@
 //! bald faces grey, and a short dark line along the hair direction at the visible vertices.
 //! It needs no GPU, so the demo can save it anywhere.
 
+use glam::Vec3;
+
 use super::{NO_PATCH, Patches};
 use crate::error::{PeltError, Result};
 use crate::mesh::FurMesh;
@@ -115,30 +117,19 @@ pub fn picture(mesh: &FurMesh, patches: &Patches, params: &PictureParams) -> Res
         .map(|&c| f64::from(c).powi(2))
         .sum::<f64>()
         .sqrt();
-    let forward = params.view.map(|c| (f64::from(c) / length) as f32);
-    let dot = |a: [f32; 3], b: [f32; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let cross = |a: [f32; 3], b: [f32; 3]| {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
+    let forward = Vec3::from(params.view.map(|c| (f64::from(c) / length) as f32));
     // Object +Z is up on screen (as in Blender's front view), unless the view runs along Z.
-    let hint = if forward[2].abs() > 0.999 {
-        [0.0, 1.0, 0.0]
-    } else {
-        [0.0, 0.0, 1.0]
-    };
-    let side = cross(forward, hint);
-    let side_length = dot(side, side).sqrt();
-    let right = side.map(|c| c / side_length);
-    let up = cross(right, forward);
+    let hint = if forward.z.abs() > 0.999 { Vec3::Y } else { Vec3::Z };
+    let side = forward.cross(hint);
+    let right = side / side.length();
+    let up = right.cross(forward);
+    // View coordinates (right, up, depth), the depth moved `bias` toward the viewer.
+    let project = |p: Vec3, bias: f32| [p.dot(right), p.dot(up), p.dot(forward) - bias];
     // Screen placement: the projected bounding box fills the picture less a margin.
     let projected: Vec<[f32; 3]> = mesh
         .positions()
         .iter()
-        .map(|&p| [dot(p, right), dot(p, up), dot(p, forward)])
+        .map(|&p| project(Vec3::from(p), 0.0))
         .collect();
     let (mut lo, mut hi) = ([f32::INFINITY; 2], [f32::NEG_INFINITY; 2]);
     for p in &projected {
@@ -167,18 +158,10 @@ pub fn picture(mesh: &FurMesh, patches: &Patches, params: &PictureParams) -> Res
         if area.abs() < 1e-12 {
             continue;
         }
-        let p = tri.map(|v| mesh.positions()[v as usize]);
-        let (e1, e2) = (
-            [0, 1, 2].map(|k| p[1][k] - p[0][k]),
-            [0, 1, 2].map(|k| p[2][k] - p[0][k]),
-        );
-        let n = [
-            e1[1] * e2[2] - e1[2] * e2[1],
-            e1[2] * e2[0] - e1[0] * e2[2],
-            e1[0] * e2[1] - e1[1] * e2[0],
-        ];
-        let n_length = n.iter().map(|&c| f64::from(c).powi(2)).sum::<f64>().sqrt();
-        let facing = (f64::from(dot(n, forward)).abs() / n_length.max(f64::MIN_POSITIVE)) as f32;
+        let p = tri.map(|v| Vec3::from(mesh.positions()[v as usize]));
+        let n = (p[1] - p[0]).cross(p[2] - p[0]);
+        let n_length = n.as_dvec3().length();
+        let facing = (f64::from(n.dot(forward)).abs() / n_length.max(f64::MIN_POSITIVE)) as f32;
         let base = match patches.patch[f] {
             NO_PATCH => BALD,
             id => patch_color(id),
@@ -221,16 +204,12 @@ pub fn picture(mesh: &FurMesh, patches: &Patches, params: &PictureParams) -> Res
         // Lines sit a little in front of the surface so the z-test keeps the visible ones.
         let bias = 0.01 * extent;
         for v in (0..mesh.vertex_count()).step_by(params.hair_every) {
-            if dot(mesh.normals()[v], forward) > 0.0 {
+            if Vec3::from(mesh.normals()[v]).dot(forward) > 0.0 {
                 continue;
             }
-            let p = mesh.positions()[v];
-            let d = patches.direction[v];
-            let tip = [0, 1, 2].map(|k| p[k] + hair * d[k]);
-            let (s, t) = (
-                to_screen([dot(p, right), dot(p, up), dot(p, forward) - bias]),
-                to_screen([dot(tip, right), dot(tip, up), dot(tip, forward) - bias]),
-            );
+            let p = Vec3::from(mesh.positions()[v]);
+            let tip = p + hair * Vec3::from(patches.direction[v]);
+            let (s, t) = (to_screen(project(p, bias)), to_screen(project(tip, bias)));
             let steps = ((t[0] - s[0]).abs().max((t[1] - s[1]).abs()).ceil() as usize).max(1);
             for k in 0..=steps {
                 let a = k as f32 / steps as f32;

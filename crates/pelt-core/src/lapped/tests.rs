@@ -4,6 +4,7 @@
 use super::quality::metrics;
 use super::*;
 use crate::mesh::{MeshInput, shapes};
+use glam::DVec3;
 
 type Shape = (Vec<[f32; 3]>, Vec<[u32; 3]>);
 
@@ -167,26 +168,18 @@ fn the_uv_sphere_meets_the_acceptance_figures() {
 /// Angle between the 3D direction along which v stays constant and u grows on the triangle with
 /// corners `c` and UVs `uv`, and `direction` projected into the triangle's plane.
 fn u_axis_angle_deg(c: &[[f64; 3]; 3], uv: &[[f32; 2]; 3], direction: [f64; 3]) -> f64 {
-    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let (e1, e2) = (sub(c[1], c[0]), sub(c[2], c[0]));
+    let c = c.map(DVec3::from);
+    let (e1, e2) = (c[1] - c[0], c[2] - c[0]);
     let (du1, dv1) = (f64::from(uv[1][0] - uv[0][0]), f64::from(uv[1][1] - uv[0][1]));
     let (du2, dv2) = (f64::from(uv[2][0] - uv[0][0]), f64::from(uv[2][1] - uv[0][1]));
     // Solve a·(du1, dv1) + b·(du2, dv2) = (1, 0): the 3D preimage is a·e1 + b·e2.
     let det = du1 * dv2 - du2 * dv1;
     let (a, b) = (dv2 / det, -dv1 / det);
-    let w = [0, 1, 2].map(|k| a * e1[k] + b * e2[k]);
-    let n = [
-        e1[1] * e2[2] - e1[2] * e2[1],
-        e1[2] * e2[0] - e1[0] * e2[2],
-        e1[0] * e2[1] - e1[1] * e2[0],
-    ];
-    let along = dot(direction, n) / dot(n, n);
-    let d = [0, 1, 2].map(|k| direction[k] - along * n[k]);
-    (dot(w, d) / (dot(w, w) * dot(d, d)).sqrt())
-        .clamp(-1.0, 1.0)
-        .acos()
-        .to_degrees()
+    let w = a * e1 + b * e2;
+    let n = e1.cross(e2);
+    let direction = DVec3::from(direction);
+    let d = direction.reject_from(n);
+    w.angle_between(d).to_degrees()
 }
 
 #[test]
@@ -233,16 +226,8 @@ fn painted_combs_are_followed_by_the_patches() {
 }
 
 fn face_area(c: &[[f64; 3]; 3]) -> f64 {
-    let (e1, e2) = (
-        [0, 1, 2].map(|k| c[1][k] - c[0][k]),
-        [0, 1, 2].map(|k| c[2][k] - c[0][k]),
-    );
-    let n = [
-        e1[1] * e2[2] - e1[2] * e2[1],
-        e1[2] * e2[0] - e1[0] * e2[2],
-        e1[0] * e2[1] - e1[1] * e2[0],
-    ];
-    0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
+    let c = c.map(DVec3::from);
+    0.5 * (c[1] - c[0]).cross(c[2] - c[0]).length()
 }
 
 #[test]

@@ -5,6 +5,8 @@
 //! The renderer extrudes these quads in its vertex shader and the glTF export bakes them into
 //! geometry; both read the same quads, so an exported fin lies where the preview draws it.
 
+use glam::Vec3;
+
 use crate::FurMesh;
 use crate::rng::Rng;
 
@@ -40,25 +42,22 @@ pub fn quad_triangles(quad: u32) -> [u32; 6] {
 /// the sum of the end normals) and the edge's length, or `None` for a collapsed edge or one
 /// whose end normals cancel or run along it (no fin plane).
 pub fn fin_plane(ends: [[f32; 3]; 2], normals: [[f32; 3]; 2]) -> Option<([f32; 3], f64)> {
-    let [pa, pb] = ends;
-    let e: [f64; 3] = std::array::from_fn(|i| f64::from(pb[i]) - f64::from(pa[i]));
-    let len = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
-    let n: [f64; 3] = std::array::from_fn(|i| f64::from(normals[0][i]) + f64::from(normals[1][i]));
-    let f = [
-        n[1] * e[2] - n[2] * e[1],
-        n[2] * e[0] - n[0] * e[2],
-        n[0] * e[1] - n[1] * e[0],
-    ];
-    let f_len = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+    let wide = |v: [f32; 3]| Vec3::from(v).as_dvec3();
+    let e = wide(ends[1]) - wide(ends[0]);
+    let len = e.length();
+    let f = (wide(normals[0]) + wide(normals[1])).cross(e);
+    let f_len = f.length();
     if len == 0.0 || f_len.is_nan() || f_len <= 1e-9 * len {
         return None;
     }
-    Some((f.map(|c| (c / f_len) as f32), len))
+    Some(((f / f_len).as_vec3().to_array(), len))
 }
 
 /// The midpoint of the edge `a`–`b` (where a fin's fade is evaluated), summed in f64.
 pub fn midpoint(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    std::array::from_fn(|i| ((f64::from(a[i]) + f64::from(b[i])) * 0.5) as f32)
+    ((Vec3::from(a).as_dvec3() + Vec3::from(b).as_dvec3()) * 0.5)
+        .as_vec3()
+        .to_array()
 }
 
 /// The fins of every edge that has a length and a well-defined fin plane, in edge order;

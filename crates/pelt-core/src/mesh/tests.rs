@@ -309,18 +309,18 @@ fn tangent_frames_are_orthonormal_and_right_handed() {
         })
         .chain([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0]])
         .collect();
-    let dot = |a: [f32; 3], b: [f32; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     for n in dirs {
-        let [t, b] = orthonormal_basis(n);
+        let [t, b] = orthonormal_basis(n).map(glam::Vec3::from);
+        let v = glam::Vec3::from(n);
         assert!(
-            (dot(t, t) - 1.0).abs() < 1e-5 && (dot(b, b) - 1.0).abs() < 1e-5,
+            (t.length_squared() - 1.0).abs() < 1e-5 && (b.length_squared() - 1.0).abs() < 1e-5,
             "{n:?}"
         );
         assert!(
-            dot(t, n).abs() < 1e-5 && dot(b, n).abs() < 1e-5 && dot(t, b).abs() < 1e-5,
+            t.dot(v).abs() < 1e-5 && b.dot(v).abs() < 1e-5 && t.dot(b).abs() < 1e-5,
             "{n:?}"
         );
-        let tb = crate::vec3::cross(t.map(f64::from), b.map(f64::from)).map(|c| c as f32);
+        let tb = t.as_dvec3().cross(b.as_dvec3()).as_vec3().to_array();
         assert!(close(tb, n, 1e-5), "not right-handed at {n:?}");
     }
 }

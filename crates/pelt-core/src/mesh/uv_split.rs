@@ -11,7 +11,7 @@
 use crate::FurMesh;
 use crate::error::{PeltError, Result};
 use crate::mesh::orthonormal_basis;
-use crate::vec3::{cross, dot};
+use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 /// A mesh split at UV seams. Arrays indexed by split vertex have one row per copy.
@@ -77,14 +77,9 @@ pub fn validate_uvs(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result<()> 
     Ok(())
 }
 
-fn sub(a: [f32; 3], b: [f32; 3]) -> [f64; 3] {
-    std::array::from_fn(|i| f64::from(a[i]) - f64::from(b[i]))
-}
-
 /// `v` without its component along the unit vector `n`.
-fn tangential(v: [f64; 3], n: [f64; 3]) -> [f64; 3] {
-    let d = dot(v, n);
-    std::array::from_fn(|i| v[i] - d * n[i])
+fn tangential(v: DVec3, n: DVec3) -> DVec3 {
+    v - v.dot(n) * n
 }
 
 /// Bits of a UV with −0 folded into +0, so equal UVs always share a vertex.
@@ -126,11 +121,12 @@ pub fn split_at_uv_seams(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result
     let mut length_3d = 0.0f64;
     for (f, tri) in triangles.iter().enumerate() {
         let uv = corner_uvs[f].map(|c| c.map(f64::from));
+        let p = tri.map(|v| Vec3::from(positions[v as usize]).as_dvec3());
         for k in 0..3 {
             let (a, b) = (k, (k + 1) % 3);
-            let e = sub(positions[tri[b] as usize], positions[tri[a] as usize]);
+            let e = p[b] - p[a];
             uv_length += (uv[b][0] - uv[a][0]).hypot(uv[b][1] - uv[a][1]);
-            length_3d += dot(e, e).sqrt();
+            length_3d += e.length();
         }
     }
     let layout = SplitLayout::new(source, uvs, indices);
@@ -164,7 +160,7 @@ pub fn split_at_uv_seams(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result
 }
 
 /// Area-weighted `∂P/∂u`, `∂P/∂v` and the area they weigh, of a face or summed over a vertex's.
-type WeightedDerivatives = ([f64; 3], [f64; 3], f64);
+type WeightedDerivatives = (DVec3, DVec3, f64);
 
 /// A triangle's UV layout inverted, fixed for every pose: `∂P/∂u = a·e₁ + b·e₂` and
 /// `∂P/∂v = c·e₁ + d·e₂` for its edges `e₁`, `e₂` from corner 0 (`[a, b, c, d]`); `None` where
@@ -276,16 +272,13 @@ impl SplitLayout {
             .zip(triangles.par_iter().zip(self.uv_inverse.par_iter()))
             .for_each(|(face, (tri, inverse))| {
                 *face = inverse.and_then(|[a, b, c, d]| {
-                    let e1 = sub(positions[tri[1] as usize], positions[tri[0] as usize]);
-                    let e2 = sub(positions[tri[2] as usize], positions[tri[0] as usize]);
-                    let n = cross(e1, e2);
-                    let area = dot(n, n).sqrt();
+                    let p = tri.map(|v| Vec3::from(positions[v as usize]).as_dvec3());
+                    let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
+                    let area = e1.cross(e2).length();
                     if area == 0.0 {
                         return None;
                     }
-                    let dpdu: [f64; 3] = std::array::from_fn(|i| area * (a * e1[i] + b * e2[i]));
-                    let dpdv: [f64; 3] = std::array::from_fn(|i| area * (c * e1[i] + d * e2[i]));
-                    Some((dpdu, dpdv, area))
+                    Some((area * (a * e1 + b * e2), area * (c * e1 + d * e2), area))
                 });
             });
     }
@@ -296,12 +289,8 @@ impl SplitLayout {
         self.corners[range]
             .iter()
             .filter_map(|&c| faces[c as usize / 3])
-            .fold(([0.0; 3], [0.0; 3], 0.0), |(su, sv, w), (u, v, a)| {
-                (
-                    std::array::from_fn(|k| su[k] + u[k]),
-                    std::array::from_fn(|k| sv[k] + v[k]),
-                    w + a,
-                )
+            .fold((DVec3::ZERO, DVec3::ZERO, 0.0), |(su, sv, w), (u, v, a)| {
+                (su + u, sv + v, w + a)
             })
     }
 }
@@ -337,18 +326,18 @@ fn frames_from_sums(
 /// projected into the tangent plane, or the mesh's own frame at the mean scale `uv_scale` for a
 /// vertex only on collapsed faces (or whose derivatives are normal to the surface).
 fn frame_from_sum((su, sv, w): WeightedDerivatives, normal: [f32; 3], uv_scale: f64) -> ([f32; 3], [f32; 3]) {
-    let n = normal.map(f64::from);
+    let n = Vec3::from(normal).as_dvec3();
     let (mut dpdu, mut dpdv) = if w > 0.0 {
-        (tangential(su.map(|c| c / w), n), tangential(sv.map(|c| c / w), n))
+        (tangential(su / w, n), tangential(sv / w, n))
     } else {
-        ([0.0; 3], [0.0; 3])
+        (DVec3::ZERO, DVec3::ZERO)
     };
-    if dot(dpdu, dpdu) == 0.0 || dot(dpdv, dpdv) == 0.0 {
+    if dpdu.length_squared() == 0.0 || dpdv.length_squared() == 0.0 {
         let [t, b] = orthonormal_basis(normal);
-        dpdu = t.map(|c| f64::from(c) / uv_scale);
-        dpdv = b.map(|c| f64::from(c) / uv_scale);
+        dpdu = Vec3::from(t).as_dvec3() / uv_scale;
+        dpdv = Vec3::from(b).as_dvec3() / uv_scale;
     }
-    (dpdu.map(|c| c as f32), dpdv.map(|c| c as f32))
+    (dpdu.as_vec3().to_array(), dpdv.as_vec3().to_array())
 }
 
 /// Whether every vertex has hair length 0.

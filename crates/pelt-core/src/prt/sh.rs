@@ -21,6 +21,7 @@
 
 use std::f64::consts::{PI, SQRT_2};
 
+use glam::DVec3;
 use rayon::prelude::*;
 
 use super::sphere::gauss_legendre;
@@ -86,8 +87,9 @@ pub fn order_of_len(len: usize) -> Result<usize> {
 /// `d` scaled to length 1 if it is finite and of length 1 within [`UNIT_TOLERANCE`]; the
 /// renormalization keeps the basis exactly orthonormal for slightly-off inputs.
 fn normalized(d: [f64; 3]) -> Option<[f64; 3]> {
-    let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-    (len.is_finite() && (len - 1.0).abs() <= UNIT_TOLERANCE).then(|| d.map(|v| v / len))
+    let d = DVec3::from(d);
+    let len = d.length();
+    (len.is_finite() && (len - 1.0).abs() <= UNIT_TOLERANCE).then(|| (d / len).to_array())
 }
 
 /// [`normalized`], or an error naming the parameter.

@@ -17,7 +17,7 @@
 use rayon::prelude::*;
 
 use super::surface_mesh::SurfaceVertex;
-use crate::vec3::{cross, dot, sub};
+use glam::{DVec3, Vec3};
 
 /// Faces whose area is below this fraction of the squared cell size hold no host: their
 /// nearest point is ill-defined, and the triangles around them cover the same place.
@@ -125,9 +125,9 @@ impl LevelHosts {
 /// box meets it.
 struct Faces {
     corners: Vec<[u32; 3]>,
-    points: Vec<[[f64; 3]; 3]>,
-    normals: Vec<[f64; 3]>,
-    lo: [f64; 3],
+    points: Vec<[DVec3; 3]>,
+    normals: Vec<DVec3>,
+    lo: DVec3,
     cell: f64,
     dims: [usize; 3],
     /// Cell `c`'s triangles are `items[starts[c]..starts[c + 1]]`.
@@ -137,30 +137,25 @@ struct Faces {
 
 impl Faces {
     fn new(vertices: &[SurfaceVertex], indices: &[u32]) -> Self {
-        let position = |v: u32| vertices[v as usize].position.map(f64::from);
+        let position = |v: u32| Vec3::from(vertices[v as usize].position).as_dvec3();
         let corners: Vec<[u32; 3]> = indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
-        let points: Vec<[[f64; 3]; 3]> = corners.iter().map(|t| t.map(position)).collect();
-        let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
+        let points: Vec<[DVec3; 3]> = corners.iter().map(|t| t.map(position)).collect();
+        let (mut lo, mut hi) = (DVec3::MAX, DVec3::MIN);
         let mut edge_sum = 0.0;
         for p in &points {
-            for (k, q) in p.iter().enumerate() {
-                for i in 0..3 {
-                    lo[i] = lo[i].min(q[i]);
-                    hi[i] = hi[i].max(q[i]);
-                }
-                edge_sum += dot(sub(p[(k + 1) % 3], *q), sub(p[(k + 1) % 3], *q)).sqrt();
+            for (k, &q) in p.iter().enumerate() {
+                lo = lo.min(q);
+                hi = hi.max(q);
+                edge_sum += p[(k + 1) % 3].distance(q);
             }
         }
-        let extent = (0..3).map(|i| hi[i] - lo[i]).fold(0.0, f64::max);
+        let extent = (hi - lo).max_element().max(0.0);
         // A mean edge a cell: a handful of triangles in each.
         let mean_edge = edge_sum / (3 * points.len()).max(1) as f64;
         let cell = mean_edge.max(extent / MAX_CELLS as f64).max(f64::MIN_POSITIVE);
         let dims = std::array::from_fn(|i| (((hi[i] - lo[i]) / cell) as usize + 1).min(MAX_CELLS));
         let mut faces = Faces {
-            normals: points
-                .iter()
-                .map(|p| cross(sub(p[1], p[0]), sub(p[2], p[0])))
-                .collect(),
+            normals: points.iter().map(|p| (p[1] - p[0]).cross(p[2] - p[0])).collect(),
             corners,
             points,
             lo,
@@ -174,10 +169,10 @@ impl Faces {
         let boxes: Vec<Option<([usize; 3], [usize; 3])>> = (0..faces.points.len())
             .map(|f| {
                 let n = faces.normals[f];
-                (dot(n, n).sqrt() > degenerate).then(|| {
+                (n.length() > degenerate).then(|| {
                     let p = faces.points[f];
-                    let low = std::array::from_fn(|i| p[0][i].min(p[1][i]).min(p[2][i]));
-                    let high = std::array::from_fn(|i| p[0][i].max(p[1][i]).max(p[2][i]));
+                    let low = p[0].min(p[1]).min(p[2]);
+                    let high = p[0].max(p[1]).max(p[2]);
                     (faces.cell_of(low), faces.cell_of(high))
                 })
             })
@@ -214,7 +209,7 @@ impl Faces {
         faces
     }
 
-    fn cell_of(&self, p: [f64; 3]) -> [usize; 3] {
+    fn cell_of(&self, p: DVec3) -> [usize; 3] {
         std::array::from_fn(|i| {
             let c = ((p[i] - self.lo[i]) / self.cell).floor();
             (c.max(0.0) as usize).min(self.dims[i] - 1)
@@ -226,8 +221,8 @@ impl Faces {
     /// the level has no triangle that near (it dropped the part of the mesh `v` is on, which
     /// its error bound already counts).
     fn host(&self, v: &SurfaceVertex) -> Option<(usize, [f64; 3])> {
-        let p = v.position.map(f64::from);
-        let n = v.normal.map(f64::from);
+        let p = Vec3::from(v.position).as_dvec3();
+        let n = Vec3::from(v.normal).as_dvec3();
         let home = self.cell_of(p);
         // How far p lies inside its cell: a cell beyond ring r is at least this plus r cells
         // away (0 for a point outside the grid, clamped to its border cell).
@@ -248,12 +243,12 @@ impl Faces {
             self.each_in_shell(home, r, |f| {
                 let t = self.points[f];
                 let w = nearest_weights(p, t);
-                let q: [f64; 3] = std::array::from_fn(|i| w[0] * t[0][i] + w[1] * t[1][i] + w[2] * t[2][i]);
-                let d = dot(sub(q, p), sub(q, p));
+                let q = w[0] * t[0] + w[1] * t[1] + w[2] * t[2];
+                let d = q.distance_squared(p);
                 if nearer(&any, d, f) {
                     any = Some((d, f, w));
                 }
-                if dot(self.normals[f], n) > 0.0 && nearer(&facing, d, f) {
+                if self.normals[f].dot(n) > 0.0 && nearer(&facing, d, f) {
                     facing = Some((d, f, w));
                 }
             });
@@ -301,16 +296,16 @@ impl Faces {
 /// The barycentric weights of the point of triangle `t` nearest `p` (Ericson, Real-Time
 /// Collision Detection, §5.1.5: by the Voronoi region of the triangle's corners, edges and
 /// face that `p` falls in). `t` must have a nonzero area.
-fn nearest_weights(p: [f64; 3], t: [[f64; 3]; 3]) -> [f64; 3] {
+fn nearest_weights(p: DVec3, t: [DVec3; 3]) -> [f64; 3] {
     let [a, b, c] = t;
-    let (ab, ac) = (sub(b, a), sub(c, a));
-    let ap = sub(p, a);
-    let (d1, d2) = (dot(ab, ap), dot(ac, ap));
+    let (ab, ac) = (b - a, c - a);
+    let ap = p - a;
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
     if d1 <= 0.0 && d2 <= 0.0 {
         return [1.0, 0.0, 0.0];
     }
-    let bp = sub(p, b);
-    let (d3, d4) = (dot(ab, bp), dot(ac, bp));
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
     if d3 >= 0.0 && d4 <= d3 {
         return [0.0, 1.0, 0.0];
     }
@@ -319,8 +314,8 @@ fn nearest_weights(p: [f64; 3], t: [[f64; 3]; 3]) -> [f64; 3] {
         let s = d1 / (d1 - d3);
         return [1.0 - s, s, 0.0];
     }
-    let cp = sub(p, c);
-    let (d5, d6) = (dot(ab, cp), dot(ac, cp));
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
     if d6 >= 0.0 && d5 <= d6 {
         return [0.0, 0.0, 1.0];
     }
@@ -381,15 +376,13 @@ mod tests {
             assert_eq!(hosts.len(), kept.iter().filter(|&&k| !k).count());
             let mut farthest = 0.0f64;
             for i in 0..hosts.len() {
-                let own = positions[hosts.vertices[i] as usize].map(f64::from);
+                let own = Vec3::from(positions[hosts.vertices[i] as usize]).as_dvec3();
                 let w = hosts.weights[i];
                 assert!(w.iter().all(|&x| (0.0..=1.0).contains(&x)));
-                let at: [f64; 3] = std::array::from_fn(|a| {
-                    (0..3)
-                        .map(|c| f64::from(w[c]) * f64::from(positions[hosts.corners[i][c] as usize][a]))
-                        .sum()
-                });
-                farthest = farthest.max(dot(sub(at, own), sub(at, own)).sqrt());
+                let at: DVec3 = (0..3)
+                    .map(|c| f64::from(w[c]) * Vec3::from(positions[hosts.corners[i][c] as usize]).as_dvec3())
+                    .sum();
+                farthest = farthest.max(at.distance(own));
             }
             // The vertex is on the torus and the level within its bound of it: the host point,
             // the level's nearest, is no farther.
@@ -441,7 +434,7 @@ mod tests {
             corners: Vec::new(),
             points: Vec::new(),
             normals: Vec::new(),
-            lo: [0.0; 3],
+            lo: DVec3::ZERO,
             cell: 1.0,
             dims,
             starts: (0..=cells as u32).collect(),
@@ -463,16 +456,16 @@ mod tests {
 
     #[test]
     fn nearest_weights_match_a_brute_force_search_over_the_triangle() {
-        let t = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.5, 1.5, 0.0]];
-        let at = |w: [f64; 3]| -> [f64; 3] { std::array::from_fn(|i| (0..3).map(|k| w[k] * t[k][i]).sum()) };
+        let t = [DVec3::ZERO, DVec3::new(2.0, 0.0, 0.0), DVec3::new(0.5, 1.5, 0.0)];
+        let at = |w: [f64; 3]| w[0] * t[0] + w[1] * t[1] + w[2] * t[2];
         let mut rng = crate::rng::Rng::new(7);
         for _ in 0..200 {
             let mut uniform = |lo: f64, hi: f64| lo + (hi - lo) * rng.next_f64();
-            let p = [uniform(-1.5, 3.5), uniform(-1.5, 3.0), uniform(-1.0, 1.0)];
+            let p = DVec3::new(uniform(-1.5, 3.5), uniform(-1.5, 3.0), uniform(-1.0, 1.0));
             let w = nearest_weights(p, t);
             assert!(w.iter().all(|&x| (-1e-12..=1.0 + 1e-12).contains(&x)));
             assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-12);
-            let d = |q: [f64; 3]| dot(sub(q, p), sub(q, p)).sqrt();
+            let d = |q: DVec3| q.distance(p);
             let got = d(at(w));
             // Brute force: a fine lattice of the triangle's points.
             let steps = 400;

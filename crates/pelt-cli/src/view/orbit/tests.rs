@@ -1,19 +1,15 @@
 use super::*;
+use glam::{DMat4, Mat4};
 
-/// `m · p` for a column-major matrix and a point, then the perspective divide.
-fn project(m: &[f32; 16], p: [f64; 4]) -> [f64; 4] {
-    std::array::from_fn(|r| (0..4).map(|c| f64::from(m[c * 4 + r]) * p[c]).sum())
-}
-
-fn view_proj(camera: &Camera, p: [f64; 3]) -> [f64; 3] {
-    let v = project(&camera.view, [p[0], p[1], p[2], 1.0]);
-    let c = project(&camera.projection, v);
-    [c[0] / c[3], c[1] / c[3], c[2] / c[3]]
+/// `p` in normalized device coordinates (after the perspective divide).
+fn view_proj(camera: &Camera, p: DVec3) -> DVec3 {
+    let m = |a: &[f32; 16]| -> DMat4 { Mat4::from_cols_array(a).as_dmat4() };
+    (m(&camera.projection) * m(&camera.view)).project_point3(p)
 }
 
 fn sphere() -> Sphere {
     Sphere {
-        centre: [1.0, -2.0, 0.5],
+        centre: DVec3::new(1.0, -2.0, 0.5),
         radius: 2.0,
     }
 }
@@ -28,7 +24,7 @@ fn the_bounding_sphere_holds_every_point_and_the_fur() {
     ];
     let s = Sphere::around(&points, 0.5);
     // Box [0, 2] × [0, 4] × [−2, 0], centre (1, 2, −1); the points lie √6, √6, √6 and √2 from it.
-    assert_eq!(s.centre, [1.0, 2.0, -1.0]);
+    assert_eq!(s.centre, DVec3::new(1.0, 2.0, -1.0));
     assert!((s.radius - (6f64.sqrt() + 0.5)).abs() < 1e-12);
     assert_eq!(Sphere::around(&[], 0.0).radius, 1.0);
 }
@@ -41,10 +37,10 @@ fn the_start_view_looks_at_the_centre_from_the_front_and_above() {
     assert!(c[0].abs() < 1e-6 && c[1].abs() < 1e-6, "centre projects to {c:?}");
     assert!((0.0..1.0).contains(&c[2]));
     // A point in front of the centre (toward −Y, the front) is nearer: smaller depth.
-    let front = view_proj(&camera, [s.centre[0], s.centre[1] - 0.5, s.centre[2]]);
+    let front = view_proj(&camera, s.centre - 0.5 * DVec3::Y);
     assert!(front[2] < c[2]);
     // +Z is up on screen.
-    let above = view_proj(&camera, [s.centre[0], s.centre[1], s.centre[2] + 0.5]);
+    let above = view_proj(&camera, s.centre + 0.5 * DVec3::Z);
     assert!(above[1] > 0.0);
 }
 
@@ -64,14 +60,10 @@ fn the_whole_sphere_is_in_view_at_every_aspect_and_angle() {
                 let z = 1.0 - 2.0 * (f64::from(i) + 0.5) / 200.0;
                 let a = f64::from(i) * 2.399_963;
                 let r = (1.0 - z * z).sqrt();
-                let p = [
-                    s.centre[0] + s.radius * r * a.cos(),
-                    s.centre[1] + s.radius * r * a.sin(),
-                    s.centre[2] + s.radius * z,
-                ];
+                let p = s.centre + s.radius * DVec3::new(r * a.cos(), r * a.sin(), z);
                 let c = view_proj(&camera, p);
                 assert!(
-                    c.iter().all(|v| v.is_finite())
+                    c.is_finite()
                         && c[0].abs() <= 1.0 + 1e-6
                         && c[1].abs() <= 1.0 + 1e-6
                         && (-1e-6..=1.0 + 1e-6).contains(&c[2]),

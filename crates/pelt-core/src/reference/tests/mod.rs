@@ -4,9 +4,9 @@
 
 use std::sync::Arc;
 
-use glam::Vec3;
 use glam::camera::rh::proj::directx::{orthographic, perspective as perspective_projection};
 use glam::camera::rh::view::look_at_mat4;
+use glam::{DVec3, Vec3};
 
 use super::*;
 use crate::camera::Camera;
@@ -69,14 +69,9 @@ fn covered_radiance(image: &ReferenceImage) -> [f64; 3] {
 
 /// Kajiya–Kay in f64 from its definition (Lengyel et al. 2001, §2.4), the preview's defaults.
 fn kajiya_kay(t: [f64; 3], l: [f64; 3], v: [f64; 3], albedo: f64) -> f64 {
-    let norm = |a: [f64; 3]| {
-        let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-        a.map(|x| x / n)
-    };
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let (t, l, v) = (norm(t), norm(l), norm(v));
-    let h = norm([l[0] + v[0], l[1] + v[1], l[2] + v[2]]);
-    let (u, w) = (dot(t, l), dot(t, h));
+    let [t, l, v] = [t, l, v].map(|a| DVec3::from(a).normalize());
+    let h = (l + v).normalize();
+    let (u, w) = (t.dot(l), t.dot(h));
     0.9 * albedo * (1.0 - u * u).powf(0.5) + 0.25 * (1.0 - w * w).powf(24.0)
 }
 
