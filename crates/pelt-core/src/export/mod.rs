@@ -13,8 +13,8 @@
 //! alpha, in whatever encoding the caller chose; [`PngOptions::srgb`] and [`Ktx2Format`] say which
 //! one the file declares.
 //!
-//! The EXR and KTX2 writers are written by hand from the OpenEXR file layout and the KTX 2.0
-//! specification (no encoder crates); the tests read their output back with independent readers.
+//! PNG goes through the `png` crate and EXR through `exr`; KTX2 is written by hand from the KTX 2.0
+//! specification (the `ktx2` crate only reads), and the tests read it back with that reader.
 //!
 //! The object-level exports take [`ExportInput`]s (one borrowed, validated object each; a pipeline
 //! bake gives one with [`ExportInput::from_asset`]) and describe the stack with
