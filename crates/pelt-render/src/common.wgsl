@@ -1,4 +1,7 @@
-// Shared by every fur pass: the frame's uniforms, the scene's textures and small geometry helpers.
+#define_import_path pelt::common
+
+// Shared by every fur pass: the frame's uniforms, the scene's textures, small geometry helpers
+// and the fins' texture read.
 // All geometry and lighting are in object space (the mesh's own space).
 
 struct Frame {
@@ -126,4 +129,22 @@ fn growth(normal: vec3<f32>, comb: vec3<f32>) -> vec3<f32> {
 fn unit_or(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
     let len2 = dot(v, v);
     return select(fallback, v * inverseSqrt(len2), len2 > 1e-24);
+}
+
+// Squeezes of the fin texture along the edge beyond this many times its squeeze along the height
+// are left to alias rather than blurred into the height.
+const FIN_ANISOTROPY: f32 = 8.0;
+
+// The fin texel at `uv`, its mip level picked by the texture's footprint along the fur's height
+// (up to FIN_ANISOTROPY times finer than the footprint along the edge): a fin near the
+// silhouette is squeezed along its edge far more than along its height, and a level picked by
+// the larger squeeze blurred its rows together, spilling the opaque roots up to the tips. One
+// trilinear read, where the sampler's own anisotropic filtering cost a CPU adapter 2-3 times
+// the fins' time.
+fn fin_texel(uv: vec2<f32>) -> vec4<f32> {
+    let size = vec2<f32>(textureDimensions(fin_texture));
+    let across = length(dpdx(uv) * size);
+    let down = length(dpdy(uv) * size);
+    let footprint = max(min(across, down), max(across, down) / FIN_ANISOTROPY);
+    return textureSampleLevel(fin_texture, fin_sampler, uv, log2(max(footprint, 1e-6)));
 }

@@ -1,3 +1,9 @@
+#define_import_path pelt::fin_kk
+
+#import pelt::common::{frame, view_vector, unit_or, fin_texel}
+#import pelt::lighting::hair_terms
+#import pelt::light_model::{FinIn, FinCorner}
+
 // Fins under Kajiya-Kay lighting: the fin texture has no tangent map, its hair runs along the
 // growth direction. A fin is a few pixels across, so it is lit at its corners and the lighting
 // interpolated (Lengyel et al. 2001, §2.4, also computes u = T·L and v = T·H per vertex, through

@@ -1,3 +1,9 @@
+#define_import_path pelt::fin_prt
+
+#import pelt::common::fin_texel
+#import pelt::prt::mean_radiance
+#import pelt::light_model::{FinIn, FinCorner}
+
 // Fins under PRT lighting: the fin texture has no transfer of its own (prt-shell-fur §4 leaves
 // fins to future work), so a fin row takes the mean transfer of the hair in the shell layers at
 // its height, lit by its two ends' rotated lighting.

@@ -5,34 +5,23 @@
 
 use super::pass::{Model, PassState, VertexInput, build_pipeline};
 use super::scene::FurScene;
+use super::shaders::PassShader;
+use pelt_core::error::Result;
 
-const KAJIYA_KAY: &str = concat!(
-    include_str!("common.wgsl"),
-    include_str!("lighting.wgsl"),
-    include_str!("fins.wgsl"),
-    include_str!("fin_kk.wgsl")
-);
-const PRT: &str = concat!(
-    include_str!("common.wgsl"),
-    include_str!("prt.wgsl"),
-    include_str!("fins.wgsl"),
-    include_str!("fin_prt.wgsl")
-);
+/// The pass's shader, one source for both lighting models.
+pub(super) static SHADER: PassShader = PassShader::new("fins.wgsl", include_str!("fins.wgsl"));
 
 /// Both sides drawn (a fin is seen from either side), depth not written, premultiplied "over".
-fn state(model: Model) -> PassState<'static> {
-    PassState {
+fn state(model: Model) -> Result<PassState<'static>> {
+    Ok(PassState {
         label: "fins",
-        source: match model {
-            Model::KajiyaKay => KAJIYA_KAY,
-            Model::Prt => PRT,
-        },
+        module: SHADER.module(model)?,
         input: VertexInput::Fins,
         topology: wgpu::PrimitiveTopology::TriangleList,
         cull_mode: None,
         depth_write: false,
         blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
-    }
+    })
 }
 
 /// The fins' pipeline for one lighting model and target.
@@ -44,8 +33,8 @@ impl FinsPass {
         layout: &wgpu::PipelineLayout,
         model: Model,
         format: wgpu::TextureFormat,
-    ) -> Self {
-        FinsPass(build_pipeline(device, layout, &state(model), format))
+    ) -> Result<Self> {
+        Ok(FinsPass(build_pipeline(device, layout, &state(model)?, format)))
     }
 
     /// Draws the first `indices` of the fin index buffer, where the frame has collected the fins

@@ -1,50 +1,20 @@
 // Pass (b), the fins (Lengyel et al. 2001, §2.3): one quad per mesh edge standing along the
 // growth direction, faded by max(0, 2|p| - 1) with p = fin normal · view direction, so that only
 // fins near the silhouette (also just over the horizon) show. Depth tested, not written. The
-// lighting model's file (`fin_kk.wgsl` or `fin_prt.wgsl`) defines what reaches the fragment
-// (`FinOut`, made by `fin_vertex`) and its color (`fin_fragment`).
+// lighting model (`fin_kk.wgsl` or `fin_prt.wgsl`, `light_model.wgsl` states its interface)
+// defines what reaches the fragment (`FinOut`, made by `fin_vertex`) and its color
+// (`fin_fragment`).
 
-struct FinIn {
-    @location(5) uv: vec2<f32>,
-    @location(6) color: vec4<f32>,
-    @location(7) length: f32,
-    // The skin vertices of the edge's two ends (`skin_vertices`: a corner takes its end's
-    // position, normal and comb, the fin its plane from both); which one this corner stands on.
-    @location(8) ends: vec2<u32>,
-    @location(9) along: f32,
-};
-
-// A fin corner lifted off the skin, what the model's `fin_vertex` starts from.
-struct FinCorner {
-    clip: vec4<f32>,
-    position: vec3<f32>,
-    // The end's vertex normal and growth direction.
-    normal: vec3<f32>,
-    growth: vec3<f32>,
-    // Fade × fin opacity × vertex opacity.
-    opacity: f32,
-};
-
-// Squeezes of the fin texture along the edge beyond this many times its squeeze along the height
-// are left to alias rather than blurred into the height.
-const FIN_ANISOTROPY: f32 = 8.0;
-
-// The fin texel at `uv`, its mip level picked by the texture's footprint along the fur's height
-// (up to FIN_ANISOTROPY times finer than the footprint along the edge): a fin near the
-// silhouette is squeezed along its edge far more than along its height, and a level picked by
-// the larger squeeze blurred its rows together, spilling the opaque roots up to the tips. One
-// trilinear read, where the sampler's own anisotropic filtering cost a CPU adapter 2-3 times
-// the fins' time.
-fn fin_texel(uv: vec2<f32>) -> vec4<f32> {
-    let size = vec2<f32>(textureDimensions(fin_texture));
-    let across = length(dpdx(uv) * size);
-    let down = length(dpdy(uv) * size);
-    let footprint = max(min(across, down), max(across, down) / FIN_ANISOTROPY);
-    return textureSampleLevel(fin_texture, fin_sampler, uv, log2(max(footprint, 1e-6)));
-}
+#import pelt::common::{frame, skin_vec3, CULLED, clip_position, view_vector, growth}
+#import pelt::light_model::{FinIn, FinCorner}
+#ifdef PRT
+#import pelt::fin_prt as model
+#else
+#import pelt::fin_kk as model
+#endif
 
 @vertex
-fn vs_main(v: FinIn) -> FinOut {
+fn vs_main(v: FinIn) -> model::FinOut {
     let p0 = skin_vec3(v.ends.x, 0u);
     let p1 = skin_vec3(v.ends.y, 0u);
     let n0 = skin_vec3(v.ends.x, 3u);
@@ -64,12 +34,12 @@ fn vs_main(v: FinIn) -> FinOut {
     // uv.y is 0 at the top of the fur (the fin texture's first row) and 1 at the skin.
     let position = select(p0, p1, second) + (1.0 - v.uv.y) * frame.fur.x * v.length * g;
     let clip = select(CULLED, clip_position(position), fade > 0.0);
-    return fin_vertex(v, FinCorner(clip, position, normal, g, fade * v.color.a));
+    return model::fin_vertex(v, FinCorner(clip, position, normal, g, fade * v.color.a));
 }
 
 @fragment
-fn fs_main(f: FinOut) -> @location(0) vec4<f32> {
-    let c = fin_fragment(f);
+fn fs_main(f: model::FinOut) -> @location(0) vec4<f32> {
+    let c = model::fin_fragment(f);
     // A coarser geometric level stands its fins `spacing` times as far apart: 1/spacing as many
     // cross any stretch of surface, so each must carry the opacity of `spacing` fins of the full
     // mesh, its color kept per unit of opacity. Where the full mesh's fins fall at random along

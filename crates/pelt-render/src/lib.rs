@@ -20,12 +20,15 @@
 //! (the shell count and cross-fade per frame); `textures.rs` (volume upload, premultiplied),
 //! `upload_peak.rs` (the memory an upload needs), `transfer.rs` (PRT textures); `scene.rs`;
 //! `layouts.rs` (the bind group and pipeline layouts scenes and passes share), `pass.rs` (what a
-//! pass declares and the pipeline recipe) and one file per pass owning its shaders, pipelines and
+//! pass declares and the pipeline recipe) and one file per pass owning its shader, pipelines and
 //! draw call: `skin.rs`, `fins.rs`, `shells.rs` (with the one-hull methods' shaders of
-//! `marched.rs` and `planes.rs`, which share `march.wgsl`), `strands.rs`; their WGSL shares
-//! `common.wgsl`, `surface.wgsl` and the model's WGSL (`lighting.wgsl`, `surface_kk.wgsl`,
-//! `fin_kk.wgsl` for Kajiya–Kay; `prt.wgsl`, `surface_prt.wgsl`, `fin_prt.wgsl` for PRT);
-//! `pipelines.rs` (the passes' pipelines per lighting model and target, built on first use);
+//! `marched.rs` and `planes.rs`, which share `march.wgsl`), `strands.rs`; `shaders.rs` composes
+//! each pass's WGSL, one source for both lighting models, with the modules it imports:
+//! `common.wgsl`, `surface.wgsl` and the model's, which the shader def `PRT` picks
+//! (`light_model.wgsl` states what each provides: `lighting.wgsl`, `surface_kk.wgsl`,
+//! `fin_kk.wgsl`, `strand_kk.wgsl` for Kajiya–Kay; `prt.wgsl`, `surface_prt.wgsl`,
+//! `fin_prt.wgsl`, `strand_prt.wgsl` for PRT); `pipelines.rs` (the passes' pipelines per lighting
+//! model and target, built on first use);
 //! `prt_light.rs` (world SH) and `prt_rotate.rs` (the rotation compute pass); `frame.rs` (one
 //! frame) with `frame_uniforms.rs`, `image.rs` (the images returned), `occluders.rs` (another
 //! picture's depth starting a frame's, for compositing into it: [`Renderer::render_over`]),
@@ -50,6 +53,7 @@ mod prt_rotate;
 mod readback;
 mod scene;
 mod settings;
+mod shaders;
 mod shells;
 mod skin;
 mod smoke;

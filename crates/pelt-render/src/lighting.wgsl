@@ -1,3 +1,7 @@
+#define_import_path pelt::lighting
+
+#import pelt::common::{frame, HairLight, unit_or}
+
 // Hair lighting (Lengyel et al. 2001, §2.4): the modified Banks / Kajiya-Kay model
 //   Ka + Kd (1 - u²)^(Pd/2) + Ks (1 - v²)^(Ps/2),  u = T·L, v = T·H,
 // evaluated per fragment instead of through a 32 × 32 table, with Banks-style darkening toward

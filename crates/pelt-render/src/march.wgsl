@@ -1,7 +1,17 @@
+#define_import_path pelt::march
+
+#import pelt::common::{frame, Layers, HairLight, view_vector}
+#import pelt::surface::{uv_gradients, MarchFrame}
+#ifdef PRT
+#import pelt::surface_prt as model
+#else
+#import pelt::surface_kk as model
+#endif
+
 // What the marched shells (`marched.wgsl`) and the virtual planes (`planes.wgsl`) share: a hull
 // fragment's view ray in the tile frame, the front-to-back composite it gathers, and how the
-// composite is lit once per pixel with the Banks darkening applied exactly. The lighting
-// model's file defines `march_frame`, `march_light`, `plane_light` and `march_banks`.
+// composite is lit once per pixel with the Banks darkening applied exactly. The lighting model
+// (`light_model.wgsl`) provides `march_frame`, `march_light`, `plane_light` and `march_banks`.
 
 // The most ray length, in layer heights, that descends one layer: where a flat hull is seen
 // nearly edge-on (beyond about 80°), the ray is bent down so that it still reaches the skin.
@@ -95,8 +105,8 @@ fn composite(out: Marched, texel: vec4<f32>, layers: Layers, uv: vec2<f32>, alph
 
 // The composite `m` lit by `k`: the Banks darkening, linear in height, applied to the composite
 // exactly (the ambient's and the direct light's apart), then the vertex color.
-fn lit(s: SurfaceOut, f: MarchFrame, m: Marched, k: HairLight) -> vec4<f32> {
-    let b = march_banks(f);
+fn lit(s: model::SurfaceOut, f: MarchFrame, m: Marched, k: HairLight) -> vec4<f32> {
+    let b = model::march_banks(f);
     let ambient = (1.0 - b.x) * m.color.rgb + b.x * m.raised.rgb;
     let c = (1.0 - b.y) * m.color + b.y * m.raised;
     return vec4<f32>((ambient * k.ambient + c.rgb * k.scale) * s.color.rgb + c.a * k.add,
@@ -112,16 +122,16 @@ fn footprint_lod(grad: vec4<f32>, texels: f32) -> f32 {
 // A hull fragment: its surface, tile-UV derivatives, frame and view ray. Called first in a
 // fragment shader: the derivatives need uniform control flow, before any discard.
 struct HullFragment {
-    s: SurfaceOut,
+    s: model::SurfaceOut,
     grad: vec4<f32>,
     f: MarchFrame,
     ray: Ray,
 };
 
-fn hull_fragment(v: SurfaceVarying) -> HullFragment {
-    let s = surface_fragment(v);
+fn hull_fragment(v: model::SurfaceVarying) -> HullFragment {
+    let s = model::surface_fragment(v);
     let grad = uv_gradients(s.uv);
-    let f = march_frame(s);
+    let f = model::march_frame(s);
     let curvature = surface_curvature(f.normal, f.position);
     return HullFragment(s, grad, f, march_ray(f, curvature));
 }

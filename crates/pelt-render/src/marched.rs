@@ -3,29 +3,7 @@
 //! state as the instanced pass: back faces culled, depth written behind the alpha test,
 //! premultiplied "over" the skin and fins; [`super::shells::ShellsPass`] owns and draws it.
 
-use super::pass::Model;
+use super::shaders::PassShader;
 
-const KAJIYA_KAY: &str = concat!(
-    include_str!("common.wgsl"),
-    include_str!("lighting.wgsl"),
-    include_str!("surface.wgsl"),
-    include_str!("surface_kk.wgsl"),
-    include_str!("march.wgsl"),
-    include_str!("marched.wgsl")
-);
-const PRT: &str = concat!(
-    include_str!("common.wgsl"),
-    include_str!("prt.wgsl"),
-    include_str!("surface.wgsl"),
-    include_str!("surface_prt.wgsl"),
-    include_str!("march.wgsl"),
-    include_str!("marched.wgsl")
-);
-
-/// The marched hull's shader for `model`.
-pub(super) fn source(model: Model) -> &'static str {
-    match model {
-        Model::KajiyaKay => KAJIYA_KAY,
-        Model::Prt => PRT,
-    }
-}
+/// The marched hull's shader, one source for both lighting models.
+pub(super) static SHADER: PassShader = PassShader::new("marched.wgsl", include_str!("marched.wgsl"));

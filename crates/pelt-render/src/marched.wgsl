@@ -10,6 +10,15 @@
 // the composite exactly (the ambient's and the direct light's apart), and PRT moves its transfer to the composite's mean height (`raised`).
 // The ray, the composite and its lighting are `march.wgsl`'s.
 
+#import pelt::common::{frame, shell_texture, tile_sampler, NO_LAYER, Layers, shell_layers}
+#import pelt::surface::{Texels, blended}
+#import pelt::march::{OPAQUE, Ray, ray_length, Marched, composite, lit, hull_fragment}
+#ifdef PRT
+#import pelt::surface_prt as model
+#else
+#import pelt::surface_kk as model
+#endif
+
 // How far, in texels of the mip read, the ray may move sideways through one composited group of
 // layers of the LOD chain: while it stays within about a texel, the group's "over" composite
 // (Lengyel §2.4) is what the ray would gather from its layers one by one.
@@ -35,11 +44,11 @@ fn march_texels(uv: vec2<f32>, layers: Layers, lod: f32, fade: bool) -> Texels {
 }
 
 @vertex
-fn vs_main(v: SurfaceIn) -> SurfaceVarying {
-    return surface_vertex(v, shell_layers(frame.counts.x - 1u), true);
+fn vs_main(v: model::SurfaceIn) -> model::SurfaceVarying {
+    return model::surface_vertex(v, shell_layers(frame.counts.x - 1u), true);
 }
 
-fn march(s: SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
+fn march(s: model::SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
     let hull = shell_layers(frame.counts.x - 1u);
     var out = Marched(vec4<f32>(0.0), vec4<f32>(0.0), hull, s.uv, 1.0);
     var i = frame.counts.x;
@@ -101,7 +110,7 @@ fn top_level() -> u32 {
 // group 1 (level-0 layers 2^k .. 2^(k+1) - 1), then group 1 of each finer level, which together
 // hold level-0 layers 1 .. 2^k - 1 exactly. So 32 shells take 6 to 32 reads, each group read
 // at its middle height. Level 0 is the march above, layer by layer.
-fn march_levels(s: SurfaceOut, ray: Ray, lod: f32, k: u32) -> Marched {
+fn march_levels(s: model::SurfaceOut, ray: Ray, lod: f32, k: u32) -> Marched {
     let top = frame.counts.y - 1u;
     var base = 0u;
     for (var i = 0u; i < k; i++) {
@@ -142,7 +151,7 @@ fn march_levels(s: SurfaceOut, ray: Ray, lod: f32, k: u32) -> Marched {
 }
 
 @fragment
-fn fs_main(v: SurfaceVarying) -> @location(0) vec4<f32> {
+fn fs_main(v: model::SurfaceVarying) -> @location(0) vec4<f32> {
     let h = hull_fragment(v);
     let s = h.s;
     let f = h.f;
@@ -166,5 +175,5 @@ fn fs_main(v: SurfaceVarying) -> @location(0) vec4<f32> {
         discard;
     }
     let mean = m.raised.a / max(m.color.a, 1e-6);
-    return lit(s, f, m, march_light(s, f, m.uv, m.shown, m.alpha, grad, mean));
+    return lit(s, f, m, model::march_light(s, f, m.uv, m.shown, m.alpha, grad, mean));
 }

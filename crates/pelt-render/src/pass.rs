@@ -2,8 +2,8 @@
 //! [`Target`], the depth format, where vertices come from ([`VertexInput`] and its buffer
 //! layouts), a pass's [`PassState`] and the recipe that turns it into a pipeline
 //! ([`build_pipeline`]). Each pass file (`skin.rs`, `fins.rs`, `shells.rs` with the hulls of
-//! `marched.rs` and `planes.rs`, `strands.rs`) owns its shaders, its state, its pipelines and its
-//! draw call.
+//! `marched.rs` and `planes.rs`, `strands.rs`) owns its shader (composed by `shaders.rs`), its
+//! state, its pipelines and its draw call.
 
 /// Depth target.
 pub(super) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -18,13 +18,13 @@ const FIN_STRIDE: u64 = 20;
 static SURFACE_ATTRIBUTES: [wgpu::VertexAttribute; 6] = wgpu::vertex_attr_array![
     0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32x3, 4 => Float32x2, 5 => Float32x3
 ];
-/// Attributes of buffer 0 of the fin pass (`FinIn` in `fins.wgsl`).
+/// Attributes of buffer 0 of the fin pass (`FinIn` in `light_model.wgsl`).
 static FIN_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
     wgpu::vertex_attr_array![5 => Float32x2, 8 => Uint32x2, 9 => Float32];
 static COLOR_ATTRIBUTE: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![6 => Float32x4];
 static LENGTH_ATTRIBUTE: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![7 => Float32];
 
-/// The lighting model a pipeline shades with.
+/// The lighting model a pipeline shades with (the shader def `PRT` selects it in the WGSL).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum Model {
     KajiyaKay,
@@ -105,7 +105,8 @@ fn vertex_layouts(input: VertexInput) -> Vec<Option<wgpu::VertexBufferLayout<'st
 /// How a pass draws.
 pub(super) struct PassState<'a> {
     pub label: &'a str,
-    pub source: &'a str,
+    /// The composed shader ([`super::shaders::PassShader::module`]).
+    pub module: &'static wgpu::naga::Module,
     pub input: VertexInput,
     pub topology: wgpu::PrimitiveTopology,
     pub cull_mode: Option<wgpu::Face>,
@@ -146,7 +147,7 @@ pub(super) fn build_pipeline(
 ) -> wgpu::RenderPipeline {
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(state.label),
-        source: wgpu::ShaderSource::Wgsl(state.source.into()),
+        source: wgpu::ShaderSource::Naga(std::borrow::Cow::Borrowed(state.module)),
     });
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(state.label),

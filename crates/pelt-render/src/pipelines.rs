@@ -73,10 +73,10 @@ impl FurPipelines {
         let format = target.format();
         let built = validated(device, "the fur pipelines", || {
             Ok(PassPipelines {
-                skin: SkinPass::new(device, layout, model, format),
-                fins: FinsPass::new(device, layout, model, format),
-                shells: ShellsPass::new(device, layout, model, format),
-                strands: StrandsPass::new(device, strand_layout, model, format),
+                skin: SkinPass::new(device, layout, model, format)?,
+                fins: FinsPass::new(device, layout, model, format)?,
+                shells: ShellsPass::new(device, layout, model, format)?,
+                strands: StrandsPass::new(device, strand_layout, model, format)?,
             })
         })?;
         Ok(slot.get_or_init(|| built))

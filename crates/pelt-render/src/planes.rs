@@ -4,35 +4,13 @@
 //! by [`super::shells::ShellsPass`]. Also the slices' upload: one texture array of `2N` layers, the
 //! slices premultiplied with their mip chains, as the fin texture is.
 
-use super::pass::Model;
+use super::shaders::PassShader;
 use super::textures::upload_with_mips;
 use pelt_core::error::Result;
 use pelt_core::volume::PlaneSlices;
 
-const KAJIYA_KAY: &str = concat!(
-    include_str!("common.wgsl"),
-    include_str!("lighting.wgsl"),
-    include_str!("surface.wgsl"),
-    include_str!("surface_kk.wgsl"),
-    include_str!("march.wgsl"),
-    include_str!("planes.wgsl")
-);
-const PRT: &str = concat!(
-    include_str!("common.wgsl"),
-    include_str!("prt.wgsl"),
-    include_str!("surface.wgsl"),
-    include_str!("surface_prt.wgsl"),
-    include_str!("march.wgsl"),
-    include_str!("planes.wgsl")
-);
-
-/// The virtual planes' hull shader for `model`.
-pub(super) fn source(model: Model) -> &'static str {
-    match model {
-        Model::KajiyaKay => KAJIYA_KAY,
-        Model::Prt => PRT,
-    }
-}
+/// The virtual planes' hull shader, one source for both lighting models.
+pub(super) static SHADER: PassShader = PassShader::new("planes.wgsl", include_str!("planes.wgsl"));
 
 /// The uploaded slices.
 pub(super) struct ScenePlanes {

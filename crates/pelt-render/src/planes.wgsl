@@ -13,6 +13,20 @@
 // horizontal run to the next crossing, in slab depths: the hair a ray passes is counted once
 // whatever its heading (the paper's planes double it on the diagonal).
 
+#import pelt::common::{
+    frame, shell_texture, tile_sampler, fin_sampler, NO_LAYER, Layers, shell_layers, clip_position,
+    view_vector, unit_or,
+}
+#import pelt::surface::MarchFrame
+#import pelt::march::{
+    OPAQUE, Ray, ray_length, Marched, composite, lit, footprint_lod, hull_fragment,
+}
+#ifdef PRT
+#import pelt::surface_prt as model
+#else
+#import pelt::surface_kk as model
+#endif
+
 @group(0) @binding(7) var plane_texture: texture_2d_array<f32>;
 
 // Most slab depths one crossing may stand for (a ray nearly along a plane).
@@ -21,8 +35,8 @@ const MAX_RUN_SLABS: f32 = 64.0;
 const MAX_SLICE_ALPHA: f32 = 254.0 / 255.0;
 
 @vertex
-fn vs_main(v: SurfaceIn) -> SurfaceVarying {
-    return surface_vertex(v, shell_layers(frame.counts.x - 1u), true);
+fn vs_main(v: model::SurfaceIn) -> model::SurfaceVarying {
+    return model::surface_vertex(v, shell_layers(frame.counts.x - 1u), true);
 }
 
 // Height above the skin, level-0 layers, after ray length `t` from the hull at height `top`.
@@ -74,7 +88,7 @@ fn first_crossing(q: f32, cell: f32, rate: f32) -> f32 {
     return 1e30;
 }
 
-fn trace(s: SurfaceOut, f: MarchFrame, ray: Ray, grad: vec4<f32>) -> Marched {
+fn trace(s: model::SurfaceOut, f: MarchFrame, ray: Ray, grad: vec4<f32>) -> Marched {
     let n = frame.planes.x;
     let count = u32(n);
     let tilt = frame.planes.zw;
@@ -158,7 +172,7 @@ fn trace(s: SurfaceOut, f: MarchFrame, ray: Ray, grad: vec4<f32>) -> Marched {
 }
 
 @fragment
-fn fs_main(v: SurfaceVarying) -> @location(0) vec4<f32> {
+fn fs_main(v: model::SurfaceVarying) -> @location(0) vec4<f32> {
     let h = hull_fragment(v);
     // Bald faces draw no fur.
     if (h.s.length <= 0.0) {
@@ -169,5 +183,5 @@ fn fs_main(v: SurfaceVarying) -> @location(0) vec4<f32> {
         discard;
     }
     let mean = m.raised.a / max(m.color.a, 1e-6);
-    return lit(h.s, h.f, m, plane_light(h.s, h.f, m.uv, m.shown, h.grad, mean));
+    return lit(h.s, h.f, m, model::plane_light(h.s, h.f, m.uv, m.shown, h.grad, mean));
 }

@@ -1,3 +1,7 @@
+#define_import_path pelt::prt
+
+#import pelt::common::{frame, tile_sampler}
+
 // Precomputed radiance transfer (prt-shell-fur §2.4): the lighting, already rotated into each
 // surface vertex's tile frame by the compute pass (`prt_rotate.wgsl`), dotted per fragment with
 // the transfer coefficients of the fragment's texel and layer. The transfer textures hold

@@ -9,33 +9,20 @@ use std::ops::Range;
 use super::pass::{Model, PassState, VertexInput, build_pipeline};
 use super::scene::FurScene;
 use super::settings::ShellMethod;
+use super::shaders::PassShader;
 use super::{marched, planes};
+use pelt_core::error::Result;
 use pelt_core::scene::scene_levels::MeshLevel;
 
-const KAJIYA_KAY: &str = concat!(
-    include_str!("common.wgsl"),
-    include_str!("lighting.wgsl"),
-    include_str!("surface.wgsl"),
-    include_str!("surface_kk.wgsl"),
-    include_str!("shells.wgsl")
-);
-const PRT: &str = concat!(
-    include_str!("common.wgsl"),
-    include_str!("prt.wgsl"),
-    include_str!("surface.wgsl"),
-    include_str!("surface_prt.wgsl"),
-    include_str!("shells.wgsl")
-);
+/// The pass's shader, one source for both lighting models.
+pub(super) static SHADER: PassShader = PassShader::new("shells.wgsl", include_str!("shells.wgsl"));
 
 /// Back faces culled, depth written, premultiplied "over" (the marched and virtual-plane hulls
 /// too, with their own shaders).
-fn state(model: Model) -> PassState<'static> {
-    PassState {
+fn state(model: Model) -> Result<PassState<'static>> {
+    Ok(PassState {
         label: "shells",
-        source: match model {
-            Model::KajiyaKay => KAJIYA_KAY,
-            Model::Prt => PRT,
-        },
+        module: SHADER.module(model)?,
         input: match model {
             Model::KajiyaKay => VertexInput::Surface,
             Model::Prt => VertexInput::Pulled,
@@ -44,7 +31,7 @@ fn state(model: Model) -> PassState<'static> {
         cull_mode: Some(wgpu::Face::Back),
         depth_write: true,
         blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
-    }
+    })
 }
 
 /// The shells' pipelines for one lighting model and target: instanced, and the one-hull methods
@@ -61,28 +48,20 @@ impl ShellsPass {
         layout: &wgpu::PipelineLayout,
         model: Model,
         format: wgpu::TextureFormat,
-    ) -> Self {
-        let instanced = state(model);
-        let hull = |label, source| PassState {
-            label,
-            source,
-            ..state(model)
+    ) -> Result<Self> {
+        let instanced = state(model)?;
+        let hull = |label, shader: &'static PassShader| -> Result<PassState<'static>> {
+            Ok(PassState {
+                label,
+                module: shader.module(model)?,
+                ..state(model)?
+            })
         };
-        ShellsPass {
+        Ok(ShellsPass {
             instanced: build_pipeline(device, layout, &instanced, format),
-            marched: build_pipeline(
-                device,
-                layout,
-                &hull("marched shells", marched::source(model)),
-                format,
-            ),
-            planes: build_pipeline(
-                device,
-                layout,
-                &hull("virtual planes", planes::source(model)),
-                format,
-            ),
-        }
+            marched: build_pipeline(device, layout, &hull("marched shells", &marched::SHADER)?, format),
+            planes: build_pipeline(device, layout, &hull("virtual planes", &planes::SHADER)?, format),
+        })
     }
 
     /// Draws shell instances `shells` (0 the innermost) of geometric level `level`: instanced, a

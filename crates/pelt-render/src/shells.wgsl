@@ -1,20 +1,28 @@
 // Pass (c), the shells (Lengyel et al. 2001, §2.3): every shell in one instanced draw, instance
 // order = inner to outer, each lifted in this vertex shader (§2.4, "Programmable vertex shaders").
 
+#import pelt::common::{frame, shell_layers}
+#import pelt::surface::{layer_texels, blended, uv_gradients}
+#ifdef PRT
+#import pelt::surface_prt as model
+#else
+#import pelt::surface_kk as model
+#endif
+
 @vertex
-fn vs_main(v: SurfaceIn, @builtin(instance_index) instance: u32) -> SurfaceVarying {
-    return surface_vertex(v, shell_layers(instance), true);
+fn vs_main(v: model::SurfaceIn, @builtin(instance_index) instance: u32) -> model::SurfaceVarying {
+    return model::surface_vertex(v, shell_layers(instance), true);
 }
 
 @fragment
-fn fs_main(v: SurfaceVarying) -> @location(0) vec4<f32> {
-    let s = surface_fragment(v);
-    let texels = surface_texels(s);
+fn fs_main(v: model::SurfaceVarying) -> @location(0) vec4<f32> {
+    let s = model::surface_fragment(v);
+    let texels = layer_texels(s.uv, s.layer, s.coarse);
     let grad = uv_gradients(s.uv);
     // Bald faces (length 0 at every corner) draw nothing; the alpha test keeps empty texels from
     // writing depth over the layers still to come, and spares them the lighting.
     if (s.length <= 0.0 || blended(texels).a * s.color.a < frame.fur.w) {
         discard;
     }
-    return shade_surface(s, texels, s.color.a, grad);
+    return model::shade_surface(s, texels, s.color.a, grad);
 }

@@ -3,31 +3,18 @@
 
 use super::pass::{Model, PassState, VertexInput, build_pipeline};
 use super::scene::FurScene;
+use super::shaders::PassShader;
+use pelt_core::error::Result;
 use pelt_core::scene::scene_levels::MeshLevel;
 
-const KAJIYA_KAY: &str = concat!(
-    include_str!("common.wgsl"),
-    include_str!("lighting.wgsl"),
-    include_str!("surface.wgsl"),
-    include_str!("surface_kk.wgsl"),
-    include_str!("skin.wgsl")
-);
-const PRT: &str = concat!(
-    include_str!("common.wgsl"),
-    include_str!("prt.wgsl"),
-    include_str!("surface.wgsl"),
-    include_str!("surface_prt.wgsl"),
-    include_str!("skin.wgsl")
-);
+/// The pass's shader, one source for both lighting models.
+pub(super) static SHADER: PassShader = PassShader::new("skin.wgsl", include_str!("skin.wgsl"));
 
 /// Back faces culled, depth written, no blending.
-fn state(model: Model) -> PassState<'static> {
-    PassState {
+fn state(model: Model) -> Result<PassState<'static>> {
+    Ok(PassState {
         label: "skin",
-        source: match model {
-            Model::KajiyaKay => KAJIYA_KAY,
-            Model::Prt => PRT,
-        },
+        module: SHADER.module(model)?,
         input: match model {
             Model::KajiyaKay => VertexInput::Surface,
             Model::Prt => VertexInput::Pulled,
@@ -36,7 +23,7 @@ fn state(model: Model) -> PassState<'static> {
         cull_mode: Some(wgpu::Face::Back),
         depth_write: true,
         blend: None,
-    }
+    })
 }
 
 /// The skin's pipeline for one lighting model and target.
@@ -48,8 +35,8 @@ impl SkinPass {
         layout: &wgpu::PipelineLayout,
         model: Model,
         format: wgpu::TextureFormat,
-    ) -> Self {
-        SkinPass(build_pipeline(device, layout, &state(model), format))
+    ) -> Result<Self> {
+        Ok(SkinPass(build_pipeline(device, layout, &state(model)?, format)))
     }
 
     /// Draws the skin of geometric level `level` (bind group 1 is set for PRT).

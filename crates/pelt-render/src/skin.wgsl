@@ -1,6 +1,13 @@
 // Pass (a), the skin (Lengyel et al. 2001, §2.3): the mesh itself, opaque, textured with layer 0
-// of the shell texture times the vertex color; it fills the depth buffer. The lighting model's
-// file defines `SkinVarying`, `skin_vertex` and `skin_fragment`.
+// of the shell texture times the vertex color; it fills the depth buffer. The lighting model
+// (`light_model.wgsl`) provides `SkinVarying`, `skin_vertex` and `skin_fragment`.
+
+// PRT's skin varies as its surface does: its `SurfaceVarying` is the skin's.
+#ifdef PRT
+#import pelt::surface_prt::{SurfaceIn, SurfaceVarying as SkinVarying, skin_vertex, skin_fragment}
+#else
+#import pelt::surface_kk::{SurfaceIn, SkinVarying, skin_vertex, skin_fragment}
+#endif
 
 @vertex
 fn vs_main(v: SurfaceIn) -> SkinVarying {

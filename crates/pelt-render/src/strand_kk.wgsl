@@ -1,3 +1,9 @@
+#define_import_path pelt::strand_kk
+
+#import pelt::common::view_vector
+#import pelt::lighting::shade
+#import pelt::light_model::StrandOut
+
 // Guard hairs under Kajiya-Kay lighting: the shells' hair terms with the strand's own tangent,
 // Banks-darkened by the height it stands at, as the shell texel there would be.
 

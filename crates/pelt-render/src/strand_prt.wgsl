@@ -1,3 +1,8 @@
+#define_import_path pelt::strand_prt
+
+#import pelt::prt::mean_radiance
+#import pelt::light_model::StrandOut
+
 // Guard hairs under PRT lighting: a strand has no transfer of its own, so it takes the hair's
 // mean transfer at its height (as the fins do, `fin_prt.wgsl`), lit by the rotated lighting of
 // its root triangle's vertices: shadowed as the volume around it is.

@@ -8,35 +8,24 @@ use super::guard_strands::GpuStrand;
 use super::pass::{Model, PassState, VertexInput, build_pipeline};
 use super::scene::FurScene;
 use super::settings::{RenderSettings, ShellMethod, StrandOrder};
+use super::shaders::PassShader;
+use pelt_core::error::Result;
 
-const KAJIYA_KAY: &str = concat!(
-    include_str!("common.wgsl"),
-    include_str!("lighting.wgsl"),
-    include_str!("strands.wgsl"),
-    include_str!("strand_kk.wgsl")
-);
-const PRT: &str = concat!(
-    include_str!("common.wgsl"),
-    include_str!("prt.wgsl"),
-    include_str!("strands.wgsl"),
-    include_str!("strand_prt.wgsl")
-);
+/// The pass's shader, one source for both lighting models.
+pub(super) static SHADER: PassShader = PassShader::new("strands.wgsl", include_str!("strands.wgsl"));
 
 /// One triangle strip, both sides drawn (a ribbon turns to the eye anyway),
 /// premultiplied "over"; depth written unless `sorted` ([`StrandOrder::Sorted`]).
-fn state(model: Model, sorted: bool) -> PassState<'static> {
-    PassState {
+fn state(model: Model, sorted: bool) -> Result<PassState<'static>> {
+    Ok(PassState {
         label: if sorted { "sorted strands" } else { "strands" },
-        source: match model {
-            Model::KajiyaKay => KAJIYA_KAY,
-            Model::Prt => PRT,
-        },
+        module: SHADER.module(model)?,
         input: VertexInput::Pulled,
         topology: wgpu::PrimitiveTopology::TriangleStrip,
         cull_mode: None,
         depth_write: !sorted,
         blend: Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
-    }
+    })
 }
 
 /// Smallest share of the strands the strand LOD keeps: past it, the kept strands stay this
@@ -143,11 +132,11 @@ impl StrandsPass {
         layout: &wgpu::PipelineLayout,
         model: Model,
         format: wgpu::TextureFormat,
-    ) -> Self {
-        StrandsPass {
-            depth_writing: build_pipeline(device, layout, &state(model, false), format),
-            sorted: build_pipeline(device, layout, &state(model, true), format),
-        }
+    ) -> Result<Self> {
+        Ok(StrandsPass {
+            depth_writing: build_pipeline(device, layout, &state(model, false)?, format),
+            sorted: build_pipeline(device, layout, &state(model, true)?, format),
+        })
     }
 
     /// The first `strands` of the scene's (those the strand LOD may keep, [`kept_strands`]),

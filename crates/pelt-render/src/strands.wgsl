@@ -5,8 +5,16 @@
 // so that the triangles joining two strands have no area; instance `k` is band `k`. Each strand's points stand in the frame of the
 // surface at its root (`guard_strands.rs`), rebuilt here from the skin's vertices, so a pose
 // carries them. Band `k` of the frame's strand order (`strands.rs`) keeps the fragments
-// between its heights, so each band lands among the shells where it stands. The model's file
-// (`strand_kk.wgsl`, `strand_prt.wgsl`) shades.
+// between its heights, so each band lands among the shells where it stands. The lighting model
+// (`strand_kk.wgsl`, `strand_prt.wgsl`, `light_model.wgsl` states its interface) shades.
+
+#import pelt::common::{frame, shell_layers, CULLED, clip_position, view_vector, unit_or}
+#import pelt::light_model::StrandOut
+#ifdef PRT
+#import pelt::strand_prt as model
+#else
+#import pelt::strand_kk as model
+#endif
 
 struct GuardStrand {
     // The root triangle's skin vertices; the strand's first point.
@@ -24,23 +32,6 @@ struct GuardStrand {
 @group(2) @binding(1) var<storage, read> guard_points: array<vec4<f32>>;
 // Per strand, the surface's frame at its root in the current pose: origin, t, n (`w` unused).
 @group(2) @binding(2) var<storage, read> guard_frames: array<vec4<f32>>;
-
-struct StrandOut {
-    @builtin(position) clip: vec4<f32>,
-    // Premultiplied albedo, coverage.
-    @location(0) color: vec4<f32>,
-    // Where the strand runs; the fragment's height (share of the fur depth).
-    @location(1) tangent_height: vec4<f32>,
-    @location(2) normal: vec3<f32>,
-    @location(3) position: vec3<f32>,
-    // The band's heights, [low, high).
-    @location(4) @interpolate(flat) band: vec2<f32>,
-    // The root triangle's skin vertices and the root's weights (PRT's lighting there).
-    @location(5) @interpolate(flat) corners: vec3<u32>,
-    @location(6) @interpolate(flat) weights: vec3<f32>,
-    // The strand, which seeds its stochastic coverage.
-    @location(7) @interpolate(flat) strand: u32,
-};
 
 // A unit vector perpendicular to `n`.
 fn perpendicular(n: vec3<f32>) -> vec3<f32> {
@@ -209,5 +200,5 @@ fn fs_main(v: StrandOut) -> @location(0) vec4<f32> {
         }
         s.color = vec4<f32>(v.color.rgb / max(c, 1e-6), 1.0);
     }
-    return shade_strand(s, unit_or(v.tangent_height.xyz, v.normal), clamp(height, 0.0, 1.0));
+    return model::shade_strand(s, unit_or(v.tangent_height.xyz, v.normal), clamp(height, 0.0, 1.0));
 }

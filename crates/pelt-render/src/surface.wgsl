@@ -1,7 +1,12 @@
+#define_import_path pelt::surface
+
+#import pelt::common::{frame, shell_texture, tile_sampler, NO_LAYER, clip_position, growth}
+
 // What the skin and the shells share (Lengyel et al. 2001, §2.3): both draw the mesh textured by
-// a layer of the shell texture; the shells lift it off the skin. The lighting model's file
-// (`surface_kk.wgsl` or `surface_prt.wgsl`) defines how a vertex is read (`SurfaceIn`,
-// `surface_vertex`), what reaches the fragment (`SurfaceOut`) and `shade_surface`.
+// a layer of the shell texture; the shells lift it off the skin. The lighting model's module
+// (`surface_kk.wgsl` or `surface_prt.wgsl`, `light_model.wgsl` states its interface) defines how
+// a vertex is read (`SurfaceIn`, `surface_vertex`), what reaches the fragment (`SurfaceOut`) and
+// `shade_surface`.
 
 // A vertex of the skin and shells, however the pass reads it.
 struct SurfaceData {
@@ -37,10 +42,6 @@ struct Texels {
     fine: vec4<f32>,
     coarse: vec4<f32>,
 };
-
-fn surface_texels(s: SurfaceOut) -> Texels {
-    return layer_texels(s.uv, s.layer, s.coarse);
-}
 
 // The texels at `uv` of array layers `fine` and `coarse` (NO_LAYER reads zero), with implicit
 // derivatives.

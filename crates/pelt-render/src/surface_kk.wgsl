@@ -1,3 +1,12 @@
+#define_import_path pelt::surface_kk
+
+#import pelt::common::{
+    frame, tangent_texture, tile_sampler, Layers, skin_layers, HairLight, clip_position,
+    view_vector, unit_or,
+}
+#import pelt::lighting::{banks_strengths, hair_parts, shade, shade_skin}
+#import pelt::surface::{SurfaceData, lift, Texels, layer_texels, blended, MarchFrame}
+
 // The skin and shells under Kajiya-Kay lighting (Lengyel et al. 2001, §2.4): vertices come from
 // the vertex buffers, the tangent map gives the hair direction per texel.
 

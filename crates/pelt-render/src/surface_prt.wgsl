@@ -1,10 +1,21 @@
+#define_import_path pelt::surface_prt
+
+#import pelt::common::{
+    frame, skin_vertices, SKIN_FLOATS, skin_vec3, NO_LAYER, Layers, skin_layers, shell_layers,
+    HairLight, growth,
+}
+#import pelt::prt::{transfer_radiance, mean_radiance, mean_radiance_change}
+#import pelt::surface::{
+    SurfaceData, lift, Texels, layer_texels, blended, uv_gradients, MarchFrame,
+}
+
 // The skin and shells under PRT lighting (prt-shell-fur §2.4). The rotated lighting lives per
 // surface vertex in a storage buffer and has too many coefficients to interpolate as vertex
 // outputs, so the draw is not indexed: each vertex invocation is one triangle corner, reads the
 // triangle's three surface vertices from the index buffer (vertex pulling), and hands them on
 // (flat) with a barycentric one-hot; the fragment interpolates the three vertices' lighting.
 
-// The corners read the skin's vertices (`skin_vertices`, common.wgsl) through these indices.
+// The corners read the skin's vertices (`skin_vertices`) through these indices.
 @group(1) @binding(3) var<storage, read> surface_indices: array<u32>;
 @group(1) @binding(5) var<storage, read> surface_colors: array<vec4<f32>>;
 @group(1) @binding(6) var<storage, read> surface_lengths: array<f32>;
@@ -63,16 +74,15 @@ fn surface_vertex(v: SurfaceIn, layers: Layers, painted: bool) -> SurfaceVarying
                           vec2<u32>(layers.fine, layers.coarse));
 }
 
-// The skin is a surface at height 0, lit by the transfer of its own layer.
-alias SkinVarying = SurfaceVarying;
-
-fn skin_vertex(v: SurfaceIn) -> SkinVarying {
+// The skin is a surface at height 0, lit by the transfer of its own layer; its `SkinVarying` is
+// `SurfaceVarying` (an alias would not cross into the pass: `skin.wgsl` imports it renamed).
+fn skin_vertex(v: SurfaceIn) -> SurfaceVarying {
     return surface_vertex(v, skin_layers(), false);
 }
 
-fn skin_fragment(v: SkinVarying) -> vec3<f32> {
+fn skin_fragment(v: SurfaceVarying) -> vec3<f32> {
     let s = surface_fragment(v);
-    return shade_surface(s, surface_texels(s), 1.0, uv_gradients(s.uv)).rgb;
+    return shade_surface(s, layer_texels(s.uv, s.layer, s.coarse), 1.0, uv_gradients(s.uv)).rgb;
 }
 
 // Each level's texel × vertex color, lit by the transfer of its own layer (the two levels'

@@ -1,7 +1,8 @@
 // GLSL of the fins (Lengyel et al. 2001, §2.3): crates/pelt-render/src/fins.wgsl (`vs_main`: the quad on its
 // edge along each end's growth direction, the fade max(0, 2|p| − 1) with p = fin normal · view at
-// the edge's midpoint; `fin_texel`), fin_kk.wgsl (lit at the corners, Kajiya–Kay with the hair
-// along the growth direction) and fin_prt.wgsl (the hair's mean transfer at the row's height).
+// the edge's midpoint), common.wgsl (`fin_texel`), fin_kk.wgsl (lit at the corners, Kajiya–Kay
+// with the hair along the growth direction) and fin_prt.wgsl (the hair's mean transfer at the
+// row's height).
 // A corner carries its own end (position, normal, JOINTS_0 / WEIGHTS_0 as skinIndex /
 // skinWeight) and the other end's position, normal and skin, and skins both, so that all four
 // corners find the same fin plane. Defines: PELT_PRT.
@@ -117,7 +118,7 @@ uniform sampler2D peltFinTexture;
 varying vec4 vScaleU;
 varying vec3 vShineVOpacity;
 
-// fins.wgsl FIN_ANISOTROPY and fin_texel(): the mip level follows the footprint along the fur's
+// common.wgsl FIN_ANISOTROPY and fin_texel(): the mip level follows the footprint along the fur's
 // height (up to 8 times finer than along the edge), so that fins near the silhouette, squeezed
 // along their edge, keep their rows apart.
 const float PELT_FIN_ANISOTROPY = 8.0;

@@ -1,0 +1,78 @@
+#define_import_path pelt::light_model
+
+// The lighting models' interface, stated once. Each pass is one shader for both models; the
+// shader def `PRT` (set by `shaders.rs`) picks PRT (prt-shell-fur §2.4, `prt.wgsl`), its absence
+// Kajiya–Kay (Lengyel et al. 2001, §2.4, `lighting.wgsl`). A pass imports its part of the model
+// under `#ifdef PRT` as `model`. Both models provide the same items, with the same signatures:
+//
+// The skin and shells: `pelt::surface_kk` or `pelt::surface_prt` (with `pelt::surface`'s types)
+//   struct SurfaceIn: what the vertex shader reads (vertex buffers, or a pulled corner).
+//   struct SurfaceVarying: what crosses from vertex to fragment, packed.
+//   struct SurfaceOut: what the fragment reads; at least `uv`, `color`, `length`, `layer` and
+//     `coarse` (the array layers of the level drawn and of the next coarser one).
+//   fn surface_vertex(v: SurfaceIn, layers: Layers, painted: bool) -> SurfaceVarying
+//     The vertex lifted to the height of `layers`, with its painted length or the multiplier 1.
+//   fn surface_fragment(v: SurfaceVarying) -> SurfaceOut
+//   fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>) -> vec4<f32>
+//     A shell's cross-faded texels × vertex color, lit; premultiplied, opacity × texel alpha.
+//     `grad`: the tile UV's screen derivatives, taken before any discard.
+//   struct SkinVarying (PRT: its `SurfaceVarying`), fn skin_vertex(v: SurfaceIn) -> SkinVarying,
+//   fn skin_fragment(v: SkinVarying) -> vec3<f32>: the skin, opaque, at height 0.
+//   fn march_frame(s: SurfaceOut) -> MarchFrame: the hull fragment's point and tile frame.
+//   fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alpha: f32,
+//                  grad: vec4<f32>, mean: f32) -> HairLight
+//     The lighting of the marched composite, shown by layer `layers` read at `uv` (`alpha` its
+//     texel's own opacity); `mean` the composite's mean height (share of the fur depth).
+//   fn plane_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers,
+//                  grad: vec4<f32>, mean: f32) -> HairLight: the same for the virtual planes.
+//   fn march_banks(f: MarchFrame) -> vec2<f32>
+//     The Banks strengths the march darkens its composite by: x ambient, y direct (PRT: none).
+// The fins: `pelt::fin_kk` or `pelt::fin_prt`
+//   struct FinOut: what crosses from vertex to fragment.
+//   fn fin_vertex(v: FinIn, c: FinCorner) -> FinOut
+//   fn fin_fragment(f: FinOut) -> vec4<f32>: the fin's texel, lit, premultiplied.
+// The guard strands: `pelt::strand_kk` or `pelt::strand_prt`
+//   fn shade_strand(v: StrandOut, tangent: vec3<f32>, height: f32) -> vec4<f32>
+//     The strand's premultiplied albedo and coverage (`v.color`) lit at `height`.
+//
+// Below, what the fin and strand passes hand their model.
+
+// A fin vertex (`pelt_core::scene::fin_mesh::FinVertex` and the color and length buffers).
+struct FinIn {
+    @location(5) uv: vec2<f32>,
+    @location(6) color: vec4<f32>,
+    @location(7) length: f32,
+    // The skin vertices of the edge's two ends (`skin_vertices`: a corner takes its end's
+    // position, normal and comb, the fin its plane from both); which one this corner stands on.
+    @location(8) ends: vec2<u32>,
+    @location(9) along: f32,
+};
+
+// A fin corner lifted off the skin, what the model's `fin_vertex` starts from.
+struct FinCorner {
+    clip: vec4<f32>,
+    position: vec3<f32>,
+    // The end's vertex normal and growth direction.
+    normal: vec3<f32>,
+    growth: vec3<f32>,
+    // Fade × fin opacity × vertex opacity.
+    opacity: f32,
+};
+
+// A strand's corner, from `strands.wgsl`'s vertex to its fragment shader.
+struct StrandOut {
+    @builtin(position) clip: vec4<f32>,
+    // Premultiplied albedo, coverage.
+    @location(0) color: vec4<f32>,
+    // Where the strand runs; the fragment's height (share of the fur depth).
+    @location(1) tangent_height: vec4<f32>,
+    @location(2) normal: vec3<f32>,
+    @location(3) position: vec3<f32>,
+    // The band's heights, [low, high).
+    @location(4) @interpolate(flat) band: vec2<f32>,
+    // The root triangle's skin vertices and the root's weights (PRT's lighting there).
+    @location(5) @interpolate(flat) corners: vec3<u32>,
+    @location(6) @interpolate(flat) weights: vec3<f32>,
+    // The strand, which seeds its stochastic coverage.
+    @location(7) @interpolate(flat) strand: u32,
+};
