@@ -92,8 +92,14 @@ fn scene(comb: Option<&[[f32; 3]]>, length: Option<&[f32]>) -> FurScene {
         },
     )
     .unwrap();
-    let mut scene = FurScene::new(&f.renderer, &mesh, &patches.uv, &f.volume).unwrap();
+    let mut scene = FurScene::new(&f.renderer, &mesh, &patches.uv, &f.volume, FUR_DEPTH).unwrap();
     scene.set_transfer(&f.renderer, &f.transfer).unwrap();
+    scene
+}
+
+/// `scene` with its fur twice as deep, set without a new upload.
+fn long(mut scene: FurScene) -> FurScene {
+    scene.set_fur_depth(2.0 * FUR_DEPTH).unwrap();
     scene
 }
 
@@ -118,10 +124,7 @@ fn frontal() -> Camera {
 }
 
 fn settings() -> RenderSettings {
-    RenderSettings {
-        fur_depth: FUR_DEPTH,
-        ..RenderSettings::default()
-    }
+    RenderSettings::default()
 }
 
 /// Light from the upper right front.
@@ -235,13 +238,12 @@ fn silhouette_with_and_without_fins() {
 fn combed_fur_slants_downward() {
     // Every vertex combed toward −z: the fur leans down, most visibly on the silhouette.
     let comb = vec![[0.0, 0.0, -0.8]; fixture().positions.len()];
-    let combed = scene(Some(&comb), None);
+    let combed = long(scene(Some(&comb), None));
     let side = camera([0.0, -4.0, 0.0], [0.0; 3], 36.0);
-    let long = RenderSettings {
-        fur_depth: 2.0 * FUR_DEPTH,
-        ..settings()
-    };
-    golden("render_combed.png", &render(&combed, &side, &light(), &long));
+    golden(
+        "render_combed.png",
+        &render(&combed, &side, &light(), &settings()),
+    );
 }
 
 #[test]
@@ -303,15 +305,11 @@ fn marched_shells_frontal_silhouette_combed_and_lod() {
         &render(plain(), &limb, &light(), &marched()),
     );
     let comb = vec![[0.0, 0.0, -0.8]; fixture().positions.len()];
-    let combed = scene(Some(&comb), None);
+    let combed = long(scene(Some(&comb), None));
     let side = camera([0.0, -4.0, 0.0], [0.0; 3], 36.0);
-    let long = RenderSettings {
-        fur_depth: 2.0 * FUR_DEPTH,
-        ..marched()
-    };
     golden(
         "render_marched_combed.png",
-        &render(&combed, &side, &light(), &long),
+        &render(&combed, &side, &light(), &marched()),
     );
     let lod = RenderSettings {
         lod: true,

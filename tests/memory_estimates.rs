@@ -199,11 +199,12 @@ fn preview_uploads(volume: &HairVolume, transfer: &pelt::prt::pack::PackedF16) {
     ))
     .unwrap();
     let uvs = [[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]];
-    let mut warm = FurScene::new(&renderer, &mesh, &uvs, volume).unwrap();
+    let depth = 0.1;
+    let mut warm = FurScene::new(&renderer, &mesh, &uvs, volume, depth).unwrap();
     warm.set_transfer(&renderer, transfer).unwrap();
     drop(warm);
     let mut scene = measured("preview upload", scene_upload_peak_bytes(volume), || {
-        FurScene::new(&renderer, &mesh, &uvs, volume).unwrap()
+        FurScene::new(&renderer, &mesh, &uvs, volume, depth).unwrap()
     });
     let order = scene.transfer_order().unwrap_or(3);
     let estimate = transfer_upload_peak_bytes(volume.layers, volume.resolution, order);
@@ -215,7 +216,7 @@ fn preview_uploads(volume: &HairVolume, transfer: &pelt::prt::pack::PackedF16) {
         resolution: 4096,
         ..volume.clone()
     };
-    let refused = FurScene::new(&renderer, &mesh, &uvs, &big)
+    let refused = FurScene::new(&renderer, &mesh, &uvs, &big, depth)
         .err()
         .map(|e| e.to_string());
     pelt::memory::set_limit(None).unwrap();

@@ -11,8 +11,8 @@ use std::sync::OnceLock;
 
 use pelt::export::{PngOptions, save_png};
 use pelt::render::{
-    AdapterChoice, Camera, FurScene, KajiyaKay, LightModel, Lighting, RenderSettings, Renderer, RgbaImage,
-    ShellMethod,
+    AdapterChoice, Camera, FurScene, KajiyaKay, LightModel, Lighting, MAX_FUR_DEPTH, RenderSettings,
+    Renderer, RgbaImage, ShellMethod,
 };
 use pelt::{FurMesh, MeshInput};
 
@@ -29,7 +29,7 @@ const FUR_DEPTH: f32 = 0.08;
 
 fn fixture() -> &'static FurredTorus {
     static FIXTURE: OnceLock<FurredTorus> = OnceLock::new();
-    FIXTURE.get_or_init(|| FurredTorus::new(AROUND, ACROSS, REPEATS))
+    FIXTURE.get_or_init(|| FurredTorus::new(AROUND, ACROSS, REPEATS, FUR_DEPTH))
 }
 
 fn scene() -> FurScene {
@@ -66,10 +66,7 @@ fn top() -> Camera {
 }
 
 fn settings() -> RenderSettings {
-    RenderSettings {
-        fur_depth: FUR_DEPTH,
-        ..RenderSettings::default()
-    }
+    RenderSettings::default()
 }
 
 fn skin_only() -> RenderSettings {
@@ -126,6 +123,31 @@ fn fur_extends_the_silhouette_beyond_the_skin() {
     }
     let (f, s) = (covered(&fur), covered(&skin));
     assert!(f as f64 > 1.02 * s as f64, "fur covers {f} pixels, skin {s}");
+}
+
+#[test]
+fn a_new_fur_depth_draws_as_a_scene_built_with_it_and_uploads_nothing() {
+    let f = fixture();
+    let camera = oblique(SIZE);
+    let deeper = 2.0 * FUR_DEPTH;
+    let built = FurScene::new(&f.renderer, &f.mesh, &f.uvs, &f.volume, deeper).unwrap();
+    let expected = render(&built, &camera, &settings());
+    // The projected fur depth the LOD follows doubles with it.
+    let fur_pixels = |scene: &FurScene| {
+        let info = f.renderer.frame_info(scene, &camera, &settings()).unwrap();
+        info.fur_pixels.unwrap()
+    };
+    let mut scene = scene();
+    let (before, shallow) = (render(&scene, &camera, &settings()), fur_pixels(&scene));
+    let uploads = scene.uploads();
+    scene.set_fur_depth(deeper).unwrap();
+    assert_eq!(scene.fur_depth(), deeper);
+    assert_eq!(scene.uploads(), uploads);
+    let after = render(&scene, &camera, &settings());
+    assert_eq!(after.pixels, expected.pixels);
+    assert!(covered(&after) > covered(&before));
+    let deep = fur_pixels(&scene);
+    assert!((deep / shallow - 2.0).abs() < 1e-4, "{shallow} → {deep}");
 }
 
 #[test]
@@ -275,16 +297,25 @@ fn bad_input_is_named_and_the_renderer_survives() {
             .unwrap_err();
         assert_eq!(parameter_name(e), name);
     }
-    let e = FurScene::new(&f.renderer, &f.mesh, &f.uvs[1..], &f.volume)
+    let e = FurScene::new(&f.renderer, &f.mesh, &f.uvs[1..], &f.volume, FUR_DEPTH)
         .err()
         .unwrap();
     assert_eq!(parameter_name(e), "corner_uvs");
     let mut broken = f.volume.clone();
     broken.shells.pop();
-    let e = FurScene::new(&f.renderer, &f.mesh, &f.uvs, &broken)
+    let e = FurScene::new(&f.renderer, &f.mesh, &f.uvs, &broken, FUR_DEPTH)
         .err()
         .unwrap();
     assert_eq!(parameter_name(e), "volume.shells");
+    for depth in [-1.0, f32::NAN, f32::INFINITY, 2.0 * MAX_FUR_DEPTH] {
+        let e = FurScene::new(&f.renderer, &f.mesh, &f.uvs, &f.volume, depth)
+            .err()
+            .unwrap();
+        assert_eq!(parameter_name(e), "fur_depth");
+        let e = scene.set_fur_depth(depth).unwrap_err();
+        assert_eq!(parameter_name(e), "fur_depth");
+        assert_eq!(scene.fur_depth(), FUR_DEPTH);
+    }
     let e = scene.update_attributes(None, Some(&[1.0; 3])).unwrap_err();
     assert_eq!(parameter_name(e), "length");
     let mut lengths = vec![1.0; f.mesh.vertex_count()];
@@ -341,17 +372,13 @@ fn comb_shears_the_fur_along_the_comb() {
         ..top()
     };
     let depth = 0.3;
-    let settings = RenderSettings {
-        fur_depth: depth,
-        ..settings()
-    };
     let column_x = |x: u32| (f64::from(x) + 0.5) / f64::from(SIZE) * 2.0 * TOP_HALF - TOP_HALF;
     let pixel = 2.0 * TOP_HALF / f64::from(SIZE);
     // The covered extent along x, in object units.
     let extent = |comb: [f32; 3]| {
         let (mesh, uvs) = combed_plane(8, comb);
-        let scene = FurScene::new(&f.renderer, &mesh, &uvs, &f.volume).unwrap();
-        let image = render(&scene, &camera, &settings);
+        let scene = FurScene::new(&f.renderer, &mesh, &uvs, &f.volume, depth).unwrap();
+        let image = render(&scene, &camera, &settings());
         let columns: Vec<f64> = (0..SIZE)
             .filter(|&x| (0..SIZE).any(|y| image.pixel(x, y).unwrap()[3] > 0))
             .map(column_x)
@@ -541,7 +568,7 @@ fn uniform_skin() -> (FurScene, f64) {
     }
     let albedo = f64::from(pelt::texture::color::srgb_to_linear(188.0 / 255.0));
     (
-        FurScene::new(&f.renderer, &f.mesh, &f.uvs, &volume).unwrap(),
+        FurScene::new(&f.renderer, &f.mesh, &f.uvs, &volume, FUR_DEPTH).unwrap(),
         albedo,
     )
 }
@@ -703,11 +730,10 @@ fn a_fin_seen_face_on_shows_its_textures_height_profile_however_often_the_textur
     let tile = 0.25f32;
     let uv = positions.map(|p| [p[0] / tile, p[1] / tile]);
     let mesh = FurMesh::new(MeshInput::new(&positions, &[[0, 1, 2]])).unwrap();
-    let scene = FurScene::new(&renderer, &mesh, &[uv], &volume).unwrap();
     let (size, half, depth) = (128u32, 1.2f64, 0.5f32);
+    let scene = FurScene::new(&renderer, &mesh, &[uv], &volume, depth).unwrap();
     let camera = orthographic([0.0, -5.0, 0.0], [0.0, 0.0, 1.0], half, size);
     let settings = RenderSettings {
-        fur_depth: depth,
         shell_count: Some(0),
         ..RenderSettings::default()
     };

@@ -22,7 +22,7 @@ const FUR_DEPTH: f32 = 0.06;
 
 fn fixture() -> &'static FurredTorus {
     static FIXTURE: OnceLock<FurredTorus> = OnceLock::new();
-    FIXTURE.get_or_init(|| FurredTorus::new(AROUND, ACROSS, [12.0, 4.0]))
+    FIXTURE.get_or_init(|| FurredTorus::new(AROUND, ACROSS, [12.0, 4.0], FUR_DEPTH))
 }
 
 fn scene() -> FurScene {
@@ -42,7 +42,6 @@ fn camera(distance: f64) -> Camera {
 
 fn settings(mesh_error: f32) -> RenderSettings {
     RenderSettings {
-        fur_depth: FUR_DEPTH,
         mesh_error,
         ..RenderSettings::default()
     }

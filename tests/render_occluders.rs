@@ -23,7 +23,7 @@ const MINOR: f64 = 0.35;
 
 fn fixture() -> &'static FurredTorus {
     static FIXTURE: OnceLock<FurredTorus> = OnceLock::new();
-    FIXTURE.get_or_init(|| FurredTorus::new(32, 16, [6.0, 2.0]))
+    FIXTURE.get_or_init(|| FurredTorus::new(32, 16, [6.0, 2.0], FUR_DEPTH))
 }
 
 /// Orthographic, looking down the torus's axis from z = 3: view depth `z_v = z − 3` maps to
@@ -66,10 +66,7 @@ fn tube_top(x: f64, y: f64, tube: f64) -> Option<f64> {
 }
 
 fn settings() -> RenderSettings {
-    RenderSettings {
-        fur_depth: FUR_DEPTH,
-        ..RenderSettings::default()
-    }
+    RenderSettings::default()
 }
 
 fn render(occluders: Option<&Occluders>) -> RgbaImage {

@@ -31,7 +31,7 @@ struct Fixture {
 fn fixture() -> &'static Fixture {
     static FIXTURE: OnceLock<Fixture> = OnceLock::new();
     FIXTURE.get_or_init(|| {
-        let torus = FurredTorus::new(32, 16, [8.0, 2.0]);
+        let torus = FurredTorus::new(32, 16, [8.0, 2.0], FUR_DEPTH);
         let strands = grow_strands(&small_hair()).unwrap();
         let params = PlaneParams {
             planes: 16,
@@ -51,7 +51,6 @@ fn planes_scene() -> FurScene {
 
 fn settings(method: ShellMethod, loop_limit: u32) -> RenderSettings {
     RenderSettings {
-        fur_depth: FUR_DEPTH,
         shell_method: method,
         plane_loop_limit: loop_limit,
         ..RenderSettings::default()

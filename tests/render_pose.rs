@@ -15,15 +15,15 @@ use pelt::{FurMesh, MeshInput, PeltError};
 use common::torus::{FurredTorus, covered, differing, oblique_view, perspective_camera};
 
 const SIZE: u32 = 128;
+const FUR_DEPTH: f32 = 0.08;
 
 fn fixture() -> &'static FurredTorus {
     static FIXTURE: OnceLock<FurredTorus> = OnceLock::new();
-    FIXTURE.get_or_init(|| FurredTorus::new(32, 16, [6.0, 2.0]))
+    FIXTURE.get_or_init(|| FurredTorus::new(32, 16, [6.0, 2.0], FUR_DEPTH))
 }
 
 fn settings() -> RenderSettings {
     RenderSettings {
-        fur_depth: 0.08,
         // The full mesh: a scene built from a posed mesh simplifies it otherwise.
         mesh_error: 0.0,
         ..RenderSettings::default()
@@ -73,8 +73,8 @@ fn moved(positions: &[[f32; 3]], motion: impl Fn(Vec3) -> Vec3) -> Vec<[f32; 3]>
 fn a_rigid_pose_draws_the_rest_seen_through_the_inverse_motion() {
     let f = fixture();
     let mesh = combed_torus();
-    let rest = FurScene::new(&f.renderer, &mesh, &f.uvs, &f.volume).unwrap();
-    let mut posed = FurScene::new(&f.renderer, &mesh, &f.uvs, &f.volume).unwrap();
+    let rest = f.scene_of(&mesh);
+    let mut posed = f.scene_of(&mesh);
     let turn = Mat3::from_axis_angle(Vec3::new(1.0, 2.0, 0.5).normalize(), 0.7);
     let shift = Vec3::new(0.3, -0.2, 0.1);
     let positions = moved(mesh.positions(), |p| turn * p + shift);
@@ -114,7 +114,7 @@ fn a_pose_draws_what_a_scene_of_the_posed_mesh_draws() {
     let positions = moved(f.mesh.positions(), bend);
     posed.deform(&positions, None).unwrap();
     let bent = FurMesh::new(MeshInput::new(&positions, f.mesh.triangles())).unwrap();
-    let built = FurScene::new(&f.renderer, &bent, &f.uvs, &f.volume).unwrap();
+    let built = f.scene_of(&bent);
     let camera = camera(oblique_view());
     let light = Lighting::default();
     // Without fins: a posed fin keeps the texture interval of its rest edge (its texture
@@ -190,7 +190,7 @@ fn a_new_comb_draws_what_a_scene_built_with_it_draws_in_any_pose() {
     let f = fixture();
     let combed = combed_torus();
     let comb = combed.comb().unwrap().to_vec();
-    let built = FurScene::new(&f.renderer, &combed, &f.uvs, &f.volume).unwrap();
+    let built = f.scene_of(&combed);
     let mut updated = f.scene();
     let before = f.scene().uploads();
     updated.update_comb(&comb).unwrap();

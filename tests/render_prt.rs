@@ -100,7 +100,7 @@ fn looking_at_the_grid_from(eye: [f64; 3]) -> Camera {
 
 fn scene(mesh: &FurMesh, uvs: &[[[f32; 2]; 3]]) -> FurScene {
     let f = fixture();
-    let mut scene = FurScene::new(&f.renderer, mesh, uvs, &f.volume).unwrap();
+    let mut scene = FurScene::new(&f.renderer, mesh, uvs, &f.volume, FUR_DEPTH).unwrap();
     scene.set_transfer(&f.renderer, &f.transfer).unwrap();
     scene
 }
@@ -146,7 +146,6 @@ fn skin_radiance_is_albedo_times_the_transfer_dot_product() {
     let skin_only = RenderSettings {
         shell_count: Some(0),
         fins: false,
-        fur_depth: FUR_DEPTH,
         ..RenderSettings::default()
     };
     let image = f
@@ -230,13 +229,9 @@ fn apply(q: &[[f64; 3]; 3], p: [f64; 3]) -> [f64; 3] {
 }
 
 fn render_all(scene: &FurScene, camera: &Camera, lighting: &Lighting) -> LinearImage {
-    let settings = RenderSettings {
-        fur_depth: FUR_DEPTH,
-        ..RenderSettings::default()
-    };
     fixture()
         .renderer
-        .render_linear(scene, camera, lighting, &settings)
+        .render_linear(scene, camera, lighting, &RenderSettings::default())
         .unwrap()
 }
 
@@ -352,7 +347,7 @@ fn a_light_behind_the_skin_lights_nothing_and_one_above_lights_the_fur() {
 fn transfer_from_another_bake_or_missing_is_named_and_the_scene_survives() {
     let f = fixture();
     let (mesh, uvs) = grid(4, |p| p);
-    let mut scene = FurScene::new(&f.renderer, &mesh, &uvs, &f.volume).unwrap();
+    let mut scene = FurScene::new(&f.renderer, &mesh, &uvs, &f.volume, FUR_DEPTH).unwrap();
     let camera = Camera {
         view: column_major(view_matrix([0.0, -1.5, 3.0], [0.0; 3], [0.0, 0.0, 1.0])),
         projection: column_major(perspective(50.0, 0.5, 10.0)),
@@ -409,7 +404,6 @@ fn lod_asking_for(scene: &FurScene, camera: &Camera) -> impl Fn(f64) -> RenderSe
     let lod = RenderSettings {
         lod: true,
         min_shells: 0,
-        fur_depth: FUR_DEPTH,
         ..RenderSettings::default()
     };
     let info = fixture().renderer.frame_info(scene, camera, &lod).unwrap();
@@ -468,10 +462,7 @@ fn zero_length_under_prt_renders_exactly_the_skin() {
     let (mesh, uvs) = grid(8, |p| p);
     let mut scene = scene(&mesh, &uvs);
     let camera = looking_at_the_grid_from([0.5, -2.0, 1.5]);
-    let all = RenderSettings {
-        fur_depth: FUR_DEPTH,
-        ..RenderSettings::default()
-    };
+    let all = RenderSettings::default();
     let skin = RenderSettings {
         shell_count: Some(0),
         fins: false,

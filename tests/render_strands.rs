@@ -82,12 +82,11 @@ fn fixture() -> &'static Fixture {
 
 fn scene(mesh: &FurMesh) -> FurScene {
     let f = fixture();
-    FurScene::new(&f.renderer, mesh, &f.patches.uv, &f.volume).unwrap()
+    FurScene::new(&f.renderer, mesh, &f.patches.uv, &f.volume, FUR_DEPTH).unwrap()
 }
 
 fn settings() -> RenderSettings {
     RenderSettings {
-        fur_depth: FUR_DEPTH,
         mesh_error: 0.0,
         ..RenderSettings::default()
     }

@@ -27,7 +27,6 @@ fn camera(width: u32, height: u32) -> Camera {
 
 fn settings() -> RenderSettings {
     RenderSettings {
-        fur_depth: 0.08,
         background: [0.1, 0.2, 0.3, 1.0],
         ..RenderSettings::default()
     }
@@ -54,7 +53,7 @@ fn setup() -> (Renderer, FurScene) {
         None,
     )
     .unwrap();
-    let scene = FurScene::new(&renderer, &mesh, &uvs, &volume).unwrap();
+    let scene = FurScene::new(&renderer, &mesh, &uvs, &volume, 0.08).unwrap();
     (renderer, scene)
 }
 

@@ -183,7 +183,7 @@ class Session:
             rest = (asset.mesh.positions, asset.mesh.normals) if self._posed else None
             target = posed if posed is not None else rest
             self._posed = posed is not None
-        options = render_options(obj, asset)
+        options = render_options(obj)
         if options["shell_method"] == "planes" and not self._has_planes:
             # Virtual Planes asked for before a bake made their slices: the bake's shells until
             # then (the panel says "out of date").
@@ -196,6 +196,7 @@ class Session:
             width,
             height,
             repr(options),
+            asset.fur_depth,
             self._lit_at,
             _State.scene_edits,
         )
@@ -206,7 +207,16 @@ class Session:
             options = {**options, "occluders": depth}
         worker.submit(
             live.Request(
-                key, view, projection, width, height, self._lighting, options, target, self._attributes
+                key,
+                view,
+                projection,
+                width,
+                height,
+                self._lighting,
+                options,
+                target,
+                self._attributes,
+                fur_depth=asset.fur_depth,
             )
         )
         self._sent_key, self._attributes = key, None

@@ -14,7 +14,7 @@ import bpy
 import numpy as np
 import pelt
 
-from ..io import bridge
+from ..io import bridge, live
 from ..io.names import datablock_name
 from ..io.ownership import find_owned, tag
 from . import bake, lighting, pose, preferences
@@ -58,7 +58,8 @@ def object_lighting(scene, obj, model: str, order: int | None) -> dict:
 
 def preview_of(obj) -> tuple[pelt.Preview, pelt.FurAsset]:
     """The object's preview, rebuilt when a bake of its pipeline ran a stage since it was built
-    (this one, or Bake's or an export's before it), else with colors and lengths updated."""
+    (this one, or Bake's or an export's before it), else with colors, lengths and fur depth
+    updated."""
     job = bake.start_job(obj).start()
     job.wait()
     if job.error is not None:
@@ -74,15 +75,15 @@ def preview_of(obj) -> tuple[pelt.Preview, pelt.FurAsset]:
         preview = cached[0]
         mesh = asset.mesh
         preview.update(color=mesh.color, length=mesh.length)
+        live.match_fur_depth(preview, asset.fur_depth)
     return preview, asset
 
 
-def render_options(obj, asset) -> dict:
+def render_options(obj) -> dict:
+    """The keyword arguments of ``pelt.Preview.render`` that ``obj``'s settings choose (the fur
+    depth is the preview's own, set to the bake's: ``preview_of``, ``live.Request``)."""
     settings = obj.pelt
     return {
-        # The bake's, not the preview's: a new fur depth re-runs no stage (under Kajiya-Kay), so
-        # the preview built before it is kept.
-        "fur_depth": asset.fur_depth,
         "fins": settings.fins,
         "shell_method": settings.shell_method.lower(),
         "plane_loop_limit": settings.plane_loop_limit,
@@ -117,7 +118,7 @@ def render_camera(context, obj) -> np.ndarray:
         height,
         lighting=object_lighting(scene, obj, model, preview.transfer_order),
         linear=True,
-        **render_options(obj, asset),
+        **render_options(obj),
     )
 
 

@@ -37,6 +37,8 @@ class Request:
     pose: tuple | None = None
     # Keyword arguments of ``pelt.Preview.update`` (painted colors, lengths) applied first.
     attributes: dict | None = None
+    # The fur depth (the bake's) set first where the preview's differs; None keeps it.
+    fur_depth: float | None = None
     # time.perf_counter() when the request was made (the oldest carried change's, when merged).
     made: float = field(default_factory=time.perf_counter)
 
@@ -70,6 +72,14 @@ def scaled_depth(depth: np.ndarray, width: int, height: int) -> np.ndarray:
     cols = np.minimum((np.arange(width + 1) * depth.shape[1]) // width, depth.shape[1])
     by_row = np.minimum.reduceat(depth, rows[:-1], axis=0)
     return np.ascontiguousarray(np.minimum.reduceat(by_row, cols[:-1], axis=1))
+
+
+def match_fur_depth(preview: pelt.Preview, fur_depth: float) -> None:
+    """Sets ``preview.fur_depth`` to ``fur_depth`` (the bake's) where it differs: a new fur depth
+    re-runs no stage under Kajiya-Kay, so a preview built before it is kept, and told the new depth
+    (no upload). The preview holds it as float32."""
+    if preview.fur_depth != np.float32(fur_depth):
+        preview.fur_depth = fur_depth
 
 
 def texture_pixels(rgba: np.ndarray) -> np.ndarray:
@@ -111,6 +121,8 @@ class Worker:
             if dropped is not None:
                 if request.pose is None:
                     request.pose = dropped.pose
+                if request.fur_depth is None:
+                    request.fur_depth = dropped.fur_depth
                 if dropped.attributes:
                     request.attributes = {**dropped.attributes, **(request.attributes or {})}
                 if dropped.pose is not None or dropped.attributes:
@@ -177,6 +189,8 @@ class Worker:
             self._condition.notify_all()
         while (request := self._next()) is not None:
             try:
+                if request.fur_depth is not None:
+                    match_fur_depth(preview, request.fur_depth)
                 if request.pose is not None:
                     preview.deform(*request.pose)
                 if request.attributes:

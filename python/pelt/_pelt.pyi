@@ -587,7 +587,6 @@ class Preview:
         fins: bool = True,
         lod: bool = False,
         linear: bool = False,
-        fur_depth: float | None = None,
         background: tuple[float, float, float, float] = ...,
         min_shells: int = 2,
         max_shells: int = 64,
@@ -625,8 +624,8 @@ class Preview:
         most pixels a simplified version of the mesh, drawn instead of the full one where the
         object is small on screen, may stray from it (0 always draws the full mesh; after
         :meth:`update`, a simplified version that would smear the new colors or lengths, such
-        as a bald spot narrower than its triangles, is no longer drawn). ``fur_depth``
-        defaults to the asset's. ``guard_hairs``: draw the asset's guard hairs as strands over
+        as a bald spot narrower than its triangles, is no longer drawn). The fur is
+        :attr:`fur_depth` deep. ``guard_hairs``: draw the asset's guard hairs as strands over
         the shells (``False``: the shells alone); ``strand_order``: how they are composited
         among the shells: ``"stochastic"`` (a thin strand's coverage as a per-pixel random
         choice, opaque, exact on average), ``"depth"`` (coverage as opacity, one draw under the
@@ -663,6 +662,15 @@ class Preview:
     def set_transfer(self, transfer: FurAsset | TransferResult) -> None:
         """Replace the PRT transfer textures with another bake's of the same hair volume (same
         layers and resolution, else :class:`InvalidParameterError`)."""
+    @property
+    def fur_depth(self) -> float:
+        """The fur depth in object units that frames draw with (the height of the volume's top at
+        length 1): the asset's at first. Setting it changes the next frame without a re-upload or a
+        bake (the shells and fins stretch to it; the guard hairs and a PRT transfer keep the depth
+        they were baked for). A NaN, negative or too large value raises
+        :class:`InvalidParameterError` naming ``fur_depth`` and keeps the depth set."""
+    @fur_depth.setter
+    def fur_depth(self, value: float) -> None: ...
     @property
     def adapter(self) -> AdapterInfo: ...
     @property

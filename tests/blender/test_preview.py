@@ -284,6 +284,25 @@ def test_updates_rewrite_only_colors_and_lengths(asset):
     assert np.array_equal(preview.render(VIEW, PROJECTION, SIDE, SIDE), skin)
 
 
+def test_a_new_fur_depth_is_drawn_without_an_upload_and_a_bad_one_changes_nothing(asset):
+    preview = pelt.Preview(asset, adapter="cpu")
+    assert preview.fur_depth == pytest.approx(asset.fur_depth)
+    before = preview.uploads
+    shallow = preview.render(VIEW, PROJECTION, SIDE, SIDE, lighting="kajiya-kay")
+    deeper = 2.0 * asset.fur_depth
+    preview.fur_depth = deeper
+    assert preview.fur_depth == pytest.approx(deeper)
+    assert preview.uploads == before
+    deep = preview.render(VIEW, PROJECTION, SIDE, SIDE, lighting="kajiya-kay")
+    assert (deep[..., 3] > 0).sum() > (shallow[..., 3] > 0).sum()
+    for bad in (float("nan"), -0.1, 1e30):
+        with pytest.raises(pelt.InvalidParameterError, match="`fur_depth`"):
+            preview.fur_depth = bad
+        assert preview.fur_depth == pytest.approx(deeper)
+    preview.fur_depth = asset.fur_depth
+    assert np.array_equal(preview.render(VIEW, PROJECTION, SIDE, SIDE, lighting="kajiya-kay"), shallow)
+
+
 def test_a_comb_update_leans_the_fur_and_a_bad_one_changes_nothing(asset):
     preview = pelt.Preview(asset, adapter="cpu")
     vertices = asset.mesh.vertex_count
@@ -365,7 +384,7 @@ def test_bad_input_names_the_problem_and_the_preview_survives(asset):
             lambda: preview.render(VIEW, PROJECTION, SIDE, SIDE, lighting={"direction": (0, 0, 0)}),
             "direction",
         ),
-        (lambda: preview.render(VIEW, PROJECTION, SIDE, SIDE, fur_depth=float("nan")), "fur_depth"),
+        (lambda: setattr(preview, "fur_depth", float("nan")), "fur_depth"),
         # A transfer baked for another hair volume (other layers).
         (lambda: preview.set_transfer(bake(layers=6)), "transfer.layers"),
         (lambda: pelt.Preview(asset, adapter="quantum"), "adapter"),

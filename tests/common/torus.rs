@@ -16,12 +16,15 @@ pub struct FurredTorus {
     pub mesh: FurMesh,
     pub uvs: Vec<[[f32; 2]; 3]>,
     pub volume: HairVolume,
+    /// Fur depth of the scenes, object units.
+    pub fur_depth: f32,
 }
 
 impl FurredTorus {
     /// `around` × `across` quads, the tile repeating `repeats` times around the ring and the
-    /// tube, an 8-layer volume; the test fails (never skips) without a CPU adapter.
-    pub fn new(around: usize, across: usize, repeats: [f32; 2]) -> Self {
+    /// tube, an 8-layer volume, fur `fur_depth` object units deep; the test fails (never skips)
+    /// without a CPU adapter.
+    pub fn new(around: usize, across: usize, repeats: [f32; 2], fur_depth: f32) -> Self {
         let renderer =
             Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe) must exist under make test");
         let (positions, triangles) = torus(around, across);
@@ -30,12 +33,19 @@ impl FurredTorus {
             mesh: FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap(),
             uvs: torus_uvs(around, across, repeats),
             volume: small_volume(8),
+            fur_depth,
         }
     }
 
     /// The torus uploaded.
     pub fn scene(&self) -> FurScene {
-        FurScene::new(&self.renderer, &self.mesh, &self.uvs, &self.volume).unwrap()
+        self.scene_of(&self.mesh)
+    }
+
+    /// `mesh` (the torus's vertices and triangles, moved or combed) uploaded with the torus's
+    /// UVs, volume and fur depth.
+    pub fn scene_of(&self, mesh: &FurMesh) -> FurScene {
+        FurScene::new(&self.renderer, mesh, &self.uvs, &self.volume, self.fur_depth).unwrap()
     }
 
     /// `scene` under the default lighting.

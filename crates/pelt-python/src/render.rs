@@ -27,8 +27,6 @@ pub(super) struct PyPreview {
     renderer: Renderer,
     /// Frames read the scene, updates write it.
     scene: Mutex<FurScene>,
-    /// The asset's fur depth, the default of `render(fur_depth=...)`.
-    fur_depth: f32,
     last_frame: Mutex<Option<FrameInfo>>,
 }
 
@@ -234,7 +232,6 @@ impl PyPreview {
             Ok(PyPreview {
                 renderer,
                 scene: Mutex::new(scene),
-                fur_depth: asset.params.fur_depth() as f32,
                 last_frame: Mutex::new(None),
             })
         })
@@ -244,7 +241,7 @@ impl PyPreview {
     /// `linear=True`, straight alpha, top row first. See the stub for the arguments.
     #[pyo3(signature = (
         view_matrix, projection_matrix, width, height, *, lighting=None, shells=None, fins=true,
-        lod=false, linear=false, fur_depth=None, background=(0.0, 0.0, 0.0, 0.0), min_shells=2,
+        lod=false, linear=false, background=(0.0, 0.0, 0.0, 0.0), min_shells=2,
         max_shells=64, shells_per_pixel=1.0, shell_method="instanced", mesh_error=1.0,
         guard_hairs=true, strand_order="stochastic", strand_bands=4, strand_pixels=1.0,
         plane_loop_limit=16, occluders=None, occluder_bias=None
@@ -262,7 +259,6 @@ impl PyPreview {
         fins: bool,
         lod: bool,
         linear: bool,
-        fur_depth: Option<f32>,
         background: (f32, f32, f32, f32),
         min_shells: i128,
         max_shells: i128,
@@ -314,7 +310,10 @@ impl PyPreview {
             side(width, "width")?,
             side(height, "height")?,
         );
-        let has_transfer = self.lock_scene().transfer_order().is_some();
+        let (has_transfer, fur_depth) = {
+            let scene = self.lock_scene();
+            (scene.transfer_order().is_some(), scene.fur_depth())
+        };
         let lighting = parse_lighting(lighting, has_transfer)?;
         let settings = RenderSettings {
             shell_count: shells,
@@ -325,7 +324,6 @@ impl PyPreview {
             fins,
             shell_method,
             mesh_error,
-            fur_depth: fur_depth.unwrap_or(self.fur_depth),
             background: [background.0, background.1, background.2, background.3],
             guard_hairs,
             strand_order,
@@ -340,7 +338,7 @@ impl PyPreview {
                 depth: occluder_depth(depth, shape[0], shape[1])?,
                 // Three fur heights: the fur's own shells drawn opaque in the other picture
                 // stay behind it where the surface faces the view within about 60°.
-                bias: occluder_bias.unwrap_or(3.0 * settings.fur_depth),
+                bias: occluder_bias.unwrap_or(3.0 * fur_depth),
             }),
         };
         let (info, pixels) = detached(py, || {
@@ -468,6 +466,19 @@ impl PyPreview {
         d.set_item("transfer_bytes", u.transfer_bytes)?;
         d.set_item("pose_bytes", u.pose_bytes)?;
         Ok(d)
+    }
+
+    /// The fur depth in object units that frames draw with: the asset's at first. See the stub.
+    #[getter]
+    fn fur_depth(&self) -> f32 {
+        self.lock_scene().fur_depth()
+    }
+
+    /// Sets the fur depth without a re-upload; a NaN, negative or too large value raises
+    /// `InvalidParameterError` naming `fur_depth` and keeps the one set.
+    #[setter]
+    fn set_fur_depth(&self, py: Python<'_>, fur_depth: f32) -> PyResult<()> {
+        detached(py, || self.lock_scene().set_fur_depth(fur_depth))
     }
 
     /// SH order of the scene's transfer, or `None`.

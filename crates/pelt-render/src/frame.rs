@@ -186,7 +186,14 @@ impl Renderer {
         settings.shells_to_draw(scene.layers)?;
         let settings = &settings.as_drawn(self.shell_method(settings.shell_method));
         let fixed = settings.shells_to_draw(scene.layers)?;
-        let mut info = lod::choose(&scene.levels, settings, camera, &scene.extent, fixed);
+        let mut info = lod::choose(
+            &scene.levels,
+            settings,
+            camera,
+            &scene.extent,
+            scene.fur_depth,
+            fixed,
+        );
         let levels = scene.drawable_levels();
         let errors: Vec<f64> = levels.iter().map(|l| l.error).collect();
         let ppu = lod::nearest_pixels_per_unit(camera, scene.extent.center, scene.extent.radius);
@@ -302,7 +309,7 @@ impl Renderer {
         let ppu = lod::nearest_pixels_per_unit(camera, scene.extent.center, scene.extent.radius);
         let strand_draw = strand_scene.map_or((0, 0), |s| {
             let fur_pixels = ppu.map_or(f64::INFINITY, |ppu| {
-                f64::from(settings.fur_depth) * scene.extent.max_length * ppu
+                f64::from(scene.fur_depth) * scene.extent.max_length * ppu
             });
             (
                 strands::kept_strands(&s.records, s.root_radius, ppu, settings.strand_pixels),
@@ -317,6 +324,7 @@ impl Renderer {
                 info: &checked.info,
                 levels: &scene.levels,
                 layers: scene.layers,
+                fur_depth: scene.fur_depth,
                 layer_spacing: scene.layer_spacing,
                 prt: transfer.map_or([0; 3], |t| [(t.order * t.order) as u32, t.textures, t.stride]),
                 fin_spacing: level.fin_spacing,

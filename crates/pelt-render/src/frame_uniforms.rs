@@ -1,5 +1,5 @@
 //! The uniform block every fur pass reads (`Frame` in `common.wgsl`), packed from the camera,
-//! lighting and settings of one frame.
+//! lighting and settings of one frame and the scene it draws.
 
 use bytemuck::{Pod, Zeroable};
 
@@ -38,6 +38,8 @@ pub(super) struct SceneFrame<'a> {
     pub levels: &'a Levels,
     /// Layers of the shell texture.
     pub layers: u32,
+    /// Fur depth in object units ([`super::FurScene::fur_depth`]).
+    pub fur_depth: f32,
     /// Height between layers, share of the fur depth.
     pub layer_spacing: f32,
     /// PRT: coefficients, transfer textures, array layers per texture (zero without PRT).
@@ -69,7 +71,7 @@ impl FrameUniforms {
             ambient: v3(light.ambient),
             kajiya_kay: light.kajiya_kay,
             fur: [
-                settings.fur_depth,
+                scene.fur_depth,
                 scene.layer_spacing,
                 light.self_shadow,
                 settings.alpha_test,

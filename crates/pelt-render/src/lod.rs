@@ -114,17 +114,19 @@ fn projected_scale(camera: &Camera, center: DVec3, radius: f64, toward: f64) -> 
     ppu.is_finite().then_some(ppu)
 }
 
-/// The level and blend for `settings` (checked), with `fixed` the shell count without LOD.
+/// The level and blend for `settings` (checked) of a scene of `extent` whose fur is `fur_depth`
+/// object units deep, with `fixed` the shell count without LOD.
 pub(super) fn choose(
     levels: &Levels,
     settings: &RenderSettings,
     camera: &Camera,
     extent: &Extent,
+    fur_depth: f32,
     fixed: u32,
 ) -> FrameInfo {
     let ppu = pixels_per_unit(camera, extent.center, extent.radius);
     let radius_pixels = ppu.map(|p| (p * extent.radius) as f32);
-    let fur_pixels = ppu.map(|p| (p * f64::from(settings.fur_depth) * extent.max_length) as f32);
+    let fur_pixels = ppu.map(|p| (p * f64::from(fur_depth) * extent.max_length) as f32);
     let fixed_info = FrameInfo {
         shells: fixed,
         level: 0,

@@ -30,6 +30,9 @@ use pelt_core::threads::pool;
 use pelt_core::volume::slices::check_slices;
 use pelt_core::volume::{HairVolume, PlaneSlices};
 
+/// Longest fur accepted, object units ([`pelt_core::mesh::MAX_FUR_DEPTH`] as the shaders' f32).
+pub const MAX_FUR_DEPTH: f32 = pelt_core::mesh::MAX_FUR_DEPTH as f32;
+
 /// Hair color where the mesh has none: white, so the texture's own color shows.
 const DEFAULT_COLOR: [f32; 4] = [1.0; 4];
 /// Length multiplier where the mesh has none.
@@ -147,6 +150,8 @@ pub struct FurScene {
     mesh_vertices: usize,
     pub(super) layers: u32,
     pub(super) layer_spacing: f32,
+    /// Fur depth in object units: the height of the volume's top at length multiplier 1.
+    pub(super) fur_depth: f32,
     resolution: usize,
     /// The shell array's LOD levels.
     pub(super) levels: Levels,
@@ -227,6 +232,10 @@ fn check_lengths(lengths: &[f32], vertices: usize) -> Result<()> {
     Ok(())
 }
 
+fn check_fur_depth(fur_depth: f32) -> Result<()> {
+    super::settings::check("fur_depth", fur_depth, MAX_FUR_DEPTH)
+}
+
 /// The longest length multiplier (0 for none).
 fn longest(lengths: &[f32]) -> f64 {
     lengths.iter().fold(0.0, |m, &l| m.max(f64::from(l)))
@@ -253,17 +262,21 @@ impl FurScene {
     /// Uploads `mesh` (its colors, comb vectors and lengths, or white, none and 1 where absent)
     /// with per-triangle corner UVs in tile units (`corner_uvs[f][k]` for corner `k` of triangle
     /// `f`, as the lapped patches produce them; vertices are split where they differ) and the
-    /// baked hair `volume`.
+    /// baked hair `volume`, whose fur is `fur_depth` object units deep (the bake's: the height of
+    /// the volume's top at length multiplier 1, [`FurScene::fur_depth`]).
     ///
     /// # Errors
-    /// [`PeltError::InvalidParameter`] naming `corner_uvs` or the `volume` array whose size does
-    /// not match (or exceeds the device), [`PeltError::Render`] when the device fails.
+    /// [`PeltError::InvalidParameter`] naming `fur_depth` (outside `[0, MAX_FUR_DEPTH]`),
+    /// `corner_uvs` or the `volume` array whose size does not match (or exceeds the device),
+    /// [`PeltError::Render`] when the device fails.
     pub fn new(
         renderer: &Renderer,
         mesh: &FurMesh,
         corner_uvs: &[[[f32; 2]; 3]],
         volume: &HairVolume,
+        fur_depth: f32,
     ) -> Result<Self> {
+        check_fur_depth(fur_depth)?;
         let device = &renderer.device;
         pelt_core::memory::check("preview upload", super::scene_upload_peak_bytes(volume), || {
             format!(
@@ -369,6 +382,7 @@ impl FurScene {
             mesh_vertices: mesh.vertex_count(),
             layers: volume.layers as u32,
             layer_spacing: volume.layer_spacing as f32,
+            fur_depth,
             resolution: volume.resolution,
             levels,
             alpha: volume.shells.chunks_exact(4).map(|px| px[3]).collect(),
@@ -381,13 +395,19 @@ impl FurScene {
         })
     }
 
-    /// Uploads a baked asset: its mesh with the patches' UVs and its volume, and its transfer and
-    /// guard hairs when it has them.
+    /// Uploads a baked asset: its mesh with the patches' UVs, its volume and fur depth, and its
+    /// transfer and guard hairs when it has them.
     ///
     /// # Errors
     /// As [`FurScene::new`], [`FurScene::set_transfer`] and [`FurScene::set_guard_hairs`].
     pub fn from_asset(renderer: &Renderer, asset: &pelt_core::pipeline::FurAsset) -> Result<Self> {
-        let mut scene = FurScene::new(renderer, &asset.mesh, &asset.patches.uv, &asset.volume)?;
+        let mut scene = FurScene::new(
+            renderer,
+            &asset.mesh,
+            &asset.patches.uv,
+            &asset.volume,
+            asset.params.fur_depth() as f32,
+        )?;
         if let Some(transfer) = &asset.transfer {
             scene.set_transfer(renderer, &transfer.packed_f16)?;
         }
@@ -888,6 +908,26 @@ impl FurScene {
     /// Layers of the shell texture, the skin included.
     pub fn layers(&self) -> u32 {
         self.layers
+    }
+
+    /// Fur depth in object units: the height of the volume's top at length multiplier 1
+    /// (`pelt_length`), the shells standing at the volume's layer spacing of it.
+    pub fn fur_depth(&self) -> f32 {
+        self.fur_depth
+    }
+
+    /// Sets the fur depth (object units, `[0, MAX_FUR_DEPTH]`) that frames draw with from now on,
+    /// without a re-upload (each frame's uniforms carry it): the shells and fins stretch to it at
+    /// the next frame, so under Kajiya–Kay a new depth needs no bake. The guard hairs and a PRT
+    /// transfer keep the depth they were baked for.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming `fur_depth` (NaN, negative or above
+    /// [`MAX_FUR_DEPTH`]); the scene is unchanged then.
+    pub fn set_fur_depth(&mut self, fur_depth: f32) -> Result<()> {
+        check_fur_depth(fur_depth)?;
+        self.fur_depth = fur_depth;
+        Ok(())
     }
 
     pub(super) fn renderer_id(&self) -> u64 {

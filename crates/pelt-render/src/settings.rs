@@ -1,11 +1,10 @@
 //! Per-frame render settings: which passes run (Lengyel et al. 2001, §2.3), how many shells —
-//! fixed, or chosen by level of detail from the object's projected size (§2.4) — how long the fur
-//! is in object units (§3: layer spacing × per-vertex length), and the background.
+//! fixed, or chosen by level of detail from the object's projected size (§2.4) — and the
+//! background. How long the fur is belongs to the baked asset, not to a frame: the scene holds it
+//! ([`super::FurScene::fur_depth`]).
 
 use pelt_core::error::{Num, PeltError, Result};
 
-/// Longest fur accepted, object units ([`pelt_core::mesh::MAX_FUR_DEPTH`] as the shaders' f32).
-pub const MAX_FUR_DEPTH: f32 = pelt_core::mesh::MAX_FUR_DEPTH as f32;
 /// Largest [`RenderSettings::shells_per_pixel`].
 pub const MAX_SHELLS_PER_PIXEL: f32 = 1e3;
 /// Largest [`RenderSettings::mesh_error`], pixels.
@@ -82,7 +81,8 @@ pub enum StrandOrder {
 /// Most [`StrandOrder::Banded`] bands.
 pub const MAX_STRAND_BANDS: u32 = 256;
 
-/// What to draw and how.
+/// What to draw and how: per-frame choices only. The fur depth is the scene's
+/// ([`super::FurScene::fur_depth`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RenderSettings {
     /// Shells drawn above the skin, `[0, layers − 1]` of the scene's volume; `None` draws all.
@@ -95,9 +95,10 @@ pub struct RenderSettings {
     /// shells composited) and cross-faded between the two nearest levels so that nothing pops.
     /// [`super::Renderer::frame_info`] reports the choice.
     pub lod: bool,
-    /// LOD: shells per pixel of projected fur depth (fur depth × the longest painted length, in
-    /// pixels at the bounding sphere's centre), `(0, MAX_SHELLS_PER_PIXEL]`. At 1, shells stand
-    /// about a pixel apart where the fur is seen edge-on, the fewest that show no gaps.
+    /// LOD: shells per pixel of projected fur depth (the scene's fur depth × the longest painted
+    /// length, in pixels at the bounding sphere's centre), `(0, MAX_SHELLS_PER_PIXEL]`. At 1,
+    /// shells stand about a pixel apart where the fur is seen edge-on, the fewest that show no
+    /// gaps.
     pub shells_per_pixel: f32,
     /// LOD: fewest shells, however small the object (0 allows the skin alone, which then shows
     /// the whole fur composited into it).
@@ -118,9 +119,6 @@ pub struct RenderSettings {
     pub mesh_error: f32,
     /// Draw the fins (Lengyel §2.3, pass b).
     pub fins: bool,
-    /// Fur depth in object units: the height of the volume's top at length multiplier 1
-    /// (`pelt_length`); `[0, MAX_FUR_DEPTH]`.
-    pub fur_depth: f32,
     /// Fin opacity before the silhouette fade, `[0, 1]`.
     pub fin_opacity: f32,
     /// Shell fragments whose opacity is below this write no depth and no color (Lengyel §2.3's
@@ -162,7 +160,6 @@ impl Default for RenderSettings {
             shell_method: ShellMethod::Instanced,
             mesh_error: 1.0,
             fins: true,
-            fur_depth: 0.05,
             fin_opacity: 1.0,
             alpha_test: 1.0 / 255.0,
             background: [0.0; 4],
@@ -174,7 +171,8 @@ impl Default for RenderSettings {
     }
 }
 
-fn check(name: &str, value: f32, hi: f32) -> Result<()> {
+/// `value` finite and in `[0, hi]`, else an error naming `name`.
+pub(super) fn check(name: &str, value: f32, hi: f32) -> Result<()> {
     if value.is_finite() && (0.0..=hi).contains(&value) {
         Ok(())
     } else {
@@ -202,7 +200,6 @@ impl RenderSettings {
     /// Checks every field; returns the number of shells to draw for a volume of `layers` layers
     /// when LOD is off (the count LOD starts from when it is on: all of them).
     pub(super) fn shells_to_draw(&self, layers: u32) -> Result<u32> {
-        check("settings.fur_depth", self.fur_depth, MAX_FUR_DEPTH)?;
         check("settings.fin_opacity", self.fin_opacity, 1.0)?;
         check("settings.alpha_test", self.alpha_test, 1.0)?;
         check("settings.mesh_error", self.mesh_error, MAX_MESH_ERROR)?;

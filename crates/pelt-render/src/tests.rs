@@ -155,14 +155,6 @@ fn camera_lighting_and_settings_name_the_bad_field() {
         parameter_name(too_many.shells_to_draw(16).unwrap_err()),
         "settings.shell_count"
     );
-    let negative = RenderSettings {
-        fur_depth: -1.0,
-        ..settings
-    };
-    assert_eq!(
-        parameter_name(negative.shells_to_draw(16).unwrap_err()),
-        "settings.fur_depth"
-    );
 }
 
 /// A 2 × 2 square in the xy plane as two triangles sharing the diagonal 0–2.
@@ -390,11 +382,10 @@ fn lod_follows_the_projected_fur_depth_between_the_levels() {
     };
     let settings = RenderSettings {
         lod: true,
-        fur_depth: 0.1,
         min_shells: 1,
         ..RenderSettings::default()
     };
-    let info = choose(&levels, &settings, &camera, &extent, 16);
+    let info = choose(&levels, &settings, &camera, &extent, 0.1, 16);
     assert!((info.radius_pixels.unwrap() - 50.0).abs() < 1e-4);
     assert!((info.fur_pixels.unwrap() - 5.0).abs() < 1e-5);
     // 5 shells wanted: between level 1 (8) and level 2 (4), a quarter of the way from 4.
@@ -405,7 +396,7 @@ fn lod_follows_the_projected_fur_depth_between_the_levels() {
         shells_per_pixel: 2.0,
         ..settings
     };
-    let info = choose(&levels, &dense, &camera, &extent, 16);
+    let info = choose(&levels, &dense, &camera, &extent, 0.1, 16);
     assert_eq!((info.shells, info.level), (16, 0));
     assert!((info.blend - 0.75).abs() < 1e-6);
     // Exactly a level's count draws that level without a blend; the bounds clamp.
@@ -413,33 +404,30 @@ fn lod_follows_the_projected_fur_depth_between_the_levels() {
         shells_per_pixel: 0.8,
         ..settings
     };
-    let info = choose(&levels, &exact, &camera, &extent, 16);
+    let info = choose(&levels, &exact, &camera, &extent, 0.1, 16);
     assert_eq!((info.shells, info.level, info.blend), (4, 2, 0.0));
     let capped = RenderSettings {
         max_shells: 2,
         ..settings
     };
-    assert_eq!(choose(&levels, &capped, &camera, &extent, 16).shells, 2);
+    assert_eq!(choose(&levels, &capped, &camera, &extent, 0.1, 16).shells, 2);
     let thin = RenderSettings {
         shells_per_pixel: 1e-3,
         min_shells: 0,
         ..settings
     };
-    let info = choose(&levels, &thin, &camera, &extent, 16);
+    let info = choose(&levels, &thin, &camera, &extent, 0.1, 16);
     assert_eq!((info.shells, info.level), (1, 4));
     assert!((info.blend - 0.995).abs() < 1e-6);
-    let flat = RenderSettings {
-        fur_depth: 0.0,
-        ..thin
-    };
-    let info = choose(&levels, &flat, &camera, &extent, 16);
+    // No fur depth: the skin alone.
+    let info = choose(&levels, &thin, &camera, &extent, 0.0, 16);
     assert_eq!((info.shells, info.level, info.blend), (0, 5, 0.0));
     // LOD off: the fixed count, sizes still reported.
     let off = RenderSettings {
         lod: false,
         ..settings
     };
-    let info = choose(&levels, &off, &camera, &extent, 12);
+    let info = choose(&levels, &off, &camera, &extent, 0.1, 12);
     assert_eq!((info.shells, info.level, info.blend), (12, 0, 0.0));
     assert!(info.fur_pixels.is_some());
 
@@ -451,9 +439,9 @@ fn lod_follows_the_projected_fur_depth_between_the_levels() {
         height: 100,
     };
     // perspective() has t = 1: 50 pixels per unit at distance 1.
-    let info = choose(&levels, &settings, &at(4.0), &extent, 16);
+    let info = choose(&levels, &settings, &at(4.0), &extent, 0.1, 16);
     assert!((info.radius_pixels.unwrap() - 12.5).abs() < 1e-4);
-    let inside = choose(&levels, &settings, &at(0.5), &extent, 16);
+    let inside = choose(&levels, &settings, &at(0.5), &extent, 0.1, 16);
     assert_eq!((inside.radius_pixels, inside.shells, inside.level), (None, 16, 0));
 }
 

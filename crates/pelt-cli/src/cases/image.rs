@@ -276,7 +276,13 @@ fn object_cases(
     params.volume.trim = false;
     let mut pipeline = Pipeline::new();
     let asset = pipeline.bake(first.mesh.clone(), &params, None)?;
-    let mut fur = FurScene::new(renderer, &asset.mesh, &asset.patches.uv, &asset.volume)?;
+    let mut fur = FurScene::new(
+        renderer,
+        &asset.mesh,
+        &asset.patches.uv,
+        &asset.volume,
+        params.fur_depth() as f32,
+    )?;
     let strands = grow_strands(&params.grown_hair(&asset.mesh))?;
     let geometry = FurGeometry::from_bake(&asset.mesh, &asset.patches, &strands, params.fur_depth())?;
     let traced = ReferenceScene::new(geometry)?;
@@ -390,7 +396,7 @@ fn object_cases(
             (Some((_, scene)), Some(_)) => scene,
             _ => &fur,
         };
-        let settings = preview_settings(&config, params.fur_depth() as f32);
+        let settings = preview_settings(&config);
         let started = std::time::Instant::now();
         for ((scene, reference), volume) in scenes.iter().zip(&references).zip(&volumes) {
             if !runs(scene) {
@@ -494,13 +500,12 @@ fn case(
     }
 }
 
-fn preview_settings(config: &Config, fur_depth: f32) -> RenderSettings {
+fn preview_settings(config: &Config) -> RenderSettings {
     RenderSettings {
         shell_count: config.shells,
         fins: config.fins,
         shell_method: config.method,
         lod: config.lod,
-        fur_depth,
         strand_order: config.strand_order,
         strand_pixels: config.strand_pixels,
         plane_loop_limit: config.planes.map_or(16, |p| p.1),

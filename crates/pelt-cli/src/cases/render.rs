@@ -131,14 +131,13 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
         },
         None,
     )?;
-    let mut scene = FurScene::new(&renderer, &mesh, &patches.uv, &volume)?;
+    let mut scene = FurScene::new(&renderer, &mesh, &patches.uv, &volume, FUR_DEPTH)?;
     let reps = if options.quick { 5 } else { 15 };
     let upload_cases = scene_upload(&renderer, &mesh, &patches.uv, &volume, reps / 3)?;
     // The frame as the renderer draws it for a preview on this adapter: shells marched per
     // pixel on a CPU adapter, instanced on a GPU (`ShellMethod::Auto`); `.instanced` and
     // `.marched` force one method.
     let settings = RenderSettings {
-        fur_depth: FUR_DEPTH,
         shell_method: ShellMethod::Auto,
         ..RenderSettings::default()
     };
@@ -377,8 +376,8 @@ fn scene_upload(
     volume: &HairVolume,
     reps: usize,
 ) -> Result<Vec<CaseResult>> {
-    let timing = time_fallible(reps, || FurScene::new(renderer, mesh, uvs, volume))?;
-    let mut scene = FurScene::new(renderer, mesh, uvs, volume)?;
+    let timing = time_fallible(reps, || FurScene::new(renderer, mesh, uvs, volume, FUR_DEPTH))?;
+    let mut scene = FurScene::new(renderer, mesh, uvs, volume, FUR_DEPTH)?;
     let size = format!(
         "{} triangles, geometric levels of {:?} triangles, {} layers of {}²",
         mesh.face_count(),

@@ -97,7 +97,7 @@ pub(super) fn strand_cases(options: &BenchOptions) -> Result<Vec<CaseResult>> {
         (UPLOAD_STRANDS / all as f64).min(1.0),
     )?;
     let strands = guard_hairs(&mesh, &patches, &hair, depth, DEFAULT_SHARE)?;
-    let mut scene = FurScene::new(&renderer, &mesh, &patches.uv, &volume)?;
+    let mut scene = FurScene::new(&renderer, &mesh, &patches.uv, &volume, FUR_DEPTH)?;
     let reps: usize = if options.quick { 5 } else { 15 };
     let mut results = Vec::new();
 
@@ -115,7 +115,6 @@ pub(super) fn strand_cases(options: &BenchOptions) -> Result<Vec<CaseResult>> {
 
     let lighting = Lighting::default();
     let preview = RenderSettings {
-        fur_depth: FUR_DEPTH,
         shell_method: ShellMethod::Auto,
         ..RenderSettings::default()
     };

@@ -41,7 +41,6 @@ struct Viewer {
     surface: WindowSurface,
     scene: FurScene,
     sphere: Sphere,
-    fur_depth: f32,
     state: ViewState,
     drag: Drag,
     times: FrameTimes,
@@ -159,7 +158,6 @@ impl App {
             surface,
             scene,
             sphere,
-            fur_depth: fur_depth as f32,
             state,
             drag: Drag::default(),
             times: FrameTimes::default(),
@@ -212,7 +210,7 @@ impl App {
                 &viewer.scene,
                 &camera,
                 &viewer.state.lighting(),
-                &viewer.state.settings(viewer.fur_depth),
+                &viewer.state.settings(),
                 capture,
             )
             .map_err(|e| e.to_string())?;

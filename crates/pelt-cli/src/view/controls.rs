@@ -207,8 +207,8 @@ impl ViewState {
         Outcome::Redraw
     }
 
-    /// The render settings for fur `fur_depth` deep.
-    pub fn settings(&self, fur_depth: f32) -> RenderSettings {
+    /// The render settings of the view (the fur depth is the scene's).
+    pub fn settings(&self) -> RenderSettings {
         let base = RenderSettings {
             fins: self.fins,
             shell_method: match (self.planes, self.marched) {
@@ -216,7 +216,6 @@ impl ViewState {
                 (false, true) => ShellMethod::Marched,
                 (false, false) => ShellMethod::Instanced,
             },
-            fur_depth,
             background: BACKGROUND,
             ..RenderSettings::default()
         };

@@ -54,15 +54,12 @@ fn prt_is_refused_without_transfer() {
 #[test]
 fn settings_follow_the_toggles() {
     let mut state = ViewState::new(8, false, false);
-    let s = state.settings(0.1);
-    assert_eq!(
-        (s.shell_count, s.lod, s.fins, s.fur_depth),
-        (Some(7), false, true, 0.1)
-    );
+    let s = state.settings();
+    assert_eq!((s.shell_count, s.lod, s.fins), (Some(7), false, true));
     state.apply(Action::ToggleFins);
     state.apply(Action::ToggleLod);
     state.apply(Action::FewerShells);
-    let s = state.settings(0.1);
+    let s = state.settings();
     // With LOD the shell count is LOD's to choose, up to the user's count.
     assert_eq!(
         (s.shell_count, s.lod, s.fins, s.max_shells),
@@ -100,11 +97,11 @@ fn drags_orbit_with_the_left_button_and_turn_the_light_with_the_right() {
 fn planes_are_refused_without_slices_and_trace_the_fur_when_on() {
     let mut state = ViewState::new(8, false, false);
     assert!(matches!(state.apply(Action::TogglePlanes), Outcome::Refused(m) if m.contains("--planes")));
-    assert_eq!(state.settings(0.1).shell_method, ShellMethod::Instanced);
+    assert_eq!(state.settings().shell_method, ShellMethod::Instanced);
     let mut state = ViewState::new(8, false, true);
     assert_eq!(state.apply(Action::ToggleMarched), Outcome::Redraw);
     assert_eq!(state.apply(Action::TogglePlanes), Outcome::Redraw);
-    assert_eq!(state.settings(0.1).shell_method, ShellMethod::VirtualPlanes);
+    assert_eq!(state.settings().shell_method, ShellMethod::VirtualPlanes);
     assert_eq!(state.apply(Action::TogglePlanes), Outcome::Redraw);
-    assert_eq!(state.settings(0.1).shell_method, ShellMethod::Marched);
+    assert_eq!(state.settings().shell_method, ShellMethod::Marched);
 }
