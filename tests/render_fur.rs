@@ -11,8 +11,8 @@ use std::sync::OnceLock;
 
 use pelt::export::{PngOptions, save_png};
 use pelt::render::{
-    AdapterChoice, Camera, FurScene, KajiyaKay, LightModel, Lighting, MAX_FUR_DEPTH, RenderSettings,
-    Renderer, RgbaImage, ShellMethod,
+    AdapterChoice, Camera, FurScene, KajiyaKay, LightModel, Lighting, RenderSettings, Renderer, RgbaImage,
+    ShellMethod,
 };
 use pelt::{FurMesh, MeshInput};
 
@@ -307,7 +307,8 @@ fn bad_input_is_named_and_the_renderer_survives() {
         .err()
         .unwrap();
     assert_eq!(parameter_name(e), "volume.shells");
-    for depth in [-1.0, f32::NAN, f32::INFINITY, 2.0 * MAX_FUR_DEPTH] {
+    let too_deep = 2.0 * pelt::mesh::MAX_FUR_DEPTH as f32;
+    for depth in [-1.0, 0.0, f32::NAN, f32::INFINITY, too_deep] {
         let e = FurScene::new(&f.renderer, &f.mesh, &f.uvs, &f.volume, depth)
             .err()
             .unwrap();

@@ -158,7 +158,7 @@ fn a_bad_mesh_error_is_named_and_the_renderer_survives() {
             .renderer
             .render(&scene, &far, &Lighting::default(), &settings(bad));
         match result {
-            Err(PeltError::InvalidParameter { name, .. }) => assert_eq!(name, "settings.mesh_error"),
+            Err(PeltError::InvalidParameter { name, .. }) => assert_eq!(name, "mesh_error"),
             other => panic!("mesh_error {bad}: {:?}", other.map(|_| ())),
         }
     }

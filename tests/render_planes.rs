@@ -132,7 +132,7 @@ fn planes_need_slices_and_bad_settings_are_named() {
     let mut scene = f.torus.scene();
     let planes = settings(ShellMethod::VirtualPlanes, 16);
     let err = renderer.render(&scene, &camera, &lighting, &planes).unwrap_err();
-    assert_eq!(parameter_name(err), "settings.shell_method");
+    assert_eq!(parameter_name(err), "shell_method");
     for limit in [0, 257] {
         scene.set_planes(renderer, Some(&f.slices)).unwrap();
         let err = renderer
@@ -143,7 +143,7 @@ fn planes_need_slices_and_bad_settings_are_named() {
                 &settings(ShellMethod::VirtualPlanes, limit),
             )
             .unwrap_err();
-        assert_eq!(parameter_name(err), "settings.plane_loop_limit");
+        assert_eq!(parameter_name(err), "plane_loop_limit");
     }
     // Slices that do not match their sizes leave the scene's own in place.
     let short = PlaneSlices {

@@ -303,7 +303,7 @@ fn bad_guard_hairs_and_settings_are_refused_by_name() {
             .renderer
             .render(&hybrid, &camera(oblique_view()), &Lighting::default(), &bad)
             .unwrap_err();
-        assert!(e.to_string().contains("settings.strand"), "{e}");
+        assert!(e.to_string().contains("`strand_"), "{e}");
     }
 }
 

@@ -3,8 +3,12 @@
 what looks like fur, hard ranges what the library accepts."""
 
 import bpy
+import pelt
 
 from ..io.presets import PRESET_KEYS, PRESETS
+
+# The bake's one range for the fur depth (the preview and the exports share it).
+FUR_DEPTH = pelt.SCHEMA["bake"]["ranges"]["fur_depth"]
 
 LIGHTING_ITEMS = (
     ("KAJIYA_KAY", "Kajiya-Kay", "Per-pixel hair highlights from the tangent map, darker toward the skin"),
@@ -219,6 +223,7 @@ class PeltObjectSettings(bpy.types.PropertyGroup):
         description="World-space height of the fur where pelt_length is 1",
         default=0.05,
         min=1e-5,
+        max=FUR_DEPTH["max"],
         soft_max=0.5,
         subtype="DISTANCE",
         precision=3,

@@ -29,9 +29,10 @@ class ParameterSet(TypedDict):
     ranges: dict[str, ParameterRange]
 
 SCHEMA: dict[str, ParameterSet]
-"""The parameter sets (``patches``, ``field``, ``hair``, ``volume``, ``transfer``): each set's
-defaults and the range and unit of each of its numbers, the one statement that its validation
-checks (``min_open``: the minimum itself is refused; ``min_field``: the range starts at that
+"""The parameter sets: ``bake`` (``Pipeline.bake``'s own keywords: ``fur_depth``, one range for
+the bake, ``Preview.fur_depth`` and the exports), ``patches``, ``field``, ``hair``, ``volume``,
+``transfer`` and ``render`` (``Preview.render``'s keywords): each set's defaults and the range and
+unit of each of its numbers, the one statement that its validation checks (``min_open``: the minimum itself is refused; ``min_field``: the range starts at that
 field's value, ``min`` being the lowest it allows)."""
 
 class PeltError(Exception):

@@ -433,3 +433,31 @@ def test_guard_hairs_are_drawn_as_strands_over_the_shells():
         preview.render(VIEW, PROJECTION, SIDE, SIDE, strand_pixels=float("nan"))
     # An asset without guard hairs draws none.
     assert pelt.Preview(bake(transfer=False), adapter="cpu").guard_strands == 0
+
+
+@pytest.mark.parametrize(
+    "name, value",
+    [
+        ("shells_per_pixel", 0.0),
+        ("mesh_error", -1.0),
+        ("strand_pixels", 65.0),
+        ("plane_loop_limit", 0),
+        ("background", (0.0, 0.0, 2.0, 1.0)),
+    ],
+)
+def test_render_keywords_outside_the_schema_s_range_are_refused(preview, name, value):
+    r = pelt.SCHEMA["render"]["ranges"][name]
+    x = value[2] if isinstance(value, tuple) else value
+    assert not r["min"] <= x <= r["max"] or (r["min_open"] and x == r["min"])
+    with pytest.raises(pelt.InvalidParameterError, match=name):
+        preview.render(VIEW, PROJECTION, 8, 8, **{name: value})
+
+
+def test_max_shells_below_min_shells_and_a_depth_outside_the_bake_s_range_are_refused(preview):
+    with pytest.raises(pelt.InvalidParameterError, match="max_shells"):
+        preview.render(VIEW, PROJECTION, 8, 8, lod=True, min_shells=5, max_shells=4)
+    depth = preview.fur_depth
+    for bad in (0.0, -1.0, 2e6, math.nan):
+        with pytest.raises(pelt.InvalidParameterError, match="fur_depth"):
+            preview.fur_depth = bad
+    assert preview.fur_depth == depth

@@ -25,11 +25,16 @@ PROPERTIES = {
     "layers": ("volume", "layers"),
     "guard_share": ("volume", "guard_share"),
     "prt_order": ("transfer", "order"),
+    "prt_tolerance": ("bake", "tolerance"),
     "tile_size": ("patches", "tile_size"),
+    "fur_depth": ("bake", "fur_depth"),
+    "min_shells": ("render", "min_shells"),
+    "max_shells": ("render", "max_shells"),
+    "plane_loop_limit": ("render", "plane_loop_limit"),
 }
 
 # Keyword arguments of the module's functions that stand for a schema field: their default is the
-# crate's. (`Pipeline.bake`'s `phase` is the pipeline's own choice, Kajiya-Kay, see its docs.)
+# crate's.
 KEYWORDS = {
     "tile_size": ("patches", "tile_size"),
     "seed": ("patches", "seed"),
@@ -45,11 +50,27 @@ KEYWORDS = {
     "guard_share": ("volume", "guard_share"),
     "directions": ("transfer", "directions"),
     "method": ("transfer", "method"),
+    "order": ("transfer", "order"),
+    "phase": ("transfer", "phase"),
 }
+# The whole bake's own keywords (`pelt.SCHEMA["bake"]`) where a function's keyword differs from the
+# transfer's own (the pipeline bakes with the Kajiya-Kay phase), and `Preview.render`'s.
+BAKE_KEYWORDS = {
+    name: ("bake", name) for name in ("fur_depth", "transfer", "order", "tolerance", "phase", "planes")
+}
+RENDER_KEYWORDS = {name: ("render", name) for name in pelt.SCHEMA["render"]["defaults"]}
+FUNCTIONS = [
+    (pelt.Pipeline.bake, BAKE_KEYWORDS),
+    (pelt.Pipeline.peak_bytes, BAKE_KEYWORDS),
+    (pelt.bake_volume, {}),
+    (pelt.bake_transfer, {}),
+    (pelt.build_patches, {}),
+    (pelt.Preview.render, RENDER_KEYWORDS),
+]
 
 
 def test_every_set_states_defaults_and_ranges_with_units():
-    assert set(pelt.SCHEMA) == {"patches", "field", "hair", "volume", "transfer"}
+    assert set(pelt.SCHEMA) == {"bake", "patches", "field", "hair", "volume", "transfer", "render"}
     for name, schema in pelt.SCHEMA.items():
         assert schema["ranges"], name
         for parameter, r in schema["ranges"].items():
@@ -58,25 +79,39 @@ def test_every_set_states_defaults_and_ranges_with_units():
     assert pelt.SCHEMA["volume"]["ranges"]["guard_share"]["min_open"]
     assert pelt.SCHEMA["hair"]["defaults"]["density"] == pelt.HairParams().density
     assert pelt.SCHEMA["patches"]["ranges"]["max_stretch"]["min_field"] == "stretch_tolerance"
+    assert pelt.SCHEMA["render"]["ranges"]["max_shells"]["min_field"] == "min_shells"
+    assert pelt.SCHEMA["bake"]["ranges"]["fur_depth"] == {
+        "min": 0.0,
+        "max": 1e6,
+        "min_open": True,
+        "min_field": None,
+        "unit": "object units",
+    }
 
 
-@pytest.mark.parametrize(
-    "function",
-    [pelt.Pipeline.bake, pelt.Pipeline.peak_bytes, pelt.bake_volume, pelt.bake_transfer, pelt.build_patches],
-    ids=lambda f: f.__qualname__,
-)
-def test_keyword_defaults_are_the_crate_s(function):
+@pytest.mark.parametrize("function, own", FUNCTIONS, ids=lambda f: getattr(f, "__qualname__", ""))
+def test_keyword_defaults_are_the_crate_s(function, own):
     import inspect
 
+    keywords = {**KEYWORDS, **own}
     checked = 0
     for name, parameter in inspect.signature(function).parameters.items():
         default = parameter.default
-        if name not in KEYWORDS or default in (None, Ellipsis, inspect.Parameter.empty):
+        if name not in keywords or default in (None, Ellipsis, inspect.Parameter.empty):
             continue
-        set_name, field = KEYWORDS[name]
+        set_name, field = keywords[name]
         assert default == pelt.SCHEMA[set_name]["defaults"][field], f"{function.__qualname__}({name}=...)"
         checked += 1
     assert checked, "no keyword of the schema checked"
+
+
+@pytest.mark.parametrize("name", ["fur_depth", "tile_size"])
+@pytest.mark.parametrize("value", [0.0, -1.0, 2e6, math.nan])
+def test_one_fur_depth_range_for_the_bake_the_preview_and_the_export(name, value):
+    """The bake and the preview refuse the same depths (`pelt.SCHEMA["bake"]["ranges"]["fur_depth"]`),
+    naming what the user set: a bake without `fur_depth` is one tile deep."""
+    with pytest.raises(pelt.InvalidParameterError, match=name):
+        pelt.Pipeline.peak_bytes(**{name: value})
 
 
 @pytest.mark.parametrize("parameter", sorted(pelt.SCHEMA["hair"]["ranges"]))

@@ -12,7 +12,7 @@ use pelt_core::export::{
     AssetOptions, ExportInput, GltfMode, StagedFolder, TextureFormats, write_asset_files,
 };
 use pelt_core::mesh::obj::MeshData;
-use pelt_core::pipeline::{BakeParams, FurAsset, Pipeline, TransferChoice};
+use pelt_core::pipeline::{BakeKeywords, BakeParams, FurAsset, Pipeline};
 use pelt_core::presets::FurPreset;
 use serde::{Deserialize, Serialize};
 
@@ -71,7 +71,7 @@ pub struct BakeArgs {
     #[arg(long, value_name = "SHARE")]
     #[serde(default)]
     pub guard_share: Option<f64>,
-    /// Also bake the virtual planes' slices, N per axis, [1, 256], for the raycast renderer
+    /// Also bake the virtual planes' slices, N per axis, [0, 256] (0: none), for the raycast renderer
     /// (`pelt view`, key V).
     #[arg(long, value_name = "N")]
     #[serde(default)]
@@ -111,9 +111,6 @@ fn bake_params(args: &BakeArgs) -> Result<BakeParams, String> {
     if let Some(resolution) = args.resolution {
         params.volume.resolution = resolution;
     }
-    if let Some(depth) = args.fur_depth {
-        params.fur_depth = Some(depth);
-    }
     if let Some(tile) = args.tile_size {
         params.patches.tile_size = tile;
     }
@@ -121,18 +118,15 @@ fn bake_params(args: &BakeArgs) -> Result<BakeParams, String> {
     if let Some(share) = args.guard_share {
         params.volume.guard_share = share;
     }
-    params.planes = args.planes.map(|planes| pelt_core::volume::PlaneParams {
-        planes,
-        ..pelt_core::volume::PlaneParams::default()
-    });
-    params.transfer = (!args.no_transfer).then(|| {
-        let mut choice = TransferChoice::default();
-        if let Some(order) = args.order {
-            choice.auto = false;
-            choice.params.order = order;
-        }
-        choice
-    });
+    // The bake's own switches read as `Pipeline.bake` reads its keywords.
+    let keywords = BakeKeywords {
+        fur_depth: args.fur_depth.or(params.fur_depth),
+        transfer: !args.no_transfer,
+        order: args.order,
+        planes: args.planes.unwrap_or(0),
+        ..BakeKeywords::default()
+    };
+    let params = keywords.apply(params);
     params.validate().map_err(|e| e.to_string())?;
     Ok(params)
 }

@@ -121,11 +121,14 @@ fn presets(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
     Ok(out)
 }
 
-/// The parameter sets' schemas ([`pelt_core::params`]) as `{set: {"defaults": {...}, "ranges":
+/// The parameter sets' schemas ([`pelt_core::params`], the renderer's
+/// [`pelt_render::RenderSettings::schema`]) as `{set: {"defaults": {...}, "ranges":
 /// {name: {"min", "max", "min_open", "unit"}}}}`: each number's range stated once, which the
 /// add-on's properties are tested against.
 fn schema(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
-    let sets: serde_json::Map<String, serde_json::Value> = pelt_core::params::schemas()
+    let mut sets = pelt_core::params::schemas();
+    sets.push(pelt_render::RenderSettings::schema());
+    let sets: serde_json::Map<String, serde_json::Value> = sets
         .into_iter()
         .map(|set| {
             let ranges: serde_json::Map<String, serde_json::Value> = set

@@ -13,11 +13,10 @@ use super::prt::{parse_phase, transfer_dict};
 use super::volume::{PyHairParams, array, volume_dict};
 use crate::errors::{IntoPyErr, py_err};
 use pelt_core::error::PeltError;
-use pelt_core::pipeline::{BakeParams, FurAsset, Pipeline, StageCallback, TransferChoice};
+use pelt_core::pipeline::{BakeKeywords, BakeParams, FurAsset, Pipeline, StageCallback};
 use pelt_core::placement::StrandSpan;
-use pelt_core::prt::TransferParams;
 use pelt_core::volume::coverage::CoverageMode;
-use pelt_core::volume::{PlaneParams, VolumeParams};
+use pelt_core::volume::VolumeParams;
 
 /// A bake cache: keeps the last result of every stage, so a re-bake runs only what changed.
 /// One per furred object. Thread-safe: a bake holds the cache for its whole run. Over a mesh
@@ -166,7 +165,7 @@ fn bake_params(
     let order: Option<usize> = super::ints::unsigned_opt("order", order)?;
     let directions: usize = super::ints::unsigned("directions", directions)?;
     let planes: usize = super::ints::unsigned("planes", planes)?;
-    let mut params = BakeParams {
+    let base = BakeParams {
         hair: hair.map(|h| h.inner.clone()).unwrap_or_default(),
         volume: VolumeParams {
             layers,
@@ -177,32 +176,24 @@ fn bake_params(
             guard_share,
             ..VolumeParams::default()
         },
-        fur_depth,
-        // 0 bakes no slices (only the virtual-planes renderer reads them).
-        planes: (planes > 0).then(|| PlaneParams {
-            planes,
-            ..PlaneParams::default()
-        }),
         ..BakeParams::default()
     };
+    let keywords = BakeKeywords {
+        fur_depth,
+        transfer,
+        order,
+        tolerance,
+        phase: parse_phase(phase)?,
+        planes,
+    };
+    let mut params = keywords.apply(base);
     params.patches.tile_size = tile_size;
     params.patches.seed = seed;
     if let Some((x, y, z)) = down {
         params.patches.field.down = [x, y, z];
     }
-    if transfer {
-        let mut choice = TransferChoice {
-            params: TransferParams {
-                directions,
-                phase: parse_phase(phase)?,
-                ..TransferParams::default()
-            },
-            auto: order.is_none(),
-            ..TransferChoice::default()
-        };
-        choice.params.order = order.unwrap_or(choice.params.order);
-        choice.bands.tolerance = tolerance;
-        params.transfer = Some(choice);
+    if let Some(choice) = &mut params.transfer {
+        choice.params.directions = directions;
     }
     Ok(params)
 }

@@ -13,7 +13,7 @@ use pyo3::types::{PyDict, PyString};
 use super::arrays::{flat, float_array, float_ndarray, rows};
 use super::detached;
 use super::pipeline::PyFurAsset;
-use crate::errors::IntoPyErr;
+use crate::errors::{IntoPyErr, py_err};
 use pelt_core::error::PeltError;
 use pelt_core::prt::pack::PackedF16;
 use pelt_render::{
@@ -275,35 +275,11 @@ impl PyPreview {
     ) -> PyResult<Bound<'py, PyAny>> {
         let plane_loop_limit: u32 = super::ints::unsigned("plane_loop_limit", plane_loop_limit)?;
         let strand_bands: u32 = super::ints::unsigned("strand_bands", strand_bands)?;
-        let strand_order = match strand_order {
-            "stochastic" => StrandOrder::Stochastic,
-            "depth" => StrandOrder::Depth,
-            "banded" => StrandOrder::Banded(strand_bands),
-            "sorted" => StrandOrder::Sorted,
-            other => {
-                return Err(PeltError::parameter(
-                    "strand_order",
-                    format!("must be 'stochastic', 'depth', 'banded' or 'sorted', got {other:?}"),
-                )
-                .into_pyerr());
-            }
-        };
+        let strand_order = StrandOrder::from_name(strand_order, strand_bands).map_err(py_err)?;
         let shells: Option<u32> = super::ints::unsigned_opt("shells", shells)?;
         let min_shells: u32 = super::ints::unsigned("min_shells", min_shells)?;
         let max_shells: u32 = super::ints::unsigned("max_shells", max_shells)?;
-        let shell_method = match shell_method {
-            "instanced" => ShellMethod::Instanced,
-            "marched" => ShellMethod::Marched,
-            "auto" => ShellMethod::Auto,
-            "planes" => ShellMethod::VirtualPlanes,
-            other => {
-                return Err(PeltError::parameter(
-                    "shell_method",
-                    format!("must be 'instanced', 'marched', 'planes' or 'auto', got {other:?}"),
-                )
-                .into_pyerr());
-            }
-        };
+        let shell_method = ShellMethod::from_name(shell_method).map_err(py_err)?;
         let camera = Camera::from_gl(
             matrix(view_matrix, "view_matrix")?,
             matrix(projection_matrix, "projection_matrix")?,
@@ -437,13 +413,13 @@ impl PyPreview {
         detached(py, || self.lock_scene().set_transfer(&self.renderer, &packed))
     }
 
-    /// The adapter: `{"name", "backend", "device_type"}`.
     /// Guard hairs drawn as strands (the asset's, 0 without).
     #[getter]
     fn guard_strands(&self) -> usize {
         self.lock_scene().guard_strand_count()
     }
 
+    /// The adapter: `{"name", "backend", "device_type"}`.
     #[getter]
     fn adapter<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let a = self.renderer.adapter();

@@ -233,7 +233,7 @@ impl Renderer {
         };
         if self.shell_method(settings.shell_method) == ShellMethod::VirtualPlanes && scene.planes.is_none() {
             return Err(PeltError::parameter(
-                "settings.shell_method",
+                "shell_method",
                 "\"planes\" needs the virtual planes' slices: bake them (Python: \
                  Pipeline.bake(planes=32)) or set them with FurScene::set_planes, or draw the shells",
             ));

@@ -74,10 +74,10 @@ pub use image::{LinearImage, RgbaImage};
 pub use lighting::{KajiyaKay, LightModel, Lighting, MAX_LIGHT_RADIUS, MAX_POWER, MAX_RADIANCE, Prt};
 pub use lod::FrameInfo;
 pub use occluders::Occluders;
-pub use scene::{FurScene, MAX_FUR_DEPTH, UploadStats};
+pub use scene::{FurScene, UploadStats};
 pub use settings::{
-    MAX_PLANE_LOOP_LIMIT, MAX_SHELLS_PER_PIXEL, MAX_STRAND_BANDS, MAX_STRAND_PIXELS, RenderSettings,
-    ShellMethod, StrandOrder,
+    DEFAULT_STRAND_BANDS, MAX_PLANE_LOOP_LIMIT, MAX_SHELLS_PER_PIXEL, MAX_STRAND_BANDS, MAX_STRAND_PIXELS,
+    RenderDefaults, RenderSettings, ShellMethod, StrandOrder,
 };
 pub use smoke::SMOKE_COLOR;
 pub use upload_peak::{scene_upload_peak_bytes, transfer_upload_peak_bytes};

@@ -30,9 +30,6 @@ use pelt_core::threads::pool;
 use pelt_core::volume::slices::check_slices;
 use pelt_core::volume::{HairVolume, PlaneSlices};
 
-/// Longest fur accepted, object units ([`pelt_core::mesh::MAX_FUR_DEPTH`] as the shaders' f32).
-pub const MAX_FUR_DEPTH: f32 = pelt_core::mesh::MAX_FUR_DEPTH as f32;
-
 /// Hair color where the mesh has none: white, so the texture's own color shows.
 const DEFAULT_COLOR: [f32; 4] = [1.0; 4];
 /// Length multiplier where the mesh has none.
@@ -233,7 +230,7 @@ fn check_lengths(lengths: &[f32], vertices: usize) -> Result<()> {
 }
 
 fn check_fur_depth(fur_depth: f32) -> Result<()> {
-    super::settings::check("fur_depth", fur_depth, MAX_FUR_DEPTH)
+    pelt_core::mesh::FUR_DEPTH.check(f64::from(fur_depth))
 }
 
 /// The longest length multiplier (0 for none).
@@ -266,7 +263,7 @@ impl FurScene {
     /// the volume's top at length multiplier 1, [`FurScene::fur_depth`]).
     ///
     /// # Errors
-    /// [`PeltError::InvalidParameter`] naming `fur_depth` (outside `[0, MAX_FUR_DEPTH]`),
+    /// [`PeltError::InvalidParameter`] naming `fur_depth` (outside [`FUR_DEPTH`](pelt_core::mesh::FUR_DEPTH)),
     /// `corner_uvs` or the `volume` array whose size does not match (or exceeds the device),
     /// [`PeltError::Render`] when the device fails.
     pub fn new(
@@ -916,14 +913,14 @@ impl FurScene {
         self.fur_depth
     }
 
-    /// Sets the fur depth (object units, `[0, MAX_FUR_DEPTH]`) that frames draw with from now on,
+    /// Sets the fur depth (object units, [`FUR_DEPTH`](pelt_core::mesh::FUR_DEPTH)) that frames draw with from now on,
     /// without a re-upload (each frame's uniforms carry it): the shells and fins stretch to it at
     /// the next frame, so under Kajiya–Kay a new depth needs no bake. The guard hairs and a PRT
     /// transfer keep the depth they were baked for.
     ///
     /// # Errors
-    /// [`PeltError::InvalidParameter`] naming `fur_depth` (NaN, negative or above
-    /// [`MAX_FUR_DEPTH`]); the scene is unchanged then.
+    /// [`PeltError::InvalidParameter`] naming `fur_depth` (NaN, not above 0 or above
+    /// [`MAX_FUR_DEPTH`](pelt_core::mesh::MAX_FUR_DEPTH)); the scene is unchanged then.
     pub fn set_fur_depth(&mut self, fur_depth: f32) -> Result<()> {
         check_fur_depth(fur_depth)?;
         self.fur_depth = fur_depth;

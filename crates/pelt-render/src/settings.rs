@@ -3,7 +3,9 @@
 //! background. How long the fur is belongs to the baked asset, not to a frame: the scene holds it
 //! ([`super::FurScene::fur_depth`]).
 
-use pelt_core::error::{Num, PeltError, Result};
+use pelt_core::error::{PeltError, Result};
+use pelt_core::params::{Range, Schema};
+use serde::Serialize;
 
 /// Largest [`RenderSettings::shells_per_pixel`].
 pub const MAX_SHELLS_PER_PIXEL: f32 = 1e3;
@@ -164,22 +166,10 @@ impl Default for RenderSettings {
             alpha_test: 1.0 / 255.0,
             background: [0.0; 4],
             guard_hairs: true,
-            strand_order: StrandOrder::Depth,
+            strand_order: StrandOrder::Stochastic,
             strand_pixels: 1.0,
             plane_loop_limit: 16,
         }
-    }
-}
-
-/// `value` finite and in `[0, hi]`, else an error naming `name`.
-pub(super) fn check(name: &str, value: f32, hi: f32) -> Result<()> {
-    if value.is_finite() && (0.0..=hi).contains(&value) {
-        Ok(())
-    } else {
-        Err(PeltError::parameter(
-            name,
-            format!("must be in [0, {hi}], got {}", Num(f64::from(value))),
-        ))
     }
 }
 
@@ -200,67 +190,290 @@ impl RenderSettings {
     /// Checks every field; returns the number of shells to draw for a volume of `layers` layers
     /// when LOD is off (the count LOD starts from when it is on: all of them).
     pub(super) fn shells_to_draw(&self, layers: u32) -> Result<u32> {
-        check("settings.fin_opacity", self.fin_opacity, 1.0)?;
-        check("settings.alpha_test", self.alpha_test, 1.0)?;
-        check("settings.mesh_error", self.mesh_error, MAX_MESH_ERROR)?;
-        check("settings.strand_pixels", self.strand_pixels, MAX_STRAND_PIXELS)?;
-        if let StrandOrder::Banded(n) = self.strand_order
-            && !(1..=MAX_STRAND_BANDS).contains(&n)
-        {
-            return Err(PeltError::parameter(
-                "settings.strand_order",
-                format!("Banded must have [1, {MAX_STRAND_BANDS}] bands, got {n}"),
-            ));
+        use ranges::*;
+        FIN_OPACITY.check(f64::from(self.fin_opacity))?;
+        ALPHA_TEST.check(f64::from(self.alpha_test))?;
+        MESH_ERROR.check(f64::from(self.mesh_error))?;
+        STRAND_PIXELS.check(f64::from(self.strand_pixels))?;
+        if let StrandOrder::Banded(n) = self.strand_order {
+            STRAND_BANDS.check(f64::from(n))?;
         }
-        pelt_core::error::check_range(
-            "settings.plane_loop_limit",
-            f64::from(self.plane_loop_limit),
-            1.0,
-            f64::from(MAX_PLANE_LOOP_LIMIT),
-        )?;
-        for (i, &c) in self.background.iter().enumerate() {
-            check(&format!("settings.background[{i}]"), c, 1.0)?;
-        }
-        if !(self.shells_per_pixel.is_finite()
-            && self.shells_per_pixel > 0.0
-            && self.shells_per_pixel <= MAX_SHELLS_PER_PIXEL)
-        {
-            return Err(PeltError::parameter(
-                "settings.shells_per_pixel",
-                format!(
-                    "must be in (0, {MAX_SHELLS_PER_PIXEL}], got {}",
-                    self.shells_per_pixel
-                ),
-            ));
-        }
-        if self.min_shells > self.max_shells {
-            return Err(PeltError::parameter(
-                "settings.min_shells",
-                format!(
-                    "must not exceed settings.max_shells ({}), got {}",
-                    self.max_shells, self.min_shells
-                ),
-            ));
-        }
+        PLANE_LOOP_LIMIT.check(f64::from(self.plane_loop_limit))?;
+        BACKGROUND.check_each(&self.background.map(f64::from))?;
+        SHELLS_PER_PIXEL.check(f64::from(self.shells_per_pixel))?;
+        MIN_SHELLS.check(f64::from(self.min_shells))?;
+        MAX_SHELLS.check_above(f64::from(self.max_shells), f64::from(self.min_shells))?;
         let most = layers.saturating_sub(1);
         match self.shell_count {
             None => Ok(most),
             Some(_) if self.lod => Err(PeltError::parameter(
-                "settings.shell_count",
-                "must be None when settings.lod is on (LOD chooses the count)",
+                "shell_count",
+                "must be None when `lod` is on (LOD chooses the count)",
             )),
             Some(n) if n <= most => Ok(n),
             Some(n) => Err(PeltError::parameter(
-                "settings.shell_count",
+                "shell_count",
                 format!("must be in [0, {most}] (the scene's volume has {layers} layers), got {n}"),
             )),
         }
     }
 }
 
+impl RenderSettings {
+    /// The ranges [`Self`]'s numbers are checked against when a frame is drawn, named as Python's
+    /// `Preview.render` keywords.
+    pub const RANGES: &'static [Range] = {
+        use ranges::*;
+        &[
+            SHELLS_PER_PIXEL,
+            MIN_SHELLS,
+            MAX_SHELLS,
+            MESH_ERROR,
+            FIN_OPACITY,
+            ALPHA_TEST,
+            BACKGROUND,
+            STRAND_BANDS,
+            STRAND_PIXELS,
+            PLANE_LOOP_LIMIT,
+        ]
+    };
+
+    /// The parameter schema of a frame (`pelt.SCHEMA["render"]`): the defaults as
+    /// `Preview.render`'s keywords and the ranges.
+    pub fn schema() -> Schema {
+        Schema::new::<RenderDefaults>("render", Self::RANGES)
+    }
+}
+
+/// [`RenderSettings::default`] as `Preview.render`'s keywords spell it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RenderDefaults {
+    pub shells: Option<u32>,
+    pub lod: bool,
+    pub shells_per_pixel: f32,
+    pub min_shells: u32,
+    pub max_shells: u32,
+    /// `instanced`, `marched`, `auto` or `planes`.
+    pub shell_method: &'static str,
+    pub mesh_error: f32,
+    pub fins: bool,
+    pub fin_opacity: f32,
+    pub alpha_test: f32,
+    pub background: [f32; 4],
+    pub guard_hairs: bool,
+    /// `stochastic`, `depth`, `banded` or `sorted`.
+    pub strand_order: &'static str,
+    /// Bands of `strand_order="banded"`.
+    pub strand_bands: u32,
+    pub strand_pixels: f32,
+    pub plane_loop_limit: u32,
+}
+
+/// Bands of [`StrandOrder::Banded`] when a front end asks for banding without a count.
+pub const DEFAULT_STRAND_BANDS: u32 = 4;
+
+impl Default for RenderDefaults {
+    fn default() -> Self {
+        let s = RenderSettings::default();
+        RenderDefaults {
+            shells: s.shell_count,
+            lod: s.lod,
+            shells_per_pixel: s.shells_per_pixel,
+            min_shells: s.min_shells,
+            max_shells: s.max_shells,
+            shell_method: s.shell_method.name(),
+            mesh_error: s.mesh_error,
+            fins: s.fins,
+            fin_opacity: s.fin_opacity,
+            alpha_test: s.alpha_test,
+            background: s.background,
+            guard_hairs: s.guard_hairs,
+            strand_order: s.strand_order.name(),
+            strand_bands: match s.strand_order {
+                StrandOrder::Banded(n) => n,
+                _ => DEFAULT_STRAND_BANDS,
+            },
+            strand_pixels: s.strand_pixels,
+            plane_loop_limit: s.plane_loop_limit,
+        }
+    }
+}
+
+impl ShellMethod {
+    /// The method's name in Python and the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            ShellMethod::Instanced => "instanced",
+            ShellMethod::Marched => "marched",
+            ShellMethod::Auto => "auto",
+            ShellMethod::VirtualPlanes => "planes",
+        }
+    }
+
+    /// The method named `name` ([`Self::name`]).
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming `shell_method` for an unknown name.
+    pub fn from_name(name: &str) -> Result<ShellMethod> {
+        [
+            ShellMethod::Instanced,
+            ShellMethod::Marched,
+            ShellMethod::Auto,
+            ShellMethod::VirtualPlanes,
+        ]
+        .into_iter()
+        .find(|m| m.name() == name)
+        .ok_or_else(|| {
+            PeltError::parameter(
+                "shell_method",
+                format!("must be 'instanced', 'marched', 'auto' or 'planes', got {name:?}"),
+            )
+        })
+    }
+}
+
+impl StrandOrder {
+    /// The order's name in Python (`Banded` without its count).
+    pub fn name(self) -> &'static str {
+        match self {
+            StrandOrder::Stochastic => "stochastic",
+            StrandOrder::Depth => "depth",
+            StrandOrder::Banded(_) => "banded",
+            StrandOrder::Sorted => "sorted",
+        }
+    }
+
+    /// The order named `name` ([`Self::name`]), `bands` counting the bands of `banded`.
+    ///
+    /// # Errors
+    /// [`PeltError::InvalidParameter`] naming `strand_order` for an unknown name.
+    pub fn from_name(name: &str, bands: u32) -> Result<StrandOrder> {
+        match name {
+            "stochastic" => Ok(StrandOrder::Stochastic),
+            "depth" => Ok(StrandOrder::Depth),
+            "banded" => Ok(StrandOrder::Banded(bands)),
+            "sorted" => Ok(StrandOrder::Sorted),
+            other => Err(PeltError::parameter(
+                "strand_order",
+                format!("must be 'stochastic', 'depth', 'banded' or 'sorted', got {other:?}"),
+            )),
+        }
+    }
+}
+
+/// The ranges of [`RenderSettings`]' numbers.
+mod ranges {
+    use super::{MAX_MESH_ERROR, MAX_PLANE_LOOP_LIMIT, MAX_SHELLS_PER_PIXEL, MAX_STRAND_BANDS};
+    use super::{MAX_STRAND_PIXELS, Range};
+
+    pub const SHELLS_PER_PIXEL: Range = Range::open_below(
+        "shells_per_pixel",
+        0.0,
+        MAX_SHELLS_PER_PIXEL as f64,
+        "shells per pixel of projected fur depth",
+    );
+    pub const MIN_SHELLS: Range = Range::closed("min_shells", 0.0, u32::MAX as f64, "shells");
+    pub const MAX_SHELLS: Range = Range::above_field("max_shells", &MIN_SHELLS, u32::MAX as f64, "shells");
+    pub const MESH_ERROR: Range = Range::closed("mesh_error", 0.0, MAX_MESH_ERROR as f64, "pixels");
+    pub const FIN_OPACITY: Range = Range::closed("fin_opacity", 0.0, 1.0, "opacity");
+    pub const ALPHA_TEST: Range = Range::closed("alpha_test", 0.0, 1.0, "opacity");
+    pub const BACKGROUND: Range = Range::closed("background", 0.0, 1.0, "linear straight RGBA");
+    pub const STRAND_BANDS: Range =
+        Range::closed("strand_bands", 1.0, MAX_STRAND_BANDS as f64, "height bands");
+    pub const STRAND_PIXELS: Range = Range::closed("strand_pixels", 0.0, MAX_STRAND_PIXELS as f64, "pixels");
+    pub const PLANE_LOOP_LIMIT: Range = Range::closed(
+        "plane_loop_limit",
+        1.0,
+        MAX_PLANE_LOOP_LIMIT as f64,
+        "planes per pixel",
+    );
+}
+
 #[cfg(test)]
 mod tests {
     use super::ShellMethod::{Auto, Instanced, Marched, VirtualPlanes};
+    use super::{RenderDefaults, RenderSettings, ShellMethod, StrandOrder};
+    use pelt_core::error::PeltError;
+
+    /// The defaults with the number `name` set to `x` (a dependent range's field raised along).
+    fn with(name: &str, x: f64) -> RenderSettings {
+        let mut s = RenderSettings::default();
+        let int = x as u32;
+        match name {
+            "shells_per_pixel" => s.shells_per_pixel = x as f32,
+            "min_shells" => (s.min_shells, s.max_shells) = (int, s.max_shells.max(int)),
+            "max_shells" => (s.min_shells, s.max_shells) = (0, int),
+            "mesh_error" => s.mesh_error = x as f32,
+            "fin_opacity" => s.fin_opacity = x as f32,
+            "alpha_test" => s.alpha_test = x as f32,
+            "background" => s.background = [0.0, 0.0, x as f32, 1.0],
+            "strand_bands" => s.strand_order = StrandOrder::Banded(int),
+            "strand_pixels" => s.strand_pixels = x as f32,
+            "plane_loop_limit" => s.plane_loop_limit = int,
+            other => panic!("no field {other}"),
+        }
+        s
+    }
+
+    #[test]
+    fn every_range_is_the_one_a_frame_checks() {
+        RenderSettings::default().shells_to_draw(16).unwrap();
+        for range in RenderSettings::RANGES {
+            let integer = ["min_shells", "max_shells", "strand_bands", "plane_loop_limit"]
+                .contains(&range.name);
+            let step = if integer { 1.0 } else { range.max.max(1.0) * 1e-3 };
+            let lowest = if range.min_open { range.min + step } else { range.min };
+            for inside in [lowest, range.max] {
+                let result = with(range.name, inside).shells_to_draw(16);
+                assert!(result.is_ok(), "{} = {inside}: {result:?}", range.name);
+            }
+            let below = if range.min_open { range.min } else { range.min - step };
+            let mut outside = vec![range.max + step];
+            if !(integer && below < 0.0) {
+                outside.push(below);
+            }
+            // `u32::MAX + 1` does not fit the field.
+            outside.retain(|&x| !integer || x <= f64::from(u32::MAX));
+            for x in outside {
+                match with(range.name, x).shells_to_draw(16) {
+                    Err(PeltError::InvalidParameter { name, .. }) => {
+                        assert_eq!(name, range.name, "{} = {x}", range.name)
+                    }
+                    other => panic!("{} = {x}: {other:?}", range.name),
+                }
+            }
+        }
+        let max_below_min = RenderSettings {
+            min_shells: 5,
+            max_shells: 4,
+            ..RenderSettings::default()
+        };
+        match max_below_min.shells_to_draw(16) {
+            Err(PeltError::InvalidParameter { name, .. }) => assert_eq!(name, "max_shells"),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn names_read_back_and_the_defaults_are_the_settings() {
+        for m in [Instanced, Marched, Auto, VirtualPlanes] {
+            assert_eq!(ShellMethod::from_name(m.name()).unwrap(), m);
+        }
+        for o in [
+            StrandOrder::Stochastic,
+            StrandOrder::Depth,
+            StrandOrder::Banded(7),
+            StrandOrder::Sorted,
+        ] {
+            assert_eq!(StrandOrder::from_name(o.name(), 7).unwrap(), o);
+        }
+        assert!(ShellMethod::from_name("flat").is_err());
+        let d = RenderDefaults::default();
+        let s = RenderSettings::default();
+        assert_eq!((d.shells, d.max_shells, d.strand_order), (None, s.max_shells, "stochastic"));
+        // The strands' default order is the one StrandOrder documents as the default.
+        assert_eq!(s.strand_order, StrandOrder::default());
+    }
 
     #[test]
     fn auto_marches_on_a_cpu_and_instances_on_a_gpu_and_the_rest_stay() {

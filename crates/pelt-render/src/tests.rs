@@ -153,7 +153,7 @@ fn camera_lighting_and_settings_name_the_bad_field() {
     };
     assert_eq!(
         parameter_name(too_many.shells_to_draw(16).unwrap_err()),
-        "settings.shell_count"
+        "shell_count"
     );
 }
 

@@ -117,7 +117,9 @@ pub struct BenchOptions {
     pub quick: bool,
     /// Only cases whose name starts with this.
     pub only: Option<String>,
-    /// Where `image.*` cases write their pictures (reference | preview | ꟻLIP), if anywhere.
+    /// Where `image.*` cases write their pictures (reference | preview | ꟻLIP), if anywhere
+    /// (only a build with `metrics` has those cases).
+    #[cfg_attr(not(feature = "metrics"), allow(dead_code))]
     pub pictures: Option<std::path::PathBuf>,
 }
 

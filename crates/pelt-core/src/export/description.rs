@@ -20,8 +20,10 @@ pub const OFFSET_FORMULA: &str = "position + layer * layer_spacing * fur_depth *
      (NORMAL + _PELT_COMB - NORMAL * dot(NORMAL, _PELT_COMB))";
 
 /// Where the renderer's reference shaders live in Pelt's sources.
-pub const REFERENCE_SHADERS: &str = "crates/pelt-render/src/common.wgsl, crates/pelt-render/src/surface.wgsl, \
-     crates/pelt-render/src/shells.wgsl, crates/pelt-render/src/fins.wgsl, crates/pelt-render/src/lighting.wgsl";
+pub const REFERENCE_SHADERS: &str = "crates/pelt-render/src/light_model.wgsl, \
+     crates/pelt-render/src/common.wgsl, crates/pelt-render/src/surface.wgsl, \
+     crates/pelt-render/src/shells.wgsl, crates/pelt-render/src/fins.wgsl, \
+     crates/pelt-render/src/lighting.wgsl";
 
 /// A baked shell stack as engines read it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -13,7 +13,7 @@ use crate::prt::pack::{PackedF16, PackedU8, texture_count};
 use crate::prt::sh::MAX_ORDER;
 use crate::volume::HairVolume;
 
-use crate::mesh::MAX_FUR_DEPTH;
+use crate::mesh::FUR_DEPTH;
 
 use super::materials::MaterialSlots;
 use super::names::validate_name;
@@ -45,7 +45,7 @@ pub struct ExportInput<'a> {
     pub volume: &'a HairVolume,
     /// The baked transfer, if any.
     pub transfer: Option<TransferTextures<'a>>,
-    /// Object units between the skin and the top layer at length 1, `[0, MAX_FUR_DEPTH]`.
+    /// Object units between the skin and the top layer at length 1, [`FUR_DEPTH`].
     pub fur_depth: f64,
     /// Shells baked into geometry (`geometry` mode) and recommended to engines; `None` means every
     /// layer above the skin (`layers − 1`, at least 1).
@@ -95,12 +95,7 @@ impl ExportInput<'_> {
         if let Some(transfer) = &self.transfer {
             validate_transfer(transfer, self.volume)?;
         }
-        if !(0.0..=MAX_FUR_DEPTH).contains(&self.fur_depth) {
-            return Err(PeltError::parameter(
-                "fur_depth",
-                format!("must be in [0, {MAX_FUR_DEPTH}], got {}", self.fur_depth),
-            ));
-        }
+        FUR_DEPTH.check(self.fur_depth)?;
         if let Some(shells) = self.shells
             && !(1..=MAX_SHELLS).contains(&shells)
         {

@@ -19,3 +19,13 @@ fn temp_dir(test: &str) -> std::path::PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
+
+#[test]
+fn every_reference_shader_named_in_the_description_exists() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let files: Vec<&str> = super::description::REFERENCE_SHADERS.split(", ").collect();
+    assert!(files.contains(&"crates/pelt-render/src/light_model.wgsl"));
+    for file in files {
+        assert!(root.join(file).is_file(), "{file} is not a file");
+    }
+}

@@ -29,14 +29,18 @@ pub use topology::{Edge, NO_COMPONENT, NO_EDGE, Topology, edge_key};
 pub use uv_split::{FaceDerivatives, SplitLayout, UvSplit, split_at_uv_seams};
 
 use crate::error::Result;
+use crate::params::Range;
 use crate::threads::pool;
 
 /// Largest allowed hair length multiplier (`pelt_length`).
 pub const MAX_LENGTH: f32 = 1e3;
 
-/// Longest fur at length multiplier 1, object units: one bound for the bake, the renderer and the
-/// exports.
+/// Longest fur at length multiplier 1, object units.
 pub const MAX_FUR_DEPTH: f64 = 1e6;
+
+/// The fur's height at length multiplier 1: one range for the bake, the renderer and the exports
+/// (a fur of no height has no shells to stand apart; switch the fur off instead).
+pub const FUR_DEPTH: Range = Range::open_below("fur_depth", 0.0, MAX_FUR_DEPTH, "object units");
 
 /// Borrowed input arrays for [`FurMesh::new`]. Row `i` of every per-vertex array belongs to vertex `i`.
 #[derive(Debug, Clone, Copy)]

@@ -152,15 +152,15 @@ impl Range {
 /// One parameter set: its defaults (as serde writes them) and its numbers' ranges.
 #[derive(Debug, Clone, Serialize)]
 pub struct Schema {
-    /// The set, as Python names it (`hair`, `volume`, `transfer`, `patches`).
+    /// The set, as Python names it (`bake`, `hair`, `volume`, `transfer`, `patches`).
     pub name: &'static str,
     pub defaults: serde_json::Value,
     pub ranges: &'static [Range],
 }
 
-/// Every parameter set's schema.
-pub fn schemas() -> Vec<Schema> {
-    fn schema<T: Serialize + Default>(name: &'static str, ranges: &'static [Range]) -> Schema {
+impl Schema {
+    /// The set `name`: `T::default()` as its defaults, and its `ranges`.
+    pub fn new<T: Serialize + Default>(name: &'static str, ranges: &'static [Range]) -> Schema {
         Schema {
             name,
             // Plain data with string keys: serializing it cannot fail.
@@ -168,17 +168,24 @@ pub fn schemas() -> Vec<Schema> {
             ranges,
         }
     }
-    let mut patches = schema::<crate::lapped::PatchParams>("patches", crate::lapped::PatchParams::RANGES);
+}
+
+/// Every parameter set's schema of the bake (the renderer adds its own,
+/// `pelt_render::RenderSettings::schema`).
+pub fn schemas() -> Vec<Schema> {
+    let mut patches =
+        Schema::new::<crate::lapped::PatchParams>("patches", crate::lapped::PatchParams::RANGES);
     // The comb field's numbers are a set of their own (Python passes them flat, as `blend`).
     if let Some(map) = patches.defaults.as_object_mut() {
         map.remove("field");
     }
     vec![
+        Schema::new::<crate::pipeline::BakeKeywords>("bake", crate::pipeline::BakeParams::RANGES),
         patches,
-        schema::<crate::field::FieldParams>("field", crate::field::FieldParams::RANGES),
-        schema::<crate::hair::HairParams>("hair", crate::hair::HairParams::RANGES),
-        schema::<crate::volume::VolumeParams>("volume", crate::volume::VolumeParams::RANGES),
-        schema::<crate::prt::TransferParams>("transfer", crate::prt::TransferParams::RANGES),
+        Schema::new::<crate::field::FieldParams>("field", crate::field::FieldParams::RANGES),
+        Schema::new::<crate::hair::HairParams>("hair", crate::hair::HairParams::RANGES),
+        Schema::new::<crate::volume::VolumeParams>("volume", crate::volume::VolumeParams::RANGES),
+        Schema::new::<crate::prt::TransferParams>("transfer", crate::prt::TransferParams::RANGES),
     ]
 }
 

@@ -8,6 +8,7 @@ use crate::error::{PeltError, Result};
 use crate::field::FieldParams;
 use crate::hair::HairParams;
 use crate::lapped::PatchParams;
+use crate::pipeline::{BakeKeywords, BakeParams};
 use crate::prt::TransferParams;
 use crate::volume::VolumeParams;
 
@@ -24,6 +25,10 @@ fn validate(schema: &str, value: Value) -> Result<()> {
             .validate(),
         "patches" => serde_json::from_value::<PatchParams>(value).unwrap().validate(),
         "field" => serde_json::from_value::<FieldParams>(value).unwrap().validate(),
+        "bake" => serde_json::from_value::<BakeKeywords>(value)
+            .unwrap()
+            .apply(BakeParams::default())
+            .validate_ranges(),
         other => panic!("no set {other}"),
     }
 }
@@ -86,6 +91,12 @@ fn every_range_is_the_one_validate_checks() {
             let lowest = if range.min_open { min + step } else { min };
             for inside in [lowest, range.max] {
                 let mut value = with(defaults, range.name, inside);
+                // The transfer spaces its layers within narrower bounds than the fur depth's own
+                // (checked before any stage runs, naming `fur_depth`): the depth's range is the
+                // bake's without a transfer.
+                if (schema.name, range.name) == ("bake", "fur_depth") {
+                    value["transfer"] = Value::Bool(false);
+                }
                 // Ranges that start at this field's value move up with it.
                 for dependent in schema.ranges.iter().filter(|r| r.min_field == Some(range.name)) {
                     value = with(&value, dependent.name, dependent.max);

@@ -7,6 +7,7 @@
 //! reports per stage whether it ran and how long it took.
 
 mod key;
+mod schema;
 #[cfg(test)]
 mod tests;
 
@@ -16,7 +17,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::FurMesh;
-use crate::error::{Num, PeltError, Result};
+use crate::error::{PeltError, Result};
 use crate::hair::HairParams;
 use crate::lapped::{self, PatchParams, Patches};
 use crate::placement::PlacedStrands;
@@ -30,7 +31,9 @@ use crate::volume::{HairVolume, PlaneParams, PlaneSlices, VolumeParams, bake_sli
 
 use key::{KeyHasher, patch_mesh_key};
 
-pub use crate::mesh::MAX_FUR_DEPTH;
+pub use schema::BakeKeywords;
+
+pub use crate::mesh::{FUR_DEPTH, MAX_FUR_DEPTH};
 
 /// Stage names, in the order they run.
 pub const STAGES: [&str; 5] = ["patches", "volume", "guard_hairs", "planes", "transfer"];
@@ -72,7 +75,7 @@ pub struct BakeParams {
     pub hair: HairParams,
     /// How the hair is sampled into shells.
     pub volume: VolumeParams,
-    /// Fur height at length multiplier 1, object units, `(0, MAX_FUR_DEPTH]`; `None` takes one
+    /// Fur height at length multiplier 1, object units, [`FUR_DEPTH`]; `None` takes one
     /// tile width (the strands' own proportions).
     pub fur_depth: Option<f64>,
     /// The PRT bake; `None` skips it (Kajiya–Kay lighting needs no transfer).
@@ -115,21 +118,17 @@ impl BakeParams {
         self.hair.validate()?;
         self.volume.validate()?;
         let depth = self.fur_depth();
-        if !(depth > 0.0 && depth <= MAX_FUR_DEPTH) {
-            return Err(match self.fur_depth {
-                Some(_) => PeltError::parameter(
-                    "fur_depth",
-                    format!("must be in (0, {MAX_FUR_DEPTH}] object units, got {}", Num(depth)),
+        if self.fur_depth.is_some() {
+            FUR_DEPTH.check(depth)?;
+        } else if !FUR_DEPTH.contains(depth) {
+            // The depth defaults to the tile size: name what the user set.
+            return Err(PeltError::parameter(
+                "tile_size",
+                format!(
+                    "must be in (0, {MAX_FUR_DEPTH}] object units when `fur_depth` is not given \
+                     (the fur is one tile deep), got {depth:e}"
                 ),
-                // The depth defaults to the tile size: name what the user set.
-                None => PeltError::parameter(
-                    "tile_size",
-                    format!(
-                        "must be in (0, {MAX_FUR_DEPTH}] object units when `fur_depth` is not given \
-                         (the fur is one tile deep), got {depth:e}"
-                    ),
-                ),
-            });
+            ));
         }
         if let Some(choice) = &self.transfer {
             choice.params.validate()?;

@@ -97,28 +97,30 @@ impl Default for BandParams {
 }
 
 impl BandParams {
+    /// The ranges [`Self::validate`] checks.
+    pub const RANGES: &'static [crate::params::Range] = &[ranges::TOLERANCE, ranges::LIGHT_SHARPNESS];
+
     /// Checks every field against its documented range.
     ///
     /// # Errors
     /// [`PeltError::InvalidParameter`] naming the first field out of range.
     pub fn validate(&self) -> Result<()> {
-        if !(self.tolerance > 0.0 && self.tolerance <= 1.0) {
-            return Err(PeltError::parameter(
-                "tolerance",
-                format!("must be in (0, 1], got {}", self.tolerance),
-            ));
-        }
-        if !(0.0..=MAX_LIGHT_SHARPNESS).contains(&self.light_sharpness) {
-            return Err(PeltError::parameter(
-                "light_sharpness",
-                format!(
-                    "must be in [0, {MAX_LIGHT_SHARPNESS}], got {}",
-                    self.light_sharpness
-                ),
-            ));
-        }
-        Ok(())
+        ranges::TOLERANCE.check(self.tolerance)?;
+        ranges::LIGHT_SHARPNESS.check(self.light_sharpness)
     }
+}
+
+/// The ranges of [`BandParams`]' numbers.
+mod ranges {
+    use crate::params::Range;
+
+    pub const TOLERANCE: Range = Range::open_below("tolerance", 0.0, 1.0, "relative RMS error");
+    pub const LIGHT_SHARPNESS: Range = Range::closed(
+        "light_sharpness",
+        0.0,
+        super::MAX_LIGHT_SHARPNESS,
+        "lobe sharpness κ",
+    );
 }
 
 /// One order of the band table.

@@ -39,9 +39,10 @@ pub struct VolumeInput {
 }
 
 impl VolumeInput {
-    /// Reads `volume` with the fur `depth` tile widths deep (the strands are grown in a unit cube,
-    /// so 1 keeps their shape; a smaller depth flattens them).
-    pub fn new(volume: &HairVolume, depth: f64) -> Self {
+    /// Reads `volume` with the fur `depth_tiles` tile widths deep (the fur depth in object units
+    /// over the tile size; the strands are grown in a unit cube, so 1 keeps their shape, a smaller
+    /// depth flattens them).
+    pub fn new(volume: &HairVolume, depth_tiles: f64) -> Self {
         let tangents: Vec<[f32; 3]> = volume
             .tangents
             .chunks_exact(4)
@@ -49,7 +50,7 @@ impl VolumeInput {
             .map(|(px, &coverage)| {
                 if coverage > 0.0 {
                     let d = |b: u8| f32::from(b) / 255.0 * 2.0 - 1.0;
-                    [d(px[0]), d(px[1]), d(px[2]) * depth as f32]
+                    [d(px[0]), d(px[1]), d(px[2]) * depth_tiles as f32]
                 } else {
                     [0.0; 3]
                 }
@@ -60,7 +61,7 @@ impl VolumeInput {
             .zip(&volume.coverage)
             .map(|(t, &coverage)| coverage / crossing_cosine(*t))
             .collect();
-        let layer_spacing = (volume.layer_spacing * depth * volume.resolution as f64) as f32;
+        let layer_spacing = (volume.layer_spacing * depth_tiles * volume.resolution as f64) as f32;
         VolumeInput {
             tangents,
             density,
