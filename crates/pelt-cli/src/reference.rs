@@ -2,7 +2,7 @@
 //! renderer (`pelt_core::reference`) of a baked folder (from `pelt bake`) or of a canonical scene
 //! (`sphere.short.side`, …), as linear OpenEXR (premultiplied RGBA) and an sRGB PNG beside it.
 //! `--mode volume` renders the bake's density volume instead of its strands (the hybrid paper's
-//! method). Both files appear only when the render finished (written under a temporary name,
+//! method). `--environment IMAGE` lights it by a light probe instead. Both files appear only when the render finished (written under a temporary name,
 //! then renamed); Ctrl+C or an error leaves nothing.
 
 use std::io::Write;
@@ -15,12 +15,13 @@ use pelt_core::export::{ExrOptions, PngOptions, save_exr, save_png};
 use pelt_core::hair::{Strand, grow_strands};
 use pelt_core::lapped::Patches;
 use pelt_core::mesh::FurMesh;
+use pelt_core::prt::sh::project_equirect;
 use pelt_core::reference::scenes::{FurLength, LightSetup, Shape, canonical_scene, framing};
 use pelt_core::reference::{
     FurGeometry, ReferenceImage, ReferenceLight, ReferenceScene, ReferenceSettings, VolumeScene,
     render_reference, render_volume_reference,
 };
-use pelt_core::texture::ImageRef;
+use pelt_core::texture::{ImageRef, read_light_probe};
 use pelt_core::volume::{HairVolume, bake_strands};
 
 use crate::bake::{bake_object, load_record, prepare};
@@ -49,6 +50,14 @@ pub struct ReferenceArgs {
     /// What to trace: the strands, or the density volume baked from them.
     #[arg(long, value_enum, default_value_t = Mode::Strands)]
     pub mode: Mode,
+    /// Light the fur by this latitude–longitude image (Radiance HDR, OpenEXR, or sRGB PNG)
+    /// instead of the source's lights: linear radiance, object space, row 0 straight up (+Z),
+    /// the left edge facing +X and azimuth turning toward +Y.
+    #[arg(long, value_name = "IMAGE")]
+    pub environment: Option<PathBuf>,
+    /// Spherical-harmonic order the environment is projected to, [1, 8].
+    #[arg(long, default_value_t = 8)]
+    pub environment_order: usize,
 }
 
 /// The reference's two modes.
@@ -109,11 +118,20 @@ pub fn run(args: ReferenceArgs) -> Result<(), String> {
         ..ReferenceSettings::default()
     };
     settings.validate().map_err(|e| e.to_string())?;
-    let (fur, camera, lights) = if Path::new(&args.source).is_dir() {
+    // Read before the bake, so a bad image costs nothing.
+    let environment = args
+        .environment
+        .as_deref()
+        .map(|path| environment(path, args.environment_order))
+        .transpose()?;
+    let (fur, camera, mut lights) = if Path::new(&args.source).is_dir() {
         baked_folder(&args)?
     } else {
         canonical(&args)?
     };
+    if let Some(light) = environment {
+        lights = vec![light];
+    }
     let progress = |done: f64| {
         eprint!("\rreference: {:3.0}%", 100.0 * done);
         let _ = std::io::stderr().flush();
@@ -158,6 +176,15 @@ pub fn run(args: ReferenceArgs) -> Result<(), String> {
     renamed?;
     println!("pelt: wrote {} and {}", args.out.display(), png_path.display());
     Ok(())
+}
+
+/// The light probe at `path` projected onto SH of `order`.
+fn environment(path: &Path, order: usize) -> Result<ReferenceLight, String> {
+    let probe = read_light_probe(path).map_err(|e| e.to_string())?;
+    let sh = project_equirect(order, probe.width, probe.height, &probe.rgb).map_err(|e| e.to_string())?;
+    Ok(ReferenceLight::Environment {
+        sh: sh.iter().map(|c| c.map(|v| v as f32)).collect(),
+    })
 }
 
 /// `path` with `.part` added: where a file is written before it is renamed into place.

@@ -391,3 +391,60 @@ fn reference_renders_a_baked_folder_and_writes_nothing_on_bad_input() {
     assert!(String::from_utf8_lossy(&output.stderr).contains("prisms"));
     assert!(volume.exists() && dir.join("volume.png").exists());
 }
+
+#[test]
+fn reference_lit_by_a_light_probe_matches_the_same_sky_given_analytically() {
+    let dir = out_dir("reference-probe");
+    std::fs::create_dir_all(&dir).unwrap();
+    // The canonical scenes' environment, `0.6 + 0.4 z`, as a latitude–longitude EXR (row 0 at +Z).
+    let (w, h) = (64usize, 32usize);
+    let rgb: Vec<f32> = (0..h)
+        .flat_map(|r| {
+            let z = (std::f64::consts::PI * (r as f64 + 0.5) / h as f64).cos();
+            std::iter::repeat_n((0.6 + 0.4 * z) as f32, 3 * w)
+        })
+        .collect();
+    let sky = dir.join("sky.exr");
+    let image = pelt::texture::ImageRef::new(w, h, 3, &rgb).unwrap();
+    pelt::export::save_exr(&sky, &image, &pelt::export::ExrOptions::default()).unwrap();
+    let render = |source: &str, out: &str, extra: &[&str]| {
+        let out = dir.join(out);
+        let mut args = vec!["reference", source, "--out", out.to_str().unwrap()];
+        args.extend_from_slice(&["--size", "24", "--samples", "8", "--target-error", "0.05"]);
+        args.extend_from_slice(extra);
+        assert_ok(&pelt(&args, 2));
+        let png = image::open(out.with_extension("png")).unwrap().to_rgba8();
+        png.pixels().map(|p| f64::from(p[0])).sum::<f64>() / f64::from(png.width() * png.height())
+    };
+    let analytic = render("patch.short.environment", "analytic.exr", &[]);
+    // The side scene's sun would light it quite differently: the probe replaces it.
+    let probe = render(
+        "patch.short.side",
+        "probe.exr",
+        &["--environment", sky.to_str().unwrap(), "--environment-order", "2"],
+    );
+    assert!(analytic > 10.0, "the patch is lit: {analytic}");
+    assert!(
+        (probe / analytic - 1.0).abs() < 0.02,
+        "probe {probe} vs analytic {analytic}"
+    );
+
+    let bad = dir.join("bad.hdr");
+    std::fs::write(&bad, "#?RADIANCE\nnot really").unwrap();
+    let out = dir.join("bad.exr");
+    let output = pelt(
+        &[
+            "reference",
+            "patch.short.eye",
+            "--out",
+            out.to_str().unwrap(),
+            "--environment",
+            bad.to_str().unwrap(),
+        ],
+        2,
+    );
+    assert!(!output.status.success());
+    assert!(String::from_utf8_lossy(&output.stderr).contains("bad.hdr"));
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

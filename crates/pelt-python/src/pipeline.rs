@@ -15,8 +15,8 @@ use crate::errors::{IntoPyErr, py_err};
 use pelt_core::error::PeltError;
 use pelt_core::pipeline::{BakeKeywords, BakeParams, FurAsset, Pipeline, StageCallback};
 use pelt_core::placement::StrandSpan;
-use pelt_core::volume::coverage::CoverageMode;
 use pelt_core::volume::VolumeParams;
+use pelt_core::volume::coverage::CoverageMode;
 
 /// A bake cache: keeps the last result of every stage, so a re-bake runs only what changed.
 /// One per furred object. Thread-safe: a bake holds the cache for its whole run. Over a mesh

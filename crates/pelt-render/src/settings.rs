@@ -419,15 +419,23 @@ mod tests {
     fn every_range_is_the_one_a_frame_checks() {
         RenderSettings::default().shells_to_draw(16).unwrap();
         for range in RenderSettings::RANGES {
-            let integer = ["min_shells", "max_shells", "strand_bands", "plane_loop_limit"]
-                .contains(&range.name);
+            let integer =
+                ["min_shells", "max_shells", "strand_bands", "plane_loop_limit"].contains(&range.name);
             let step = if integer { 1.0 } else { range.max.max(1.0) * 1e-3 };
-            let lowest = if range.min_open { range.min + step } else { range.min };
+            let lowest = if range.min_open {
+                range.min + step
+            } else {
+                range.min
+            };
             for inside in [lowest, range.max] {
                 let result = with(range.name, inside).shells_to_draw(16);
                 assert!(result.is_ok(), "{} = {inside}: {result:?}", range.name);
             }
-            let below = if range.min_open { range.min } else { range.min - step };
+            let below = if range.min_open {
+                range.min
+            } else {
+                range.min - step
+            };
             let mut outside = vec![range.max + step];
             if !(integer && below < 0.0) {
                 outside.push(below);
@@ -470,7 +478,10 @@ mod tests {
         assert!(ShellMethod::from_name("flat").is_err());
         let d = RenderDefaults::default();
         let s = RenderSettings::default();
-        assert_eq!((d.shells, d.max_shells, d.strand_order), (None, s.max_shells, "stochastic"));
+        assert_eq!(
+            (d.shells, d.max_shells, d.strand_order),
+            (None, s.max_shells, "stochastic")
+        );
         // The strands' default order is the one StrandOrder documents as the default.
         assert_eq!(s.strand_order, StrandOrder::default());
     }

@@ -47,8 +47,10 @@ impl BakeKeywords {
     /// `base` with these keywords' choices.
     pub fn apply(&self, base: BakeParams) -> BakeParams {
         let transfer = self.transfer.then(|| {
-            let mut choice = TransferChoice::default();
-            choice.auto = self.order.is_none();
+            let mut choice = TransferChoice {
+                auto: self.order.is_none(),
+                ..TransferChoice::default()
+            };
             choice.params.order = self.order.unwrap_or(choice.params.order);
             choice.params.phase = self.phase;
             choice.bands.tolerance = self.tolerance;

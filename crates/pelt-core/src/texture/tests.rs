@@ -4,3 +4,4 @@
 mod atlas;
 mod image;
 mod mip;
+mod read;
