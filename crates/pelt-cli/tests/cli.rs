@@ -268,8 +268,8 @@ fn bad_input_exits_with_a_message_and_no_panic() {
             "inside the file's folder",
         ),
         (
-            vec!["bake", "missing.obj", "--out", out, "--planes", "0"],
-            "`planes`: must be in [1, 256], got 0",
+            vec!["bake", "missing.obj", "--out", out, "--planes", "257"],
+            "`planes`: must be in [0, 256], got 257",
         ),
     ] {
         let output = pelt(&args, 2);

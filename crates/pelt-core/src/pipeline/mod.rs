@@ -139,6 +139,8 @@ impl BakeParams {
             crate::guard::validate(&self.hair, depth, self.volume.guard_share)?;
         }
         if let Some(planes) = &self.planes {
+            // The count as the front ends take it (0: no slices), then the slices' own checks.
+            schema::PLANES.check(planes.planes as f64)?;
             planes.validate()?;
         }
         Ok(())

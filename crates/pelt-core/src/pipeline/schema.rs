@@ -69,7 +69,7 @@ impl BakeKeywords {
 }
 
 /// Planes per family as the front ends count them: 0 bakes no slices.
-const PLANES: Range = Range::closed("planes", 0.0, MAX_PLANES as f64, "planes per family");
+pub(super) const PLANES: Range = Range::closed("planes", 0.0, MAX_PLANES as f64, "planes per family");
 
 impl BakeParams {
     /// The ranges of the bake's own numbers.
