@@ -8,6 +8,7 @@
 //!   into each vertex's tile frame and dotted per fragment with the scene's transfer textures
 //!   (`prt_light.rs`, `prt_rotate.rs`, `prt.wgsl`).
 
+use glam::Vec3;
 use pelt_core::error::{Num, PeltError, Result};
 use pelt_core::prt::sh;
 
@@ -169,8 +170,8 @@ pub(super) struct LightingFrame {
 impl Lighting {
     /// Checks every field and normalizes the direction.
     pub(super) fn frame(&self) -> Result<LightingFrame> {
-        let d = self.direction.map(f64::from);
-        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let d = Vec3::from(self.direction).as_dvec3();
+        let len = d.length();
         if !(len.is_finite() && len > 0.0) {
             return Err(PeltError::parameter(
                 "lighting.direction",
@@ -181,8 +182,9 @@ impl Lighting {
             in_range(&format!("lighting.color[{i}]"), c, 0.0, MAX_RADIANCE, false)?;
         }
         in_range("lighting.self_shadow", self.self_shadow, 0.0, 1.0, false)?;
-        let direction = d.map(|c| (c / len) as f32);
-        let color = self.color.map(|c| c / std::f32::consts::PI);
+        // A division by the length, not `normalize`'s product with its reciprocal: it rounds otherwise.
+        let direction = (d / len).as_vec3().to_array();
+        let color = (Vec3::from(self.color) / std::f32::consts::PI).to_array();
         match &self.model {
             LightModel::KajiyaKay(kk) => {
                 check_kajiya_kay(kk)?;

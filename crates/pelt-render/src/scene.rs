@@ -2,7 +2,6 @@
 //! textures — and updated in place when only colors or lengths change (Lengyel et al. 2001, §3:
 //! per-vertex color and length are interactive controls, so they must not re-upload the rest).
 
-use glam::{DVec3, Vec3};
 use wgpu::util::DeviceExt;
 
 use std::ops::Range;
@@ -17,7 +16,7 @@ use super::textures::VolumeTextures;
 use super::{Renderer, scoped, textures, transfer};
 use pelt_core::FurMesh;
 use pelt_core::error::{PeltError, Result};
-use pelt_core::mesh::MAX_LENGTH;
+use pelt_core::mesh::{MAX_LENGTH, bounding_sphere};
 use pelt_core::prt::pack::PackedF16;
 use pelt_core::scene::deform::Deformer;
 use pelt_core::scene::fin_cull::FinPlanes;
@@ -238,16 +237,10 @@ fn longest(lengths: &[f32]) -> f64 {
     lengths.iter().fold(0.0, |m, &l| m.max(f64::from(l)))
 }
 
-/// The bounding sphere (centre of the bounding box, farthest vertex) and longest length.
+/// The skin's bounding sphere and the longest length multiplier (the fur stays out of the
+/// radius: the LOD schedule measures it apart).
 fn extent(positions: &[[f32; 3]], lengths: &[f32]) -> Extent {
-    let wide = |p: &[f32; 3]| Vec3::from(*p).as_dvec3();
-    let (lo, hi) = positions.iter().fold((DVec3::MAX, DVec3::MIN), |(lo, hi), p| {
-        (lo.min(wide(p)), hi.max(wide(p)))
-    });
-    let center = 0.5 * (lo + hi);
-    let radius = positions
-        .iter()
-        .fold(0.0f64, |r, p| r.max(wide(p).distance(center)));
+    let (center, radius) = bounding_sphere(positions);
     Extent {
         center,
         radius,

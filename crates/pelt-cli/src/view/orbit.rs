@@ -2,9 +2,10 @@
 //! (+Z up, as in Blender, from which Pelt's meshes come), a zoom factor relative to the distance
 //! that frames the sphere, and the light direction as yaw and pitch in object space.
 
+use glam::DVec3;
 use glam::dcamera::rh::proj::directx;
 use glam::dcamera::rh::view::look_at_mat4;
-use glam::{DVec3, Vec3};
+use pelt_core::mesh::bounding_sphere;
 use pelt_render::Camera;
 
 /// Vertical field of view.
@@ -31,21 +32,7 @@ impl Sphere {
     /// The sphere around the box of `positions`, grown by `fur` (the tallest hair); a point
     /// mesh still gets a positive radius.
     pub fn around(positions: &[[f32; 3]], fur: f64) -> Sphere {
-        let wide = |p: &[f32; 3]| Vec3::from(*p).as_dvec3();
-        let (lo, hi) = positions
-            .iter()
-            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
-                (lo.min(wide(p)), hi.max(wide(p)))
-            });
-        let centre = if positions.is_empty() {
-            DVec3::ZERO
-        } else {
-            0.5 * (lo + hi)
-        };
-        let reach = positions
-            .iter()
-            .map(|p| wide(p).distance(centre))
-            .fold(0.0, f64::max);
+        let (centre, reach) = bounding_sphere(positions);
         let radius = reach + fur.max(0.0);
         Sphere {
             centre,

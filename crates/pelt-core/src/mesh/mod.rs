@@ -4,13 +4,14 @@
 //! `pelt_comb`, `pelt_length`) arrive as borrowed slices ([`MeshInput`]) and are checked once
 //! ([`validate`]); then the mesh builds what the stages share: the edge map with 64-bit edge keys
 //! (as in the hybrid-fur paper's prism adjacency), vertex→face adjacency and connected components
-//! ([`topology`]), area-weighted vertex normals and per-vertex tangent frames ([`frames`]), and
-//! statistics ([`stats`]). For consumers that store one UV per vertex (the renderer, glTF) the
+//! ([`topology`]), area-weighted vertex normals and per-vertex tangent frames ([`frames`]),
+//! statistics ([`stats`]) and the bounding sphere ([`bounding_sphere`]). For consumers that store one UV per vertex (the renderer, glTF) the
 //! mesh is split at the seams of the lapped patches' UVs ([`uv_split`]); fins stand on its edges
 //! ([`fins`]) and shells off its skin ([`shell_offset`]). Degenerate (zero-area) triangles and
 //! non-manifold edges are accepted and counted: later stages must cope with them, never crash on
 //! them.
 
+mod bounds;
 pub mod fins;
 mod frames;
 pub mod gltf_read;
@@ -22,6 +23,7 @@ mod topology;
 pub mod uv_split;
 mod validate;
 
+pub use bounds::bounding_sphere;
 pub use fins::{FinQuad, fin_plane, fin_quads, fin_quads_of_edges, midpoint, quad_triangles};
 pub use frames::orthonormal_basis;
 pub use stats::MeshStats;

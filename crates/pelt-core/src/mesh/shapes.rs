@@ -1,5 +1,7 @@
 //! Procedural meshes for tests and benchmarks (no file I/O needed to exercise the pipeline).
 
+use glam::Vec3;
+
 /// A closed torus (major radius 1, minor radius 0.35) in the XY plane with `around × across` quads
 /// split into `2 × around × across` triangles, counter-clockwise seen from outside.
 pub fn torus(around: usize, across: usize) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
@@ -143,10 +145,9 @@ pub fn sphere_with_holes(segments: usize, rings: usize) -> (Vec<[f32; 3]>, Vec<[
     let centres = [[1.0f32, 0.0, 0.0], [0.0, -0.8, 0.6], [-0.6, 0.0, -0.8]];
     triangles.retain(|t| {
         let c = centroid(&positions, t);
-        centres.iter().all(|h| {
-            let d = [c[0] - h[0], c[1] - h[1], c[2] - h[2]];
-            d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 0.35 * 0.35
-        })
+        centres
+            .iter()
+            .all(|h| (c - Vec3::from(*h)).length_squared() > 0.35 * 0.35)
     });
     (positions, triangles)
 }
@@ -254,9 +255,9 @@ pub fn bumpy_torus(around: usize, across: usize) -> (Vec<[f32; 3]>, Vec<[u32; 3]
     (positions, triangles)
 }
 
-fn centroid(positions: &[[f32; 3]], t: &[u32; 3]) -> [f32; 3] {
-    let [a, b, c] = t.map(|v| positions[v as usize]);
-    [0, 1, 2].map(|k| (a[k] + b[k] + c[k]) / 3.0)
+fn centroid(positions: &[[f32; 3]], t: &[u32; 3]) -> Vec3 {
+    let [a, b, c] = t.map(|v| Vec3::from(positions[v as usize]));
+    (a + b + c) / 3.0
 }
 
 /// Blender's Suzanne (507 vertices, 500 polygons fanned into 968 triangles), read from

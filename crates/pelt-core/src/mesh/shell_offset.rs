@@ -6,12 +6,13 @@
 //! The renderer computes the same in `render/common.wgsl` (`growth`) and `render/surface.wgsl`;
 //! the geometry export bakes it with these functions, so both agree.
 
+use glam::{DVec3, Vec3};
+
 /// The growth direction at a vertex with unit normal `normal` and comb vector `comb`:
 /// `n + c − n (n · c)`.
 pub fn growth(normal: [f32; 3], comb: [f32; 3]) -> [f64; 3] {
-    let (n, c) = (normal.map(f64::from), comb.map(f64::from));
-    let d = n[0] * c[0] + n[1] * c[1] + n[2] * c[2];
-    std::array::from_fn(|i| n[i] + c[i] - n[i] * d)
+    let (n, c) = (Vec3::from(normal).as_dvec3(), Vec3::from(comb).as_dvec3());
+    (n + c - n * n.dot(c)).to_array()
 }
 
 /// `position` lifted to `height` (share of the fur depth, `layer · spacing` for a shell, 1 for a
@@ -26,7 +27,9 @@ pub fn lifted(
 ) -> [f32; 3] {
     let g = growth(normal, comb);
     let scale = height * fur_depth * f64::from(length);
-    std::array::from_fn(|i| (f64::from(position[i]) + scale * g[i]) as f32)
+    (Vec3::from(position).as_dvec3() + scale * DVec3::from(g))
+        .as_vec3()
+        .to_array()
 }
 
 /// The layer that shell `shell` (1-based, `1..=shells`) of `shells` drawn shows in a stack of

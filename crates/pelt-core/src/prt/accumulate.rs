@@ -8,6 +8,7 @@
 //! Each voxel sums its directions in one fixed order, so the result does not depend on how
 //! the rows are spread over threads.
 
+use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};
 
 use super::sh;
@@ -82,15 +83,15 @@ impl Projector {
 /// Per-voxel phase factors of one bake.
 pub(super) enum PhaseField {
     Isotropic,
-    /// Unit tangents per voxel, `[0, 0, 0]` where there is no hair.
-    KajiyaKay(Vec<[f32; 3]>),
+    /// Unit tangents per voxel, zero where there is no hair.
+    KajiyaKay(Vec<Vec3>),
 }
 
 impl PhaseField {
     pub(super) fn new(phase: Phase, tangents: Option<&[[f32; 3]]>) -> Self {
         match (phase, tangents) {
             (Phase::KajiyaKay, Some(t)) => {
-                PhaseField::KajiyaKay(t.iter().map(|&v| unit_or_zero(v)).collect())
+                PhaseField::KajiyaKay(t.iter().map(|&v| unit_or_zero(Vec3::from(v))).collect())
             }
             _ => PhaseField::Isotropic,
         }
@@ -100,22 +101,19 @@ impl PhaseField {
 /// Below this length a tangent counts as "no hair here".
 const MIN_TANGENT: f32 = 1e-6;
 
-fn unit_or_zero(t: [f32; 3]) -> [f32; 3] {
-    let len = (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt();
-    if len < MIN_TANGENT {
-        [0.0; 3]
-    } else {
-        t.map(|v| v / len)
-    }
+fn unit_or_zero(t: Vec3) -> Vec3 {
+    let len = t.length();
+    // A division by the length, not `normalize`'s product with its reciprocal: it rounds otherwise.
+    if len < MIN_TANGENT { Vec3::ZERO } else { t / len }
 }
 
 /// Kajiya–Kay diffuse phase `sin(t, ω) = √(1 − (t·ω)²)`; the sphere mean π/4 without a tangent.
 #[inline]
-pub(super) fn kajiya_kay(t: [f32; 3], d: [f32; 3]) -> f32 {
-    if t == [0.0; 3] {
+pub(super) fn kajiya_kay(t: Vec3, d: Vec3) -> f32 {
+    if t == Vec3::ZERO {
         return KAJIYA_KAY_MEAN;
     }
-    let c = t[0] * d[0] + t[1] * d[1] + t[2] * d[2];
+    let c = t.dot(d);
     (1.0 - c * c).max(0.0).sqrt()
 }
 
@@ -174,7 +172,7 @@ impl<'a> RowAccumulator<'a> {
     /// Adds direction `dir` (an index into the projector) with transmittances `t` (one per voxel).
     /// Extra channels are accumulated only when `with_extra`.
     pub(super) fn add(&mut self, dir: usize, t: &[f32], with_extra: bool) {
-        let d = self.projector.dirs[dir].map(|v| v as f32);
+        let d = DVec3::from(self.projector.dirs[dir]).as_vec3();
         match self.phase {
             PhaseField::Isotropic => self.values.copy_from_slice(t),
             PhaseField::KajiyaKay(tangents) => {

@@ -41,6 +41,7 @@
 
 use std::f64::consts::PI;
 
+use glam::DVec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -161,7 +162,7 @@ pub struct BandReport {
 
 /// The test lights: values at any direction and exact SH coefficients to [`MAX_ORDER`].
 pub(super) struct TestLights {
-    directions: Vec<[f64; 3]>,
+    directions: Vec<DVec3>,
     sharpness: f64,
     /// `[light][coefficient]`, the environment last.
     pub coefficients: Vec<Vec<f64>>,
@@ -170,11 +171,14 @@ pub(super) struct TestLights {
 
 impl TestLights {
     pub(super) fn new(sharpness: f64) -> Result<Self> {
-        let directions = fibonacci_directions(TEST_LIGHTS);
+        let directions: Vec<DVec3> = fibonacci_directions(TEST_LIGHTS)
+            .into_iter()
+            .map(DVec3::from)
+            .collect();
         let zonal = vmf_zonal(sharpness)?;
         let mut coefficients = directions
             .iter()
-            .map(|&d| sh::zonal_to_direction(&zonal, d))
+            .map(|d| sh::zonal_to_direction(&zonal, d.to_array()))
             .collect::<Result<Vec<_>>>()?;
         let env = environment();
         let (w, h) = ENV_SIZE;
@@ -200,12 +204,13 @@ impl TestLights {
 
     /// Values of every light toward `d` (unit), the environment last.
     pub(super) fn values(&self, d: [f64; 3], out: &mut [f64]) {
-        for (o, l) in out.iter_mut().zip(&self.directions) {
-            *o = vmf(self.sharpness, d[0] * l[0] + d[1] * l[1] + d[2] * l[2]);
+        let d = DVec3::from(d);
+        for (o, &l) in out.iter_mut().zip(&self.directions) {
+            *o = vmf(self.sharpness, d.dot(l));
         }
         let (w, h) = ENV_SIZE;
-        let theta = d[2].clamp(-1.0, 1.0).acos();
-        let phi = d[1].atan2(d[0]).rem_euclid(2.0 * PI);
+        let theta = d.z.clamp(-1.0, 1.0).acos();
+        let phi = d.y.atan2(d.x).rem_euclid(2.0 * PI);
         let row = ((theta / PI * h as f64) as usize).min(h - 1);
         let col = ((phi / (2.0 * PI) * w as f64) as usize).min(w - 1);
         out[self.directions.len()] = f64::from(self.env[row * w + col]);
@@ -241,15 +246,14 @@ fn environment() -> Vec<f32> {
     let (w, h) = ENV_SIZE;
     // A sun 40° above the horizon, 30° around from +X.
     let (el, az) = (40f64.to_radians(), 30f64.to_radians());
-    let sun = [el.cos() * az.cos(), el.cos() * az.sin(), el.sin()];
+    let sun = DVec3::new(el.cos() * az.cos(), el.cos() * az.sin(), el.sin());
     (0..w * h)
         .map(|i| {
             let theta = ((i / w) as f64 + 0.5) * PI / h as f64;
             let phi = ((i % w) as f64 + 0.5) * 2.0 * PI / w as f64;
-            let d = [theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos()];
-            let sky = if d[2] > 0.0 { 0.05 + 0.1 * d[2] } else { 0.02 };
-            let c = d[0] * sun[0] + d[1] * sun[1] + d[2] * sun[2];
-            (sky + 0.5 * vmf(16.0, c)) as f32
+            let d = DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+            let sky = if d.z > 0.0 { 0.05 + 0.1 * d.z } else { 0.02 };
+            (sky + 0.5 * vmf(16.0, d.dot(sun))) as f32
         })
         .collect()
 }

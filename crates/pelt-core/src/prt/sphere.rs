@@ -149,11 +149,9 @@ pub fn gauss_product_rule(n_z: usize, n_phi: usize) -> (Vec<[f64; 3]>, Vec<f64>)
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use glam::DVec3;
 
-    fn norm(d: [f64; 3]) -> f64 {
-        (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
-    }
+    use super::*;
 
     #[test]
     fn gauss_legendre_integrates_monomials_exactly() {
@@ -180,7 +178,10 @@ mod tests {
         let n = DEFAULT_DIRECTIONS;
         let dirs = fibonacci_directions(n);
         assert_eq!(dirs.len(), n);
-        assert!(dirs.iter().all(|&d| (norm(d) - 1.0).abs() < 1e-14));
+        assert!(
+            dirs.iter()
+                .all(|&d| (DVec3::from(d).length() - 1.0).abs() < 1e-14)
+        );
         // Equal weights integrate z² over the sphere (4π/3) to within the rule's O(1/n²) error.
         let w = fibonacci_weight(n);
         let mean: [f64; 3] = [0, 1, 2].map(|k| dirs.iter().map(|d| d[k]).sum::<f64>() / n as f64);
@@ -197,7 +198,7 @@ mod tests {
         assert_eq!(mirrored_fibonacci_directions(13).len(), 16);
         assert_eq!(dirs.iter().filter(|d| d[2] > 0.0).count(), DEFAULT_DIRECTIONS / 2);
         for d in &dirs {
-            assert!((norm(*d) - 1.0).abs() < 1e-14);
+            assert!((DVec3::from(*d).length() - 1.0).abs() < 1e-14);
             for m in [[-d[0], d[1], d[2]], [d[0], -d[1], d[2]]] {
                 assert!(dirs.contains(&m), "{d:?} has no mirror image");
             }
@@ -215,7 +216,7 @@ mod tests {
         assert_eq!(dirs, stratified_directions(rows, cols, 7));
         assert_ne!(dirs, stratified_directions(rows, cols, 8));
         for (i, d) in dirs.iter().enumerate() {
-            assert!((norm(*d) - 1.0).abs() < 1e-14);
+            assert!((DVec3::from(*d).length() - 1.0).abs() < 1e-14);
             let (r, c) = (i / cols, i % cols);
             let z_top = 1.0 - 2.0 * r as f64 / rows as f64;
             let z_bottom = 1.0 - 2.0 * (r + 1) as f64 / rows as f64;

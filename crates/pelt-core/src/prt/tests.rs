@@ -3,6 +3,8 @@
 
 use std::f64::consts::PI;
 
+use glam::{DMat3, DQuat, DVec3};
+
 use super::sh::*;
 use super::sphere::{fibonacci_directions, gauss_legendre, gauss_product_rule};
 use crate::error::PeltError;
@@ -21,39 +23,19 @@ impl Rng {
 }
 
 /// A random rotation matrix from a random unit quaternion.
-fn random_rotation(rng: &mut Rng) -> [[f64; 3]; 3] {
-    let q = [rng.next(), rng.next(), rng.next(), rng.next()];
-    let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
-    let [w, x, y, z] = q.map(|v| v / n);
-    [
-        [
-            1.0 - 2.0 * (y * y + z * z),
-            2.0 * (x * y - w * z),
-            2.0 * (x * z + w * y),
-        ],
-        [
-            2.0 * (x * y + w * z),
-            1.0 - 2.0 * (x * x + z * z),
-            2.0 * (y * z - w * x),
-        ],
-        [
-            2.0 * (x * z - w * y),
-            2.0 * (y * z + w * x),
-            1.0 - 2.0 * (x * x + y * y),
-        ],
-    ]
+fn random_rotation(rng: &mut Rng) -> DMat3 {
+    let [w, x, y, z] = [rng.next(), rng.next(), rng.next(), rng.next()];
+    DMat3::from_quat(DQuat::from_xyzw(x, y, z, w).normalize())
 }
 
-fn transpose(r: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
-    [0, 1, 2].map(|i| [0, 1, 2].map(|j| r[j][i]))
+/// `m` as the rows the SH rotation takes.
+fn rows(m: DMat3) -> [[f64; 3]; 3] {
+    m.transpose().to_cols_array_2d()
 }
 
-fn mul(r: [[f64; 3]; 3], d: [f64; 3]) -> [f64; 3] {
-    [0, 1, 2].map(|i| r[i][0] * d[0] + r[i][1] * d[1] + r[i][2] * d[2])
-}
-
-fn matmul(a: [[f64; 3]; 3], b: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
-    [0, 1, 2].map(|i| [0, 1, 2].map(|j| (0..3).map(|k| a[i][k] * b[k][j]).sum()))
+/// `m · d` for a direction as the SH functions take it.
+fn mul(m: DMat3, d: [f64; 3]) -> [f64; 3] {
+    (m * DVec3::from(d)).to_array()
 }
 
 fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
@@ -62,8 +44,7 @@ fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
 }
 
 fn unit(d: [f64; 3]) -> [f64; 3] {
-    let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-    d.map(|v| v / n)
+    DVec3::from(d).normalize().to_array()
 }
 
 fn is_parameter_error(e: PeltError, name: &str) -> bool {
@@ -127,11 +108,7 @@ fn bad_input_is_rejected_with_the_parameter_name() {
         "half_angle"
     ));
     assert!(is_parameter_error(
-        rotate(
-            &[0.0; 5],
-            transpose([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
-        )
-        .unwrap_err(),
+        rotate(&[0.0; 5], rows(DMat3::IDENTITY)).unwrap_err(),
         "coefficients"
     ));
     let mirror = [[-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
@@ -239,16 +216,16 @@ fn rotation_matches_reprojection_of_the_rotated_function() {
     for _ in 0..5 {
         let coeffs = random_coeffs(&mut rng, MAX_ORDER);
         let r = random_rotation(&mut rng);
-        let rotated = rotate(&coeffs, r).unwrap();
+        let rotated = rotate(&coeffs, rows(r)).unwrap();
         // g(ω) = f(Rᵀω), projected by a rule exact for the band-limited product.
         let values: Vec<f64> = dirs
             .iter()
-            .map(|&d| reconstruct(&coeffs, mul(transpose(r), d)).unwrap())
+            .map(|&d| reconstruct(&coeffs, mul(r.transpose(), d)).unwrap())
             .collect();
         let reprojected = project_samples(MAX_ORDER, &dirs, &weights, &values).unwrap();
         worst_proj = worst_proj.max(max_abs_diff(&rotated, &reprojected));
         for &d in &check_dirs {
-            let g = reconstruct(&coeffs, mul(transpose(r), d)).unwrap();
+            let g = reconstruct(&coeffs, mul(r.transpose(), d)).unwrap();
             worst_eval = worst_eval.max((reconstruct(&rotated, d).unwrap() - g).abs());
         }
     }
@@ -266,11 +243,11 @@ fn rotation_moves_a_lobe_to_the_rotated_direction_and_composes() {
     let a = random_rotation(&mut rng);
     let b = random_rotation(&mut rng);
     let lobe = project_cap(6, d, 0.3).unwrap();
-    let moved = rotate(&lobe, a).unwrap();
+    let moved = rotate(&lobe, rows(a)).unwrap();
     assert!(max_abs_diff(&moved, &project_cap(6, mul(a, d), 0.3).unwrap()) < 1e-12);
     let coeffs = random_coeffs(&mut rng, MAX_ORDER);
-    let composed = rotate(&coeffs, matmul(a, b)).unwrap();
-    let stepwise = rotate(&rotate(&coeffs, b).unwrap(), a).unwrap();
+    let composed = rotate(&coeffs, rows(a * b)).unwrap();
+    let stepwise = rotate(&rotate(&coeffs, rows(b)).unwrap(), rows(a)).unwrap();
     assert!(max_abs_diff(&composed, &stepwise) < 1e-12);
 }
 
@@ -281,7 +258,7 @@ fn rotation_then_inverse_returns_the_input() {
     for order in 1..=MAX_ORDER {
         let coeffs = random_coeffs(&mut rng, order);
         let r = random_rotation(&mut rng);
-        let back = rotate(&rotate(&coeffs, r).unwrap(), transpose(r)).unwrap();
+        let back = rotate(&rotate(&coeffs, rows(r)).unwrap(), rows(r.transpose())).unwrap();
         worst = worst.max(max_abs_diff(&back, &coeffs));
     }
     eprintln!("R then R⁻¹: max error {worst:e}");
@@ -406,20 +383,10 @@ fn equirect_projection_of_a_drawn_cap_matches_the_analytic_cap() {
 /// `t = ω·d` on `[cos α, 1]` times uniform azimuth about `d`, exact for band-limited integrands.
 fn cap_by_quadrature(order: usize, d: [f64; 3], alpha: f64) -> Vec<f64> {
     let a = alpha.cos();
-    let helper = if d[0].abs() < 0.9 {
-        [1.0, 0.0, 0.0]
-    } else {
-        [0.0, 1.0, 0.0]
-    };
-    let cross = |p: [f64; 3], q: [f64; 3]| {
-        [
-            p[1] * q[2] - p[2] * q[1],
-            p[2] * q[0] - p[0] * q[2],
-            p[0] * q[1] - p[1] * q[0],
-        ]
-    };
-    let u = unit(cross(d, helper));
-    let v = cross(d, u);
+    let d = DVec3::from(d);
+    let helper = if d.x.abs() < 0.9 { DVec3::X } else { DVec3::Y };
+    let u = d.cross(helper).normalize();
+    let v = d.cross(u);
     let (xs, ws) = gauss_legendre(16);
     let n_psi = 32;
     let power = 1.0 / (2.0 * PI * (1.0 - a));
@@ -431,7 +398,7 @@ fn cap_by_quadrature(order: usize, d: [f64; 3], alpha: f64) -> Vec<f64> {
         for k in 0..n_psi {
             let psi = 2.0 * PI * k as f64 / n_psi as f64;
             let (sp, cp) = psi.sin_cos();
-            dirs.push(unit([0, 1, 2].map(|i| s * (cp * u[i] + sp * v[i]) + t * d[i])));
+            dirs.push((s * (cp * u + sp * v) + t * d).normalize().to_array());
             weights.push(0.5 * (1.0 - a) * w * 2.0 * PI / n_psi as f64);
         }
     }
@@ -496,7 +463,7 @@ fn cap_zonal_matches_legendre_differences_and_the_delta_limit() {
 #[test]
 fn rotation_band_matrices_are_orthogonal() {
     let mut rng = Rng(11);
-    let rot = ShRotation::new(MAX_ORDER, random_rotation(&mut rng)).unwrap();
+    let rot = ShRotation::new(MAX_ORDER, rows(random_rotation(&mut rng))).unwrap();
     assert_eq!(rot.order(), MAX_ORDER);
     assert!(rot.band(MAX_ORDER).is_none());
     for l in 0..MAX_ORDER {

@@ -12,6 +12,8 @@
 use std::ops::Range;
 use std::sync::Mutex;
 
+use glam::{DVec3, Vec3};
+
 use crate::texture::color::{Srgb8Encoder, srgb8_encoder, unit_to_u8};
 
 use super::coverage::{CoverageMode, visit_disk_texels};
@@ -180,10 +182,9 @@ impl Hairs<'_> {
     }
 
     /// Adds every hair's shares to `sink`, marks the rows they touch in `dirty`, and returns the
-    /// layer totals for the fill values: Σ w, Σ w·color, Σ w·direction, per hair in f64 and in
-    /// strand order (thread-count independent).
-    fn splat(&self, footprint: &mut FootprintScratch, dirty: &mut [bool], sink: &mut impl Sink) -> [f64; 7] {
-        let mut totals = [0.0f64; 7];
+    /// layer totals for the fill values.
+    fn splat(&self, footprint: &mut FootprintScratch, dirty: &mut [bool], sink: &mut impl Sink) -> Totals {
+        let mut totals = Totals::default();
         for &(z, weight) in self.heights {
             for k in (0..self.strands.len()).filter(|&k| self.strands.reaches(k, z)) {
                 self.splat_hair(k, (z, weight), footprint, dirty, sink, &mut totals);
@@ -201,14 +202,18 @@ impl Hairs<'_> {
         footprint: &mut FootprintScratch,
         dirty: &mut [bool],
         sink: &mut impl Sink,
-        totals: &mut [f64; 7],
+        totals: &mut Totals,
     ) {
         let cut = self.strands.cut(k, z);
-        let [root, tip] = self.strands.colors(k);
-        let color: [f32; 3] = std::array::from_fn(|c| root[c] + (tip[c] - root[c]) * cut.along);
-        let d = cut.direction;
+        let [root, tip] = self.strands.colors(k).map(Vec3::from);
+        // Written out rather than `lerp` (`root·(1 − s) + tip·s`), which rounds differently.
+        let color = root + (tip - root) * cut.along;
+        let d = Vec3::from(cut.direction);
         let mut hair_total = 0.0f64;
-        sink.start(Hair { color, direction: d });
+        sink.start(Hair {
+            color: color.to_array(),
+            direction: cut.direction,
+        });
         visit_disk_texels(
             self.resolution,
             cut.x,
@@ -224,12 +229,22 @@ impl Hairs<'_> {
             },
         );
         sink.finish();
-        totals[0] += hair_total;
-        for c in 0..3 {
-            totals[1 + c] += hair_total * f64::from(color[c]);
-            totals[4 + c] += hair_total * f64::from(d[c]);
-        }
+        totals.weight += hair_total;
+        totals.color += hair_total * color.as_dvec3();
+        totals.direction += hair_total * d.as_dvec3();
     }
+}
+
+/// A layer's totals for its fill values, per hair in f64 and in strand order (thread-count
+/// independent).
+#[derive(Debug, Clone, Copy, Default)]
+struct Totals {
+    /// Σ w.
+    weight: f64,
+    /// Σ w·color.
+    color: DVec3,
+    /// Σ w·direction.
+    direction: DVec3,
 }
 
 /// Samples two layers of one sample height each (`(z, weight)`) in a single walk over the
@@ -310,7 +325,7 @@ impl Pair<'_> {
         };
         let (a, b) = (layer(0), layer(1));
         let (za, zb) = (self.heights[0].0, self.heights[1].0);
-        let mut totals = [[0.0f64; 7]; 2];
+        let mut totals = [Totals::default(); 2];
         for k in 0..self.strands.len() {
             self.strands.prefetch(k + PREFETCH_AHEAD, za);
             if self.strands.reaches(k, za) {
@@ -334,7 +349,7 @@ const PREFETCH_AHEAD: usize = 8;
 
 /// Finishes a layer whose hairs are all in `sink`; returns its summed coverage.
 fn finish(
-    totals: &[f64; 7],
+    totals: &Totals,
     skin: bool,
     resolution: usize,
     sink: &mut impl Sink,
@@ -352,7 +367,7 @@ fn finish(
 struct Finisher {
     resolution: usize,
     skin: bool,
-    fill_tangent: [f32; 3],
+    fill_tangent: Vec3,
     /// The bytes of a texel no hair reached.
     empty_px: [u8; 4],
     empty_tx: [u8; 4],
@@ -360,35 +375,24 @@ struct Finisher {
 }
 
 /// A unit direction packed `0.5 · d + 0.5` in RGB, with `alpha`.
-fn pack(dir: [f32; 3], alpha: u8) -> [u8; 4] {
-    [
-        unit_to_u8(0.5 * dir[0] + 0.5),
-        unit_to_u8(0.5 * dir[1] + 0.5),
-        unit_to_u8(0.5 * dir[2] + 0.5),
-        alpha,
-    ]
+fn pack(dir: Vec3, alpha: u8) -> [u8; 4] {
+    let [r, g, b] = (0.5 * dir + 0.5).to_array().map(unit_to_u8);
+    [r, g, b, alpha]
 }
 
 impl Finisher {
-    /// The fill values from the layer totals Σ w, Σ w·color, Σ w·direction.
-    fn new(totals: &[f64; 7], skin: bool, resolution: usize) -> Self {
-        let fill_color: [f32; 3] = if totals[0] > 0.0 {
-            std::array::from_fn(|c| (totals[1 + c] / totals[0]) as f32)
+    /// The fill values from the layer totals.
+    fn new(totals: &Totals, skin: bool, resolution: usize) -> Self {
+        let fill_color = if totals.weight > 0.0 {
+            (totals.color / totals.weight).as_vec3()
         } else {
-            [0.0; 3]
+            Vec3::ZERO
         };
-        let fill_tangent = unit_or(
-            [totals[4] as f32, totals[5] as f32, totals[6] as f32],
-            [0.0, 0.0, 1.0],
-        );
+        let fill_tangent = unit_or(totals.direction.as_vec3(), Vec3::Z);
         let srgb = srgb8_encoder();
         let empty_alpha = if skin { 255 } else { 0 };
-        let empty_px = [
-            srgb.encode(fill_color[0]),
-            srgb.encode(fill_color[1]),
-            srgb.encode(fill_color[2]),
-            empty_alpha,
-        ];
+        let [r, g, b] = fill_color.to_array().map(|c| srgb.encode(c));
+        let empty_px = [r, g, b, empty_alpha];
         Finisher {
             resolution,
             skin,
@@ -441,15 +445,11 @@ impl Finisher {
                 }
                 *sum = EMPTY;
                 *total += f64::from(t[0]);
-                let inv = 1.0 / t[0];
-                let dir = unit_or([t[5], t[6], t[7]], self.fill_tangent);
+                let color = Vec3::new(t[2], t[3], t[4]) * (1.0 / t[0]);
+                let dir = unit_or(Vec3::new(t[5], t[6], t[7]), self.fill_tangent);
                 let alpha = if self.skin { 255 } else { unit_to_u8(1.0 - t[1]) };
-                px.copy_from_slice(&[
-                    srgb.encode(t[2] * inv),
-                    srgb.encode(t[3] * inv),
-                    srgb.encode(t[4] * inv),
-                    alpha,
-                ]);
+                let [r, g, b] = color.to_array().map(|c| srgb.encode(c));
+                px.copy_from_slice(&[r, g, b, alpha]);
                 tx.copy_from_slice(&pack(dir, alpha));
             }
         }
@@ -458,10 +458,11 @@ impl Finisher {
 
 /// `v` normalized, or `fallback` when `v` is (nearly) zero, e.g. hairs crossing in opposite
 /// directions inside one texel.
-fn unit_or(v: [f32; 3], fallback: [f32; 3]) -> [f32; 3] {
-    let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+fn unit_or(v: Vec3, fallback: Vec3) -> Vec3 {
+    let len = v.length();
+    // A division by the length, not `normalize`'s product with its reciprocal: it rounds otherwise.
     if len > 1e-12 && len.is_finite() {
-        v.map(|c| c / len)
+        v / len
     } else {
         fallback
     }

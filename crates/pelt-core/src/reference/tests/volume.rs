@@ -5,7 +5,7 @@
 
 use std::f64::consts::PI;
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 use super::super::density::DensityField;
 use super::*;
@@ -80,29 +80,19 @@ impl Slab {
     }
 
     /// The hair's unit tangent in object space, from the packed bytes as the field decodes them.
-    fn tangent(&self) -> [f64; 3] {
-        let d = self.packed().map(|b| f64::from(b) * 2.0 / 255.0 - 1.0);
-        let w = [
-            d[0] * f64::from(self.tile),
-            d[1] * f64::from(self.tile),
-            d[2] * self.fur_depth,
-        ];
-        let n = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
-        w.map(|x| x / n)
+    fn tangent(&self) -> DVec3 {
+        let d = DVec3::from(self.packed().map(|b| f64::from(b) * 2.0 / 255.0 - 1.0));
+        let tile = f64::from(self.tile);
+        (d * DVec3::new(tile, tile, self.fur_depth)).normalize()
     }
 
     /// Optical depth straight up through the slab for a ray along unit `omega`: the layers'
     /// coverage is constant up to the last layer and fades to 0 one spacing above it.
-    fn vertical_depth(&self, omega: [f64; 3]) -> f64 {
+    fn vertical_depth(&self, omega: DVec3) -> f64 {
         let t = self.tangent();
-        let cross = [
-            omega[1] * t[2] - omega[2] * t[1],
-            omega[2] * t[0] - omega[0] * t[2],
-            omega[0] * t[1] - omega[1] * t[0],
-        ];
-        let across = (cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]).sqrt();
+        let across = omega.cross(t).length();
         let sigma = 2.0 * f64::from(self.coverage) * across
-            / (PI * f64::from(self.radius) * f64::from(self.tile) * t[2].abs().max(0.1));
+            / (PI * f64::from(self.radius) * f64::from(self.tile) * t.z.abs().max(0.1));
         let height = (self.layers as f64 - 0.5) * f64::from(self.spacing) * self.fur_depth;
         sigma * height
     }
@@ -120,11 +110,6 @@ fn slab() -> Slab {
         tile: 0.5,
         fur_depth: 0.1,
     }
-}
-
-fn unit(v: [f64; 3]) -> [f64; 3] {
-    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    v.map(|x| x / n)
 }
 
 /// Kajiya–Kay's diffuse and specular parts with `Kd = 1`, `Ks = 0`, `Pd = 1`.
@@ -147,18 +132,17 @@ fn mean_red(image: &ReferenceImage) -> f64 {
 fn black_hair_over_a_white_skin_transmits_by_beer_lambert_toward_eye_and_light() {
     let slab = slab();
     let scene = slab.scene();
-    let light = unit([0.6, 0.2, 0.8]);
-    let lights = [sun(light.map(|x| x as f32), std::f32::consts::PI)];
+    let light = DVec3::new(0.6, 0.2, 0.8).normalize();
+    let lights = [sun(light.as_vec3().to_array(), std::f32::consts::PI)];
     let camera = top_camera(0.25, 12);
-    let eye = [0.0, 0.0, 1.0];
-    let view = (-slab.vertical_depth(eye)).exp();
-    let toward_light = (-slab.vertical_depth(light) / light[2]).exp();
+    let view = (-slab.vertical_depth(DVec3::Z)).exp();
+    let toward_light = (-slab.vertical_depth(light) / light.z).exp();
     assert!((0.2..0.8).contains(&view) && (0.2..0.8).contains(&toward_light));
 
     let mut settings = diffuse_only();
     settings.shadows = false;
     let open = mean_red(&render_volume_reference(&scene, &camera, &lights, &settings, None).unwrap());
-    let expected = light[2] * view;
+    let expected = light.z * view;
     assert!(
         (open / expected - 1.0).abs() < 0.01,
         "unshadowed skin {open}, Beer–Lambert {expected}"
@@ -166,7 +150,7 @@ fn black_hair_over_a_white_skin_transmits_by_beer_lambert_toward_eye_and_light()
 
     settings.shadows = true;
     let shadowed = mean_red(&render_volume_reference(&scene, &camera, &lights, &settings, None).unwrap());
-    let expected = light[2] * view * toward_light;
+    let expected = light.z * view * toward_light;
     assert!(
         (shadowed / expected - 1.0).abs() < 0.01,
         "shadowed skin {shadowed}, Beer–Lambert {expected}"
@@ -181,14 +165,13 @@ fn white_hair_over_a_black_skin_scatters_once_as_the_closed_form_says() {
         ..slab()
     };
     let scene = slab.scene();
-    let light = unit([-0.5, 0.3, 0.8]);
-    let lights = [sun(light.map(|x| x as f32), std::f32::consts::PI)];
+    let light = DVec3::new(-0.5, 0.3, 0.8).normalize();
+    let lights = [sun(light.as_vec3().to_array(), std::f32::consts::PI)];
     let camera = top_camera(0.25, 12);
-    let t = slab.tangent();
-    let u = t[0] * light[0] + t[1] * light[1] + t[2] * light[2];
+    let u = slab.tangent().dot(light);
     let phase = (1.0 - u * u).sqrt();
-    let a_view = slab.vertical_depth([0.0, 0.0, 1.0]);
-    let a_light = slab.vertical_depth(light) / light[2];
+    let a_view = slab.vertical_depth(DVec3::Z);
+    let a_light = slab.vertical_depth(light) / light.z;
 
     let mut settings = diffuse_only();
     settings.shadows = false;
