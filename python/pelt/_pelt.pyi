@@ -32,8 +32,9 @@ SCHEMA: dict[str, ParameterSet]
 """The parameter sets: ``bake`` (``Pipeline.bake``'s own keywords: ``fur_depth``, one range for
 the bake, ``Preview.fur_depth`` and the exports), ``patches``, ``field``, ``hair``, ``volume``,
 ``transfer`` and ``render`` (``Preview.render``'s keywords): each set's defaults and the range and
-unit of each of its numbers, the one statement that its validation checks (``min_open``: the minimum itself is refused; ``min_field``: the range starts at that
-field's value, ``min`` being the lowest it allows)."""
+unit of each of its numbers, the one statement that its validation checks (``min_open``: the
+minimum itself is refused; ``min_field``: the range starts at that field's value, ``min`` being the
+lowest it allows)."""
 
 class PeltError(Exception):
     """Base class of every error Pelt raises."""
