@@ -86,9 +86,12 @@ def rust_target(binary, name, args):
 
 
 def python_target(name, args):
-    env = dict(os.environ, PELT_FUZZ_EXAMPLES=str(args.cases), PYTHONHASHSEED=str(args.seed))
+    env = dict(
+        os.environ, PELT_FUZZ_EXAMPLES=str(args.cases), PYTHONHASHSEED=str(args.seed), PELT_FUZZ_SEEDED="1"
+    )
     test = f"tests/fuzz/test_api_fuzz.py::test_{name}"
-    command = [sys.executable, "-m", "pytest", test, "-q", "-p", "no:cacheprovider", "-x"]
+    command = [sys.executable, "-m", "pytest", test, "-q", "-p", "no:cacheprovider", "-x",
+               f"--hypothesis-seed={args.seed}"]  # fmt: skip
     done, seconds = run(command, args.time_limit, args.memory_limit_mib, env)
     reason = killed(done.returncode)
     failed = reason is not None or done.returncode != 0

@@ -10,7 +10,8 @@ Hair lengths are shares of the fur depth and widths are in tile units (``pelt.Ha
 import pelt
 
 # Every preset sets these keys, so switching presets never leaves another preset's values behind.
-# The values live in the crate (``crates/pelt-core/src/presets.rs``), which ``pelt bake --preset`` reads too.
+# The values live in the crate's data file ``crates/pelt-core/presets.json``, which
+# ``pelt bake --preset`` reads too.
 PRESETS = pelt.PRESETS
 
 # Settings a preset writes (everything but its label and description).

@@ -4,7 +4,9 @@ returns outputs that are all finite or raises a ``pelt.PeltError`` that names wh
 Anything else (another exception, an unnamed error, NaN in an output) fails; a crash, a hang or an
 abort kills the process, which ``scripts/fuzz.py`` runs under a time and memory limit.
 
-The number of examples per target is ``PELT_FUZZ_EXAMPLES`` (default 100)."""
+The number of examples per target is ``PELT_FUZZ_EXAMPLES`` (default 100). ``scripts/fuzz.py`` sets
+``PELT_FUZZ_SEEDED`` and passes ``--hypothesis-seed``, so that a long run in chunks draws new cases in
+each chunk; without it, the cases are those of the test's name (``derandomize``)."""
 
 import os
 import re
@@ -19,7 +21,7 @@ EXAMPLES = int(os.environ.get("PELT_FUZZ_EXAMPLES", "100"))
 FUZZ = settings(
     max_examples=EXAMPLES,
     deadline=None,
-    derandomize=True,
+    derandomize="PELT_FUZZ_SEEDED" not in os.environ,
     database=None,
     suppress_health_check=list(HealthCheck),
 )

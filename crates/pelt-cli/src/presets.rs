@@ -1,7 +1,7 @@
 //! `pelt presets`: the fur presets `pelt bake --preset` accepts.
 
 use clap::Args;
-use pelt_core::presets::PRESETS;
+use pelt_core::presets::presets;
 
 #[derive(Args)]
 pub struct PresetsArgs {
@@ -12,11 +12,11 @@ pub struct PresetsArgs {
 
 pub fn run(args: PresetsArgs) -> Result<(), String> {
     if args.json {
-        let text = serde_json::to_string_pretty(&PRESETS).map_err(|e| e.to_string())?;
+        let text = serde_json::to_string_pretty(presets()).map_err(|e| e.to_string())?;
         println!("{text}");
         return Ok(());
     }
-    for preset in &PRESETS {
+    for preset in presets() {
         println!(
             "{:<14} {} (fur depth {}, tile {})",
             preset.name.to_ascii_lowercase(),

@@ -1,6 +1,6 @@
 //! The `pelt` command line, run as a subprocess: `bake` writes what `pelt.json` lists, the same
 //! bytes for 1 and 2 threads and across runs; `export` writes a folder again; bad input ends
-//! with a message and exit status 1, never a panic; the presets equal the add-on's.
+//! with a message and exit status 1, never a panic.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

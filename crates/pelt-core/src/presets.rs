@@ -1,23 +1,26 @@
-//! Named fur presets: their one home, read by `pelt bake --preset mink` and, as `pelt.PRESETS`,
-//! by the add-on's preset menu. Hair lengths are shares of the fur
+//! Named fur presets: their one home is the data file `presets.json` beside this crate, read by
+//! `pelt bake --preset mink` and, as `pelt.PRESETS`, by the add-on's preset menu. Hair lengths are shares of the fur
 //! depth and widths tile units ([`HairParams`]); `fur_depth` and `tile_size` are object units,
 //! chosen for an object about 2 units across.
 
-use serde::Serialize;
+use std::sync::LazyLock;
+
+use serde::{Deserialize, Serialize};
 
 use crate::error::{PeltError, Result};
 use crate::hair::{CoatParams, HairParams};
 use crate::pipeline::BakeParams;
 
 /// One preset.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct FurPreset {
     /// Name as the add-on spells it (`MINK`); the command line accepts any case.
-    pub name: &'static str,
+    pub name: String,
     /// Display name.
-    pub label: &'static str,
+    pub label: String,
     /// One line about the look.
-    pub description: &'static str,
+    pub description: String,
     /// Hairs per tile.
     pub density: u32,
     /// Share of guard hairs.
@@ -54,97 +57,18 @@ pub struct FurPreset {
     pub tile_size: f64,
 }
 
-/// Every preset, in the add-on's order.
-pub const PRESETS: [FurPreset; 4] = [
-    FurPreset {
-        name: "SHORT_VELVET",
-        label: "Short Velvet",
-        description: "Very dense, short, upright pile with no guard hairs",
-        density: 32768,
-        guard_fraction: 0.0,
-        undercoat_length: [0.8, 0.95],
-        undercoat_width: [0.003, 0.004],
-        overcoat_length: [0.95, 1.0],
-        overcoat_width: [0.004, 0.005],
-        curl: 0.02,
-        helix_radius: 0.0,
-        helix_frequency: 0.0,
-        slant: 0.05,
-        length_jitter: 0.05,
-        clump_strength: 0.0,
-        clump_count: 0,
-        root_color: [0.10, 0.02, 0.04],
-        tip_color: [0.35, 0.05, 0.10],
-        fur_depth: 0.012,
-        tile_size: 0.1,
-    },
-    FurPreset {
-        name: "MINK",
-        label: "Mink",
-        description: "Dense soft underfur under glossy, slanted guard hairs",
-        density: 24576,
-        guard_fraction: 0.08,
-        undercoat_length: [0.5, 0.7],
-        undercoat_width: [0.004, 0.005],
-        overcoat_length: [0.9, 1.0],
-        overcoat_width: [0.006, 0.008],
-        curl: 0.05,
-        helix_radius: 0.0,
-        helix_frequency: 0.0,
-        slant: 0.35,
-        length_jitter: 0.1,
-        clump_strength: 0.0,
-        clump_count: 0,
-        root_color: [0.05, 0.03, 0.02],
-        tip_color: [0.22, 0.12, 0.06],
-        fur_depth: 0.04,
-        tile_size: 0.15,
-    },
-    FurPreset {
-        name: "LONG_SHAGGY",
-        label: "Long Shaggy",
-        description: "Long, clumped, strongly slanted and uneven hair",
-        density: 8192,
-        guard_fraction: 0.15,
-        undercoat_length: [0.4, 0.7],
-        undercoat_width: [0.005, 0.007],
-        overcoat_length: [0.8, 1.0],
-        overcoat_width: [0.008, 0.010],
-        curl: 0.3,
-        helix_radius: 0.0,
-        helix_frequency: 0.0,
-        slant: 0.6,
-        length_jitter: 0.3,
-        clump_strength: 0.5,
-        clump_count: 48,
-        root_color: [0.20, 0.16, 0.11],
-        tip_color: [0.70, 0.62, 0.48],
-        fur_depth: 0.12,
-        tile_size: 0.25,
-    },
-    FurPreset {
-        name: "CURLY",
-        label: "Curly",
-        description: "Tight helical curls gathered in small clumps",
-        density: 12288,
-        guard_fraction: 0.0,
-        undercoat_length: [0.6, 0.9],
-        undercoat_width: [0.005, 0.007],
-        overcoat_length: [0.9, 1.0],
-        overcoat_width: [0.006, 0.008],
-        curl: 0.4,
-        helix_radius: 0.02,
-        helix_frequency: 3.0,
-        slant: 0.2,
-        length_jitter: 0.15,
-        clump_strength: 0.3,
-        clump_count: 64,
-        root_color: [0.30, 0.24, 0.18],
-        tip_color: [0.85, 0.80, 0.70],
-        fur_depth: 0.06,
-        tile_size: 0.12,
-    },
-];
+/// The presets' data file, in the add-on's order (Rust reads it here; the add-on through
+/// `pelt.PRESETS`).
+const PRESETS_JSON: &str = include_str!("../presets.json");
+
+/// Every preset, in the add-on's order, parsed from `presets.json` once.
+pub fn presets() -> &'static [FurPreset] {
+    static PRESETS: LazyLock<Vec<FurPreset>> = LazyLock::new(|| {
+        // The file is compiled in and a test parses and checks it, so this cannot fail at run time.
+        serde_json::from_str(PRESETS_JSON).expect("presets.json parses (checked by a test)")
+    });
+    &PRESETS
+}
 
 impl FurPreset {
     /// The preset named `name`, any case, `-` or `_` between words (`long-shaggy`).
@@ -153,8 +77,8 @@ impl FurPreset {
     /// [`PeltError::InvalidParameter`] naming `preset` and listing the names.
     pub fn find(name: &str) -> Result<&'static FurPreset> {
         let wanted = name.trim().to_ascii_uppercase().replace('-', "_");
-        PRESETS.iter().find(|p| p.name == wanted).ok_or_else(|| {
-            let names: Vec<String> = PRESETS.iter().map(|p| p.name.to_ascii_lowercase()).collect();
+        presets().iter().find(|p| p.name == wanted).ok_or_else(|| {
+            let names: Vec<String> = presets().iter().map(|p| p.name.to_ascii_lowercase()).collect();
             PeltError::parameter("preset", format!("{name:?} is not one of {}", names.join(", ")))
         })
     }
@@ -183,5 +107,28 @@ impl FurPreset {
         hair.tip_color = self.tip_color;
         params.fur_depth = Some(self.fur_depth);
         params.patches.tile_size = self.tile_size;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{FurPreset, presets};
+    use crate::params::schemas;
+    use crate::pipeline::BakeParams;
+
+    #[test]
+    fn every_preset_is_a_bake_inside_the_schema_s_ranges() {
+        let ranges: Vec<_> = schemas().into_iter().flat_map(|s| s.ranges).collect();
+        assert_eq!(presets().len(), 4);
+        for preset in presets() {
+            let mut params = BakeParams::default();
+            preset.apply(&mut params);
+            params.validate_ranges().unwrap();
+            for (name, value) in [("fur_depth", preset.fur_depth), ("tile_size", preset.tile_size)] {
+                let range = ranges.iter().find(|r| r.name == name).unwrap();
+                assert!(range.contains(value), "{}: {name} {value}", preset.name);
+            }
+            assert_eq!(FurPreset::find(&preset.name.to_lowercase()).unwrap(), preset);
+        }
     }
 }
