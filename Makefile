@@ -102,6 +102,7 @@ package: setup $(ZIP)
 # Every crate of the workspace (crates/*) and the `pelt` package's integration tests (tests/*.rs).
 check-rust:
 	cargo fmt --all --check
+	python3 scripts/module_arrows.py
 	cargo clippy --workspace --all-targets --all-features -- -D warnings
 	cargo test --workspace --all-features
 

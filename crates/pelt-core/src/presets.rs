@@ -113,8 +113,8 @@ impl FurPreset {
 #[cfg(test)]
 mod tests {
     use super::{FurPreset, presets};
-    use crate::params::schemas;
     use crate::pipeline::BakeParams;
+    use crate::pipeline::schemas;
 
     #[test]
     fn every_preset_is_a_bake_inside_the_schema_s_ranges() {

@@ -126,7 +126,7 @@ fn presets(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
 /// {name: {"min", "max", "min_open", "unit"}}}}`: each number's range stated once, which the
 /// add-on's properties are tested against.
 fn schema(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
-    let mut sets = pelt_core::params::schemas();
+    let mut sets = pelt_core::pipeline::schemas();
     sets.push(pelt_render::RenderSettings::schema());
     let sets: serde_json::Map<String, serde_json::Value> = sets
         .into_iter()

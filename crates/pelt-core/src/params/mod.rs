@@ -1,6 +1,6 @@
 //! One schema per parameter set: every number's range and unit is stated once, as a [`Range`]
-//! constant beside its set, which the set's `validate` checks and [`schemas`] exports with the
-//! set's defaults (Python `pelt.SCHEMA`, against which the add-on's properties and the
+//! constant beside its set, which the set's `validate` checks and
+//! [`pipeline::schemas`](crate::pipeline::schemas) exports with the set's defaults (Python `pelt.SCHEMA`, against which the add-on's properties and the
 //! module's keyword defaults are tested).
 //! A range whose lower end is another field's value (a stretch limit above the stretch tolerance)
 //! names that field in `min_field`; `min` is then the lowest that field allows.
@@ -169,25 +169,3 @@ impl Schema {
         }
     }
 }
-
-/// Every parameter set's schema of the bake (the renderer adds its own,
-/// `pelt_render::RenderSettings::schema`).
-pub fn schemas() -> Vec<Schema> {
-    let mut patches =
-        Schema::new::<crate::lapped::PatchParams>("patches", crate::lapped::PatchParams::RANGES);
-    // The comb field's numbers are a set of their own (Python passes them flat, as `blend`).
-    if let Some(map) = patches.defaults.as_object_mut() {
-        map.remove("field");
-    }
-    vec![
-        Schema::new::<crate::pipeline::BakeKeywords>("bake", crate::pipeline::BakeParams::RANGES),
-        patches,
-        Schema::new::<crate::field::FieldParams>("field", crate::field::FieldParams::RANGES),
-        Schema::new::<crate::hair::HairParams>("hair", crate::hair::HairParams::RANGES),
-        Schema::new::<crate::volume::VolumeParams>("volume", crate::volume::VolumeParams::RANGES),
-        Schema::new::<crate::prt::TransferParams>("transfer", crate::prt::TransferParams::RANGES),
-    ]
-}
-
-#[cfg(test)]
-mod tests;

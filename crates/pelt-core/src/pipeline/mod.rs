@@ -31,7 +31,7 @@ use crate::volume::{HairVolume, PlaneParams, PlaneSlices, VolumeParams, bake_sli
 
 use key::{KeyHasher, patch_mesh_key};
 
-pub use schema::BakeKeywords;
+pub use schema::{BakeKeywords, schemas};
 
 pub use crate::mesh::{FUR_DEPTH, MAX_FUR_DEPTH};
 

@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{BakeParams, TransferChoice};
 use crate::mesh::FUR_DEPTH;
-use crate::params::Range;
+use crate::params::{Range, Schema};
 use crate::prt::Phase;
 use crate::prt::bands::BandParams;
 use crate::volume::PlaneParams;
@@ -75,3 +75,26 @@ impl BakeParams {
     /// The ranges of the bake's own numbers.
     pub const RANGES: &'static [Range] = &[FUR_DEPTH, BandParams::RANGES[0], PLANES];
 }
+
+/// Every parameter set's schema of the bake (the renderer adds its own,
+/// `pelt_render::RenderSettings::schema`).
+pub fn schemas() -> Vec<Schema> {
+    let mut patches =
+        Schema::new::<crate::lapped::PatchParams>("patches", crate::lapped::PatchParams::RANGES);
+    // The comb field's numbers are a set of their own (Python passes them flat, as `blend`).
+    if let Some(map) = patches.defaults.as_object_mut() {
+        map.remove("field");
+    }
+    vec![
+        Schema::new::<BakeKeywords>("bake", BakeParams::RANGES),
+        patches,
+        Schema::new::<crate::field::FieldParams>("field", crate::field::FieldParams::RANGES),
+        Schema::new::<crate::hair::HairParams>("hair", crate::hair::HairParams::RANGES),
+        Schema::new::<crate::volume::VolumeParams>("volume", crate::volume::VolumeParams::RANGES),
+        Schema::new::<crate::prt::TransferParams>("transfer", crate::prt::TransferParams::RANGES),
+    ]
+}
+
+#[cfg(test)]
+#[path = "schema_tests.rs"]
+mod tests;

@@ -30,8 +30,9 @@ use crate::error::{PeltError, Result};
 use crate::export::rig::VertexWeights;
 use crate::mesh::shell_offset::shell_layer;
 
-/// The extension's name, in `extensionsUsed` (not `extensionsRequired`: the fallback shows).
-pub const EXTENSION: &str = "PELT_shell_fur";
+/// The extension's name, in `extensionsUsed` (not `extensionsRequired`: the fallback shows); it
+/// lives with the reader, which skips the fallback shells by it.
+pub use crate::mesh::gltf_read::FUR_EXTENSION as EXTENSION;
 /// The extension's schema version.
 pub const EXTENSION_VERSION: u32 = 1;
 /// Alpha-tested shells for viewers without the extension: enough to read as fur, few enough to

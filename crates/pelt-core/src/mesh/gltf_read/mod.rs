@@ -254,17 +254,16 @@ fn triangle_corners(mode: Mode, corners: &[u32]) -> Vec<[u32; 3]> {
     }
 }
 
+/// Pelt's glTF extension, which the engine export writes (`export::gltf::EXTENSION`).
+pub const FUR_EXTENSION: &str = "PELT_shell_fur";
+
 /// The primitives of `mesh` that a `PELT_shell_fur` primitive lists as its fallback: shells that
 /// stand in for the fur, not part of the surface.
 fn fur_fallbacks(mesh: &json::Mesh) -> Vec<usize> {
     mesh.primitives
         .iter()
         .filter_map(|p| {
-            let fur = p
-                .extensions
-                .as_ref()?
-                .others
-                .get(crate::export::gltf::EXTENSION)?;
+            let fur = p.extensions.as_ref()?.others.get(FUR_EXTENSION)?;
             Some(fur.get("fallback")?.as_array()?.clone())
         })
         .flatten()

@@ -3,12 +3,12 @@
 
 use serde_json::Value;
 
-use super::schemas;
+use super::{BakeKeywords, schemas};
 use crate::error::{PeltError, Result};
 use crate::field::FieldParams;
 use crate::hair::HairParams;
 use crate::lapped::PatchParams;
-use crate::pipeline::{BakeKeywords, BakeParams};
+use crate::pipeline::BakeParams;
 use crate::prt::TransferParams;
 use crate::volume::VolumeParams;
 
