@@ -102,8 +102,9 @@ fn _panic_for_test(py: Python<'_>, message: String) -> PyResult<()> {
     detached(py, move || -> pelt_core::Result<()> { panic!("{message}") })
 }
 
-/// The fur presets (their one home is `presets.json`, through [`pelt_core::presets::presets`]) as `{name: {label,
-/// description, setting: value, ...}}`, in the add-on's order, ranges and colors as lists.
+/// The fur presets (their one home is `presets.json`, through [`pelt_core::presets::presets`]) as
+/// `{name: {label, description, setting: value, ...}}`, in the add-on's order, ranges and colors
+/// as lists.
 fn presets(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
     let text = serde_json::to_string(pelt_core::presets::presets())
         .map_err(|e| pelt_core::PeltError::Internal(format!("presets: {e}")).into_pyerr())?;

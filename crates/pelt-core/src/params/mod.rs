@@ -1,7 +1,8 @@
 //! One schema per parameter set: every number's range and unit is stated once, as a [`Range`]
 //! constant beside its set, which the set's `validate` checks and
-//! [`pipeline::schemas`](crate::pipeline::schemas) exports with the set's defaults (Python `pelt.SCHEMA`, against which the add-on's properties and the
-//! module's keyword defaults are tested).
+//! [`pipeline::schemas`](crate::pipeline::schemas) exports with the set's defaults (Python
+//! `pelt.SCHEMA`, against which the add-on's properties and the module's keyword defaults are
+//! tested).
 //! A range whose lower end is another field's value (a stretch limit above the stretch tolerance)
 //! names that field in `min_field`; `min` is then the lowest that field allows.
 
