@@ -435,9 +435,10 @@ fn lod_at_full_detail_is_the_plain_render() {
 fn lod_cross_fades_into_each_coarser_level_without_a_pop() {
     let scene = scene();
     let camera = oblique(SIZE);
-    // 8 layers: levels of 7, 3, 1 and 0 shells. Just above a level's count the finer level is
-    // drawn almost fully faded into the coarser one; just below, the coarser one almost alone.
-    for (count, level) in [(3.0f64, 1), (1.0, 2), (0.0, 3)] {
+    // 8 layers: levels of 7, 4, 2, 1 and 0 shells (each level keeps the skin and halves the
+    // hair above it). Just above a level's count the finer level is drawn almost fully faded
+    // into the coarser one; just below, the coarser one almost alone.
+    for (count, level) in [(4.0f64, 1), (2.0, 2), (1.0, 3), (0.0, 4)] {
         let before = lod_for(&scene, &camera, count + 1e-3);
         let at = lod_for(&scene, &camera, (count - 1e-3).max(0.0));
         let renderer = &fixture().renderer;
@@ -447,26 +448,32 @@ fn lod_cross_fades_into_each_coarser_level_without_a_pop() {
         );
         assert_eq!((i.level, j.level), (level - 1, level));
         assert!(i.blend > 0.99 && j.blend < 0.01, "blends {} {}", i.blend, j.blend);
+        // Compared premultiplied: the straight color of a pixel a few units from transparent is
+        // its premultiplied value divided by those units, 8-bit rounding and all.
         let worst = |a: &RgbaImage, b: &RgbaImage| {
             a.pixels
-                .iter()
-                .zip(&b.pixels)
-                .map(|(x, y)| x.abs_diff(*y))
-                .max()
-                .unwrap()
+                .chunks_exact(4)
+                .zip(b.pixels.chunks_exact(4))
+                .flat_map(|(x, y)| {
+                    (0..4).map(move |c| {
+                        let scale = |p: &[u8]| if c == 3 { 1.0 } else { f32::from(p[3]) / 255.0 };
+                        (f32::from(x[c]) * scale(x) - f32::from(y[c]) * scale(y)).abs()
+                    })
+                })
+                .fold(0.0f32, f32::max)
         };
         let (a, b) = (render(&scene, &camera, &before), render(&scene, &camera, &at));
         // A 1e-3 share of the other level is left: a unit or two of 8-bit rounding.
         assert!(
-            worst(&a, &b) <= 3,
+            worst(&a, &b) <= 3.0,
             "level {level}: images differ by up to {}",
             worst(&a, &b)
         );
         // Switching levels without the cross-fade would pop.
-        let finer = lod_for(&scene, &camera, [7.0, 3.0, 1.0][level as usize - 1]);
+        let finer = lod_for(&scene, &camera, [7.0, 4.0, 2.0, 1.0][level as usize - 1]);
         let pop = worst(&render(&scene, &camera, &finer), &b);
         assert!(
-            pop >= 10,
+            pop >= 10.0,
             "level {level}: the levels themselves differ by only {pop}"
         );
         // Fewer shells cover no more than the full stack.

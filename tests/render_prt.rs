@@ -421,8 +421,8 @@ fn lod_cross_fade_under_prt_has_no_pop() {
     let scene = scene(&mesh, &uvs);
     let camera = looking_at_the_grid_from([0.0, -2.0, 1.5]);
     let wanting = lod_asking_for(&scene, &camera);
-    // 8 layers: 7, 3, 1, 0 shells. Around 3 shells the full stack fades into level 1.
-    let (before, after) = (wanting(3.0 + 1e-3), wanting(3.0 - 1e-3));
+    // 8 layers: 7, 4, 2, 1, 0 shells. Around 4 shells the full stack fades into level 1.
+    let (before, after) = (wanting(4.0 + 1e-3), wanting(4.0 - 1e-3));
     let info = |s: &RenderSettings| f.renderer.frame_info(&scene, &camera, s).unwrap();
     assert_eq!((info(&before).level, info(&after).level), (0, 1));
     let a = f

@@ -260,7 +260,9 @@ class HairVolume(TypedDict):
     """Arrays of a baked hair volume. ``shells``/``tangents`` ``[L, R, R, 4] uint8`` (straight
     alpha, sRGB color; tangent packed ``0.5·d + 0.5``), ``coverage`` (= ``density``)
     ``[L, R, R] float32``, ``fin`` ``[H, W, 4] uint8`` (row 0 = top of the fur), ``lod[k]``
-    ``[ceil(L / 2^(k+1)), R, R, 4]``, ``mips[k]`` ``[L, R >> (k+1), R >> (k+1), 4]``."""
+    ``[1 + ceil((L - 1) / 2^(k+1)), R, R, 4]`` (the skin, then groups of hair composited; the
+    last level one layer, everything over the skin), ``mips[k]``
+    ``[L, R >> (k+1), R >> (k+1), 4]``."""
 
     resolution: int
     layers: int

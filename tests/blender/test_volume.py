@@ -60,7 +60,14 @@ def test_bake_volume_arrays():
     assert v["coverage"].shape == (layers, 32, 32) and v["coverage"].dtype == np.float32
     assert v["density"] is v["coverage"]
     assert v["fin"].shape == (16, 64, 4)
-    assert [a.shape[0] for a in v["lod"]] == [(layers + 1) // 2, (layers + 3) // 4, 1][: len(v["lod"])]
+    # Each LOD level keeps the skin and halves the hair layers above it, down to one layer.
+    counts, count = [], layers
+    while count > 1:
+        count = 1 + count // 2 if count > 2 else 1
+        counts.append(count)
+    assert [a.shape[0] for a in v["lod"]] == counts
+    if layers > 2:
+        assert np.array_equal(v["lod"][0][0], v["shells"][0]), "the skin stays apart"
     assert [a.shape[1] for a in v["mips"]] == [16, 8, 4, 2, 1]
     assert np.all(v["shells"][0, ..., 3] == 255), "the skin is opaque"
     assert np.isfinite(v["coverage"]).all() and (v["coverage"] >= 0).all()

@@ -191,10 +191,9 @@ pub(super) fn volume_dict<'py>(py: Python<'py>, v: HairVolume) -> PyResult<Bound
     d.set_item("tangents", array(py, v.tangents, &[l, r, r, 4])?)?;
     let [fw, fh] = v.fin_size;
     d.set_item("fin", array(py, v.fin, &[fh, fw, 4])?)?;
-    let mut count = l;
     let lod = PyList::empty(py);
     for level in v.lod {
-        count = count.div_ceil(2);
+        let count = level.len() / (r * r * 4).max(1);
         lod.append(array(py, level, &[count, r, r, 4])?)?;
     }
     d.set_item("lod", lod)?;

@@ -23,7 +23,7 @@ struct Frame {
     // x: shells drawn, y: layers of the volume (level 0), z: 1 when LOD picks the layers.
     counts: vec4<u32>,
     // LOD: x first array layer of the level drawn, y of the next coarser level, z level-0
-    // layers per layer of the level drawn (2^k).
+    // layers per group of the level drawn (2^k), w layers of the next coarser level (0: none).
     lod: vec4<u32>,
     // PRT: x coefficients n², y transfer textures, z array layers per transfer texture,
     // w layers of the volume (the fins' table of layer means).
@@ -77,8 +77,10 @@ fn skin_layers() -> Layers {
     return Layers(0u, frame.lod.x, select(NO_LAYER, frame.lod.y, frame.counts.z == 1u));
 }
 
-// Shell `instance + 1`. With LOD, layer j of the level drawn stands at level-0 height j · 2^k
-// and fades into layer j / 2 of the next level (nothing for odd j). Without, shell i (1-based) of
+// Shell `instance + 1`. With LOD, group j of the level drawn (level-0 layers (j - 1) 2^k + 1 ..=
+// j 2^k) stands at its top, height min(j 2^k, L - 1), and fades into group j / 2 of the next
+// level, which stands there too: nothing for odd j but the last, whose twin is itself, nor into
+// a last level of one layer (the skin with everything over it). Without, shell i (1-based) of
 // s shows layer round(i (L - 1) / s), so fewer shells keep the full fur depth. The quotient is
 // estimated in f32 (an integer division runs lane by lane on a CPU adapter, and the marched
 // shells call this per layer and pixel), which lands within one of it, and settled exactly by
@@ -86,8 +88,9 @@ fn skin_layers() -> Layers {
 fn shell_layers(instance: u32) -> Layers {
     let j = instance + 1u;
     if (frame.counts.z == 1u) {
-        let coarse = select(NO_LAYER, frame.lod.y + j / 2u, j % 2u == 0u);
-        return Layers(j * frame.lod.z, frame.lod.x + j, coarse);
+        let twin = frame.lod.w > 1u && (j % 2u == 0u || j == frame.counts.x);
+        let coarse = select(NO_LAYER, frame.lod.y + (j + 1u) / 2u, twin);
+        return Layers(min(j * frame.lod.z, frame.counts.y - 1u), frame.lod.x + j, coarse);
     }
     let drawn = max(frame.counts.x, 1u);
     let top = frame.counts.y - 1u;
@@ -97,6 +100,25 @@ fn shell_layers(instance: u32) -> Layers {
     layer = select(layer, layer - 1u, layer * d > n);
     layer = select(layer, layer + 1u, (layer + 1u) * d <= n);
     return Layers(layer, layer, NO_LAYER);
+}
+
+// The level-0 height, in layers, at which a shell of `layers` is lit: the middle of the group it
+// composites (Lengyel §2.4; Banks darkening is linear in height), moved toward its coarser
+// twin's middle as the LOD cross-fade runs. Without LOD, a shell's own layer. (Lit where a group
+// of alike layers would show its hair on the whole, nearer its top, the LOD strayed up to 7%
+// from the all-shells image on the short-furred scenes: their tips are sparser.)
+fn shading_height(layers: Layers) -> f32 {
+    let top = layers.height;
+    if (frame.counts.z != 1u || top == 0u) {
+        return f32(top);
+    }
+    let step = frame.lod.z;
+    let middle = 0.5 * f32(top + ((top - 1u) / step) * step + 1u);
+    if (layers.coarse == NO_LAYER || frame.fin.y <= 0.0) {
+        return middle;
+    }
+    let twin = 0.5 * f32(top + ((top - 1u) / (2u * step)) * (2u * step) + 1u);
+    return mix(middle, twin, frame.fin.y);
 }
 
 // Lighting at one point, affine in the (premultiplied) texel: lit = albedo × scale + alpha × add.

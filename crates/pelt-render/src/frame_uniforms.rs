@@ -78,7 +78,12 @@ impl FrameUniforms {
             ],
             fin: [settings.fin_opacity, info.blend, scene.fin_spacing, 0.0],
             counts: [info.shells, scene.layers, u32::from(settings.lod), 0],
-            lod: [levels.bases[k], coarse, 1 << info.level, 0],
+            lod: [
+                levels.bases[k],
+                coarse,
+                1 << info.level,
+                levels.counts.get(k + 1).copied().unwrap_or(0),
+            ],
             prt: [scene.prt[0], scene.prt[1], scene.prt[2], scene.layers],
             strand: scene.strand.0,
             strand_counts: scene.strand.1,

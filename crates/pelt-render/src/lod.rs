@@ -1,9 +1,11 @@
 //! Level of detail of the shells (Lengyel et al. 2001, §2.4): far away fewer shells suffice, so
-//! the volume's LOD levels composite successive pairs of shells (level `k` has `⌈L / 2^k⌉`
-//! layers, layer `j` standing at level-0 height `j · 2^k`), and the renderer cross-fades between
-//! two neighbouring levels as the object recedes: at blend `τ` shell `j` of level `k` shows
-//! `(1 − τ)` of its own texture plus `τ` of level `k + 1`'s layer `j / 2` (nothing for odd `j`),
-//! so `τ = 1` is exactly level `k + 1` and nothing pops.
+//! the volume's LOD levels composite successive pairs of shells (level `k` keeps the skin and has
+//! `⌈(L − 1) / 2^k⌉` groups, group `j` holding level-0 layers `(j − 1) 2^k + 1 ..= j 2^k` and
+//! standing at its top, height `min(j 2^k, L − 1)`, lit at its middle), and the renderer
+//! cross-fades between two neighbouring levels as the object recedes: at blend `τ` shell `j` of
+//! level `k` shows `(1 − τ)` of its own texture plus `τ` of level `k + 1`'s group `j / 2`, which
+//! stands at the same height (nothing for odd `j` but the last, whose twin is itself), so `τ = 1`
+//! is exactly level `k + 1` and nothing pops.
 //!
 //! The schedule follows the projected size: the fur depth in pixels (fur depth × the longest
 //! painted length × pixels per object unit at the bounding sphere's centre) times
@@ -11,6 +13,7 @@
 //! between two levels' counts `S_{k+1} ≤ s < S_k`, and `τ = (S_k − s) / (S_k − S_{k+1})`.
 
 use glam::{DVec3, Mat4};
+use pelt_core::volume::lod::level_counts;
 
 use super::camera::Camera;
 use super::settings::RenderSettings;
@@ -44,12 +47,14 @@ pub(super) struct Levels {
 }
 
 impl Levels {
-    /// Level 0 with `layers` layers, then halves (rounded up) down to a single layer.
+    /// Level 0 with `layers` layers, then the volume's LOD levels
+    /// ([`pelt_core::volume::lod::level_counts`]: the skin and half as many groups each) down to a
+    /// single layer.
     pub fn new(layers: u32) -> Self {
-        let mut counts = vec![layers];
-        while let Some(&last) = counts.last().filter(|&&c| c > 1) {
-            counts.push(last.div_ceil(2));
-        }
+        let counts: Vec<u32> = level_counts(layers as usize)
+            .into_iter()
+            .map(|c| c as u32)
+            .collect();
         let bases = counts
             .iter()
             .scan(0, |base, &c| {

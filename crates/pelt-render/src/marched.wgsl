@@ -10,7 +10,9 @@
 // the composite exactly (the ambient's and the direct light's apart), and PRT moves its transfer to the composite's mean height (`raised`).
 // The ray, the composite and its lighting are `march.wgsl`'s.
 
-#import pelt::common::{frame, shell_texture, tile_sampler, NO_LAYER, Layers, shell_layers}
+#import pelt::common::{
+    frame, shell_texture, tile_sampler, NO_LAYER, Layers, shell_layers, shading_height,
+}
 #import pelt::surface::{Texels, blended}
 #import pelt::march::{OPAQUE, Ray, ray_length, Marched, composite, lit, hull_fragment}
 #ifdef PRT
@@ -70,20 +72,30 @@ fn march(s: model::SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
         if (texel.a < frame.fur.w) {
             continue;
         }
-        out = composite(out, texel, layers, uv, texels.fine.a, f32(layers.height));
+        out = composite(out, texel, layers, uv, texels.fine.a, shading_height(layers));
     }
     return out;
 }
 
-// Layers of LOD level `k` of the volume (`frame.counts.y` layers at level 0): ⌈L / 2^k⌉.
+// The coarsest LOD level with two layers or more (the skin and one group of every hair layer):
+// the first whose groups of 2^k layers hold the L - 1 above the skin.
+fn top_level() -> u32 {
+    var k = 0u;
+    while ((1u << k) + 1u < frame.counts.y) {
+        k += 1u;
+    }
+    return k;
+}
+
+// Layers of LOD level `k <= top_level()` of the volume (`frame.counts.y` layers at level 0): the
+// skin and ⌈(L - 1) / 2^k⌉ groups (`pelt_core::volume::lod`).
 fn level_count(k: u32) -> u32 {
-    return (frame.counts.y + (1u << k) - 1u) >> k;
+    return 1u + ((frame.counts.y - 1u + (1u << k) - 1u) >> k);
 }
 
 // The coarsest level whose groups the ray crosses within GROUP_SPREAD texels, for a march of the
 // whole stack: head-on a few composited groups stand for 32 layers, toward the limb it steps
-// through every layer. Level `k` needs a layer above its first (two layers), so `k` stops short
-// of the single-layer level.
+// through every layer.
 fn march_level(ray: Ray, lod: f32) -> u32 {
     let per_layer = ray_length(ray, 1.0);
     // A ray that leaves the fur within a layer (at the limb) reads the top layers one by one.
@@ -97,19 +109,9 @@ fn march_level(ray: Ray, lod: f32) -> u32 {
     return u32(clamp(select(k, 0.0, k != k), 0.0, f32(top_level())));
 }
 
-// The coarsest level with two layers or more.
-fn top_level() -> u32 {
-    var k = 0u;
-    while (level_count(k + 1u) >= 2u) {
-        k += 1u;
-    }
-    return k;
-}
-
-// The march through the whole stack from LOD level `k`: its groups from the top down to its
-// group 1 (level-0 layers 2^k .. 2^(k+1) - 1), then group 1 of each finer level, which together
-// hold level-0 layers 1 .. 2^k - 1 exactly. So 32 shells take 6 to 32 reads, each group read
-// at its middle height. Level 0 is the march above, layer by layer.
+// The march through the whole stack at LOD level `k`: its groups from the top down to group 1
+// (level-0 layers 1 .. 2^k), each read and lit where the ray crosses its middle height. So 32
+// shells take 1 to 32 reads. Level 0 is the march above, layer by layer.
 fn march_levels(s: model::SurfaceOut, ray: Ray, lod: f32, k: u32) -> Marched {
     let top = frame.counts.y - 1u;
     var base = 0u;
@@ -117,14 +119,14 @@ fn march_levels(s: model::SurfaceOut, ray: Ray, lod: f32, k: u32) -> Marched {
         base += level_count(i);
     }
     var out = Marched(vec4<f32>(0.0), vec4<f32>(0.0), Layers(top, top, NO_LAYER), s.uv, 1.0);
-    var m = k;
+    let step = 1u << k;
     var j = level_count(k) - 1u;
     loop {
-        if (out.color.a >= OPAQUE) {
+        if (j == 0u || out.color.a >= OPAQUE) {
             break;
         }
-        let lo = j << m;
-        let hi = min(lo + (1u << m) - 1u, top);
+        let lo = (j - 1u) * step + 1u;
+        let hi = min(j * step, top);
         let layers = Layers((lo + hi) / 2u, base + j, NO_LAYER);
         let t = ray_length(ray, f32(top) - 0.5 * f32(lo + hi));
         // The deeper groups lie further along the ray still.
@@ -137,15 +139,7 @@ fn march_levels(s: model::SurfaceOut, ray: Ray, lod: f32, k: u32) -> Marched {
         if (texel.a >= frame.fur.w) {
             out = composite(out, texel, layers, uv, texels.fine.a, 0.5 * f32(lo + hi));
         }
-        if (j > 1u) {
-            j -= 1u;
-        } else if (m > 0u) {
-            m -= 1u;
-            base -= level_count(m);
-            j = 1u;
-        } else {
-            break;
-        }
+        j -= 1u;
     }
     return out;
 }

@@ -1,8 +1,8 @@
 #define_import_path pelt::surface_kk
 
 #import pelt::common::{
-    frame, tangent_texture, tile_sampler, Layers, skin_layers, HairLight, clip_position,
-    view_vector, unit_or,
+    frame, tangent_texture, tile_sampler, Layers, skin_layers, shading_height, HairLight,
+    clip_position, view_vector, unit_or,
 }
 #import pelt::lighting::{banks_strengths, hair_parts, shade, shade_skin}
 #import pelt::surface::{SurfaceData, lift, Texels, layer_texels, blended, MarchFrame}
@@ -99,9 +99,11 @@ fn skin_fragment(s: SkinVarying) -> vec3<f32> {
 fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>) -> vec4<f32> {
     let texel = blended(texels);
     let n = unit_or(s.normal, vec3<f32>(0.0, 0.0, 1.0));
+    // The tangent of the layer the shell stands at, which its coarser twin shares (a layer
+    // picked by the cross-faded middle would switch mid-fade), lit at its group's middle.
     let t = hair_tangent(s.uv, s.height, s.dpdu, s.dpdv, s.up, n);
     let albedo = texel.rgb * s.color.rgb * opacity;
-    let height = f32(s.height) * frame.fur.y;
+    let height = shading_height(Layers(s.height, s.layer, s.coarse)) * frame.fur.y;
     return shade(albedo, texel.a * opacity, t, n, view_vector(s.position), height);
 }
 

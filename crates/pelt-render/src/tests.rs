@@ -353,7 +353,7 @@ fn transfer_layer_means_weigh_texels_by_opacity_for_any_thread_count() {
 }
 
 #[test]
-fn lod_levels_halve_down_to_one_layer() {
+fn lod_levels_keep_the_skin_and_halve_the_hair_down_to_one_layer() {
     use super::lod::Levels;
     let levels = Levels::new(17);
     assert_eq!(levels.counts, [17, 9, 5, 3, 2, 1]);
@@ -361,7 +361,7 @@ fn lod_levels_halve_down_to_one_layer() {
     assert_eq!(levels.total(), 37);
     assert_eq!(Levels::new(1).counts, [1]);
     assert_eq!(Levels::new(2).counts, [2, 1]);
-    assert_eq!(Levels::new(16).counts, [16, 8, 4, 2, 1]);
+    assert_eq!(Levels::new(16).counts, [16, 9, 5, 3, 2, 1]);
 }
 
 #[test]
@@ -480,9 +480,14 @@ fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
     assert_eq!(out[0].len(), levels.total() as usize * texels * 4);
     for (k, (&count, &base)) in levels.counts.iter().zip(&levels.bases).enumerate() {
         for j in 0..count as usize {
-            // Layers j·2^k .. (j + 1)·2^k of level 0 composited "over", outermost on top: each
-            // weighs its opacity times the transparency of everything above it.
-            let group = (j << k)..((j + 1) << k).min(layers);
+            // The skin, group j (level-0 layers (j − 1)·2^k + 1 ..= j·2^k), or at the last
+            // level everything, composited "over", outermost on top: each weighs its opacity
+            // times the transparency of everything above it.
+            let group = match (count, j) {
+                (1, _) => 0..layers,
+                (_, 0) => 0..1,
+                _ => ((j - 1) << k) + 1..((j << k) + 1).min(layers),
+            };
             for x in 0..texels {
                 for c in 0..4 {
                     let (mut sum, mut weights, mut clear) = (0.0f64, 0.0f64, 1.0f64);

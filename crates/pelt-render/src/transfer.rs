@@ -26,6 +26,7 @@ use pelt_core::error::{PeltError, Result};
 use pelt_core::prt::pack::{CHANNELS, PackedF16, texture_count};
 use pelt_core::prt::sh::MAX_ORDER;
 use pelt_core::texture::{MipAlpha, MipLevels, MipOptions, mip_chain_rgba16f};
+use pelt_core::volume::lod::sources;
 
 use super::lod::Levels;
 
@@ -217,8 +218,8 @@ pub(super) fn upload(
 }
 
 /// Every texture's coefficients for all LOD levels (`levels`), premultiplied by the opacity of
-/// their shell texel, level 0 being `packed`: level `k` layer `j` composites layers `2j` (inner)
-/// and `2j + 1` (outer) of level `k − 1` with weights `a_i (1 − a_o)` and `a_o` from the shells'
+/// their shell texel, level 0 being `packed`: level `k` layer `j` composites the layers of level
+/// `k − 1` that its shells do ([`sources`]: inner, and outer over it) with weights `a_i (1 − a_o)` and `a_o` from the shells'
 /// opacity (`alpha`, level 0's `[L][R²]` bytes, carried in f32 through the levels), or the plain
 /// mean where both are empty. Runs in the current rayon pool; every value is computed on its
 /// own, so the result does not depend on the thread count.
@@ -233,9 +234,10 @@ pub(super) fn premultiplied_levels(packed: &PackedF16, alpha: &[u8], levels: &Le
             .into_par_iter()
             .map(|i| {
                 let (j, x) = (i / texels, i % texels);
-                let inner = prev[2 * j * texels + x];
-                match prev.get((2 * j + 1) * texels + x) {
-                    Some(&outer) => outer + inner * (1.0 - outer),
+                let (inner, outer) = sources(levels.counts[k - 1] as usize, j);
+                let inner = prev[inner * texels + x];
+                match outer {
+                    Some(outer) => prev[outer * texels + x] + inner * (1.0 - prev[outer * texels + x]),
                     None => inner,
                 }
             })
@@ -262,12 +264,14 @@ pub(super) fn premultiplied_levels(packed: &PackedF16, alpha: &[u8], levels: &Le
                     .map(|i| {
                         let (j, x, c) = (i / (texels * CHANNELS), i / CHANNELS % texels, i % CHANNELS);
                         let at = |layer: usize| (layer * texels + x) * CHANNELS + c;
-                        let inner = prev[at(2 * j)];
-                        let Some(&outer) = prev.get(at(2 * j + 1)) else {
+                        let (i_inner, outer) = sources(levels.counts[k - 1] as usize, j);
+                        let inner = prev[at(i_inner)];
+                        let Some(i_outer) = outer else {
                             return inner;
                         };
-                        let a_outer = alpha[(2 * j + 1) * texels + x];
-                        let w_inner = alpha[2 * j * texels + x] * (1.0 - a_outer);
+                        let outer = prev[at(i_outer)];
+                        let a_outer = alpha[i_outer * texels + x];
+                        let w_inner = alpha[i_inner * texels + x] * (1.0 - a_outer);
                         let sum = a_outer + w_inner;
                         if sum > 0.0 {
                             (a_outer * outer + w_inner * inner) / sum

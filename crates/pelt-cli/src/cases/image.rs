@@ -27,8 +27,8 @@ use pelt_core::reference::{
 use pelt_core::texture::ImageRef;
 use pelt_core::volume::{PlaneParams, bake_slices};
 use pelt_render::{
-    AdapterChoice, FurScene, KajiyaKay, LightModel, Lighting, Prt, RenderSettings, Renderer, ShellMethod,
-    StrandOrder,
+    AdapterChoice, Camera, FurScene, KajiyaKay, LightModel, Lighting, Prt, RenderSettings, Renderer,
+    ShellMethod, StrandOrder,
 };
 
 /// Layers of the volume: the skin and 64 shells.
@@ -578,19 +578,52 @@ fn view(pixels: &[[f32; 4]], width: usize, height: usize) -> LinearRgba<'_> {
     }
 }
 
-/// Mean luminance over the covered pixels: a figure that stays put while the object shrinks.
-fn covered_luminance(pixels: &[[f32; 4]]) -> f64 {
+/// Luminance and alpha summed over the pixels: their quotient is the covered pixels' mean
+/// luminance, a figure that stays put while the object shrinks.
+fn luminance_sums(pixels: &[[f32; 4]]) -> (f64, f64) {
+    pixels.iter().fold((0.0, 0.0), |(lum, alpha), p| {
+        let l = 0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2]);
+        (lum + l, alpha + f64::from(p[3]))
+    })
+}
+
+/// Below this radius in pixels a dolly frame is averaged over a grid of sub-pixel offsets: the
+/// object covers so few pixels that where the pixel grid falls moves their mean luminance by
+/// percents (the all-shells frames jumped 3% between steps at 30×), whatever the LOD does.
+const JITTER_BELOW_PIXELS: f32 = 48.0;
+/// Offsets per axis of that grid.
+const JITTER_GRID: usize = 4;
+
+/// `camera` moved by `(dx, dy)` pixels across the image (its projection's x and y picking up
+/// that many pixels per unit of clip w).
+fn jittered(camera: &Camera, dx: f32, dy: f32) -> Camera {
+    let mut moved = *camera;
+    moved.projection[8] -= 2.0 * dx / camera.width as f32;
+    moved.projection[9] -= 2.0 * dy / camera.height as f32;
+    moved
+}
+
+/// The covered pixels' mean luminance of `settings`' frames at `cameras`, together.
+fn covered_luminance(
+    renderer: &Renderer,
+    fur: &FurScene,
+    cameras: &[Camera],
+    lighting: &Lighting,
+    settings: &RenderSettings,
+) -> Result<f64> {
     let (mut lum, mut alpha) = (0.0, 0.0);
-    for p in pixels {
-        lum += 0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2]);
-        alpha += f64::from(p[3]);
+    for camera in cameras {
+        let frame = renderer.render_linear(fur, camera, lighting, settings)?;
+        let (l, a) = luminance_sums(&premultiplied(&frame.pixels));
+        (lum, alpha) = (lum + l, alpha + a);
     }
-    if alpha > 0.0 { lum / alpha } else { 0.0 }
+    Ok(if alpha > 0.0 { lum / alpha } else { 0.0 })
 }
 
 /// Dollies the camera out from the framed distance to 30 times as far with LOD on: the largest
 /// frame-to-frame change of the covered pixels' mean luminance, and the largest difference from
-/// the all-shells image at the same distance (both relative).
+/// the all-shells image at the same distance (both relative). Frames of an object under
+/// [`JITTER_BELOW_PIXELS`] in radius are averaged over sub-pixel offsets, the same for both.
 fn dolly(
     renderer: &Renderer,
     fur: &FurScene,
@@ -611,14 +644,18 @@ fn dolly(
             scene.camera.width,
             scene.camera.height,
         );
-        let lod = covered_luminance(&premultiplied(
-            &renderer.render_linear(fur, &camera, lighting, settings)?.pixels,
-        ));
-        let all = covered_luminance(&premultiplied(
-            &renderer
-                .render_linear(fur, &camera, lighting, &all_shells)?
-                .pixels,
-        ));
+        let info = renderer.frame_info(fur, &camera, settings)?;
+        let small = info.radius_pixels.is_some_and(|r| r < JITTER_BELOW_PIXELS);
+        let cameras: Vec<_> = if small {
+            let offset = |i: usize| (i as f32 + 0.5) / JITTER_GRID as f32 - 0.5;
+            (0..JITTER_GRID * JITTER_GRID)
+                .map(|i| jittered(&camera, offset(i % JITTER_GRID), offset(i / JITTER_GRID)))
+                .collect()
+        } else {
+            vec![camera]
+        };
+        let lod = covered_luminance(renderer, fur, &cameras, lighting, settings)?;
+        let all = covered_luminance(renderer, fur, &cameras, lighting, &all_shells)?;
         if all > 0.0 {
             drift = drift.max((lod / all - 1.0).abs());
         }

@@ -16,7 +16,7 @@ use crate::progress::{Progress, ProgressCallback};
 use crate::threads::pool;
 
 use super::fin::{fin_row, slab_candidates};
-use super::lod::lod_chain_from;
+use super::lod::{lod_chain, lod_chain_from, next_count};
 pub use super::params::{MAX_FIN_SIZE, MAX_LAYERS, MAX_RESOLUTION, MAX_VERTICAL_FILTER, VolumeParams};
 use super::stack::{StackParams, sample_stack};
 use super::strand_table::StrandTable;
@@ -62,7 +62,8 @@ pub struct HairVolume {
     pub fin_size: [usize; 2],
     /// `[height][width][4]` fin colors and alpha; row 0 is the top of the fur.
     pub fin: Vec<u8>,
-    /// LOD levels 1.. of the shells: level `k` has `ceil(L' / 2^k)` layers of `[R][R][4]`.
+    /// LOD levels 1.. of the shells ([`super::lod::level_counts`]): level `k` has the skin and
+    /// `ceil((L' − 1) / 2^k)` composited groups of `[R][R][4]`, the last level one layer.
     pub lod: Vec<Vec<u8>>,
     /// Mip levels 1.. of every layer: level `k` is `[L'][max(1, R >> k)]²[4]`.
     pub mips: Vec<Vec<u8>>,
@@ -208,11 +209,13 @@ pub(crate) fn bake_validated(
             progress.advance(1)
         })?;
 
-    // Levels 2.. from level 1, which the stack made pair by pair.
-    let lod = if stack.lod_first.is_empty() {
-        Vec::new()
+    // Levels 2.. from level 1, which the stack made pair by pair (of two layers, made here).
+    let lod = if !stack.lod_first.is_empty() {
+        lod_chain_from(stack.lod_first, next_count(layers), texels)
+    } else if volume.lod {
+        lod_chain(&stack.shells, layers, texels)
     } else {
-        lod_chain_from(stack.lod_first, layers.div_ceil(2), texels)
+        Vec::new()
     };
     Ok(HairVolume {
         resolution: res,

@@ -4,6 +4,12 @@
 //! compositing successive pairs of shells with the "over" operator, repeated down to a single
 //! shell. Compositing works on premultiplied linear color and stores straight, sRGB-encoded RGBA8
 //! like the full-detail shells. (The mipmaps of every layer come from [`crate::texture::mip`].)
+//!
+//! Layer 0 (the opaque skin) stays apart at every level but the last: level `k` is the skin and
+//! `⌈(L − 1) / 2^k⌉` groups of hair, group `j` holding level-0 layers `(j − 1) 2^k + 1 ..= j 2^k`
+//! (the last cut at `L − 1`), so a group is shown where its top shell stood and lit as hair, not
+//! as skin. The level with the skin and one group is followed by a last level of one layer,
+//! everything composited into the skin.
 
 use rayon::prelude::*;
 
@@ -64,32 +70,57 @@ pub fn composite_pair(inner: &[u8], outer: &[u8], dst: &mut [u8]) {
     }
 }
 
-/// Composites layers `2j + 1` over `2j` for every pair of the `layers` RGBA8 layers of `texels`
-/// texels each; an odd last layer is kept as it is. Returns `ceil(layers / 2)` layers.
-pub fn composite_pairs(shells: &[u8], layers: usize, texels: usize) -> Vec<u8> {
+/// Layers of every level, level 0 (`layers`) first: then `1 + ⌈(L − 1) / 2^k⌉` down to two (the
+/// skin and one group), then one. A single layer has no coarser level.
+pub fn level_counts(layers: usize) -> Vec<usize> {
+    let mut counts = vec![layers];
+    while let Some(&last) = counts.last().filter(|&&c| c > 1) {
+        counts.push(next_count(last));
+    }
+    counts
+}
+
+/// Layers of the level after one of `count > 1` layers.
+pub fn next_count(count: usize) -> usize {
+    if count > 2 { 1 + (count - 1).div_ceil(2) } else { 1 }
+}
+
+/// The layers of a level of `count` layers that the next level's layer `i` composites: the inner
+/// one and the outer one over it, if any. The skin is kept; group `i` joins groups `2i − 1` and
+/// `2i`; the last level joins the only group and the skin.
+pub fn sources(count: usize, i: usize) -> (usize, Option<usize>) {
+    if count <= 2 {
+        return (0, (count == 2).then_some(1));
+    }
+    if i == 0 {
+        return (0, None);
+    }
+    (2 * i - 1, Some(2 * i).filter(|&outer| outer < count))
+}
+
+/// The level after `previous` (`count > 1` RGBA8 layers of `texels` texels each).
+pub fn composite_level(previous: &[u8], count: usize, texels: usize) -> Vec<u8> {
     let size = 4 * texels;
-    let mut out = vec![0u8; layers.div_ceil(2) * size];
-    out.par_chunks_exact_mut(size).enumerate().for_each(|(j, dst)| {
-        let inner = &shells[2 * j * size..(2 * j + 1) * size];
-        if 2 * j + 1 >= layers {
-            dst.copy_from_slice(inner);
-            return;
-        }
-        let outer = &shells[(2 * j + 1) * size..(2 * j + 2) * size];
-        composite_pair(inner, outer, dst);
-    });
+    let layer = |l: usize| &previous[l * size..(l + 1) * size];
+    let mut out = vec![0u8; next_count(count) * size];
+    out.par_chunks_exact_mut(size)
+        .enumerate()
+        .for_each(|(i, dst)| match sources(count, i) {
+            (inner, Some(outer)) => composite_pair(layer(inner), layer(outer), dst),
+            (inner, None) => dst.copy_from_slice(layer(inner)),
+        });
     out
 }
 
-/// The reduced shell sets: level 1 has `ceil(L / 2)` layers, each next level half of that, the
-/// last a single layer. Level 0 (the full stack) is not repeated.
+/// The reduced shell sets, levels 1 to the last (see [`level_counts`]); level 0 (the full stack)
+/// is not repeated.
 pub fn lod_chain(shells: &[u8], layers: usize, texels: usize) -> Vec<Vec<u8>> {
     if layers <= 1 {
         return Vec::new();
     }
     lod_chain_from(
-        composite_pairs(shells, layers, texels),
-        layers.div_ceil(2),
+        composite_level(shells, layers, texels),
+        next_count(layers),
         texels,
     )
 }
@@ -100,9 +131,9 @@ pub fn lod_chain_from(first: Vec<u8>, layers: usize, texels: usize) -> Vec<Vec<u
     let mut count = layers;
     while count > 1 {
         let source = levels.last().map_or(&[][..], Vec::as_slice);
-        let next = composite_pairs(source, count, texels);
+        let next = composite_level(source, count, texels);
         levels.push(next);
-        count = count.div_ceil(2);
+        count = next_count(count);
     }
     levels
 }

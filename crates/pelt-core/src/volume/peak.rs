@@ -47,7 +47,8 @@ pub fn volume_bytes(volume: &VolumeParams) -> f64 {
     let (l, r) = (volume.layers as f64, volume.resolution as f64);
     let layer = r * r;
     let lod = if volume.lod {
-        4.0 * layer * (l + l.log2().ceil() + 1.0)
+        // Level k holds the skin and ⌈(L − 1) / 2^k⌉ groups, and the last level one layer.
+        4.0 * layer * (l + 2.0 * l.log2().ceil() + 2.0)
     } else {
         0.0
     };

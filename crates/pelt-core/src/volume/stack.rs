@@ -3,10 +3,11 @@
 //!
 //! Lengyel et al. 2001, §2.2 sample one RGBA image per shell layer; §2.4 composites successive
 //! pairs of shells for level of detail and relies on mipmaps of every layer. Both read the layers
-//! just sampled, so each parallel task samples a pair of layers (`2j`, `2j + 1`), composites the
-//! pair into layer `j` of LOD level 1 and builds the pair's mip chain, instead of reading the
-//! whole stack back from memory in separate passes. Every output is computed from the same
-//! inputs by the same functions as in separate passes, so the bytes do not change.
+//! just sampled, so after a task for the skin alone each parallel task samples a pair of layers
+//! (`2j − 1`, `2j`), composites the pair into layer `j` of LOD level 1 (whose layer 0 is the
+//! skin, [`super::lod`]) and builds the pair's mip chain, instead of reading the whole stack back
+//! from memory in separate passes. Every output is computed from the same inputs by the same
+//! functions as in separate passes, so the bytes do not change.
 
 use rayon::prelude::*;
 
@@ -39,13 +40,14 @@ pub(super) struct Stack {
     pub coverage: Vec<f32>,
     pub tangents: Vec<u8>,
     pub mean_coverage: Vec<f64>,
-    /// LOD level 1 (`ceil(layers / 2)` layers), empty without LOD or with a single layer.
+    /// LOD level 1 (the skin and `ceil((layers − 1) / 2)` pairs), empty without LOD or with
+    /// fewer than three layers.
     pub lod_first: Vec<u8>,
     /// Mip levels 1.. of every layer, empty without mipmaps.
     pub mips: Vec<Vec<u8>>,
 }
 
-/// One task: a pair of layers (or the last, single one) and where its results go.
+/// One task: the skin, a pair of layers or the last, single one, and where its results go.
 struct Pair<'a> {
     first: usize,
     rgba: &'a mut [u8],
@@ -57,6 +59,12 @@ struct Pair<'a> {
     mips: Vec<&'a mut [u8]>,
 }
 
+/// `buffer` (`per_layer` items a layer) cut as the tasks take it: the skin alone, then pairs.
+fn task_parts<T>(buffer: &mut [T], per_layer: usize) -> impl Iterator<Item = &mut [T]> {
+    let (skin, rest) = buffer.split_at_mut(per_layer.min(buffer.len()));
+    std::iter::once(skin).chain(rest.chunks_mut(2 * per_layer))
+}
+
 /// Samples every layer (in Pelt's pool), advancing `progress` by one per layer.
 ///
 /// # Errors
@@ -64,13 +72,13 @@ struct Pair<'a> {
 pub(super) fn sample_stack(params: &StackParams<'_>, progress: &Progress<'_>) -> Result<Stack> {
     let (res, layers) = (params.resolution, params.layers);
     let texels = res * res;
-    let pairs = layers.div_ceil(2);
+    let tasks = 1 + layers.saturating_sub(1).div_ceil(2);
     let mut shells = vec![0u8; layers * texels * 4];
     let mut coverage = vec![0.0f32; layers * texels];
     let mut tangents = vec![0u8; layers * texels * 4];
     let mut mean_coverage = vec![0.0f64; layers];
-    let mut lod_first = if params.lod && layers > 1 {
-        vec![0u8; pairs * texels * 4]
+    let mut lod_first = if params.lod && layers > 2 {
+        vec![0u8; tasks * texels * 4]
     } else {
         Vec::new()
     };
@@ -83,23 +91,22 @@ pub(super) fn sample_stack(params: &StackParams<'_>, progress: &Progress<'_>) ->
         .map(|k| vec![0u8; layers * level_side(res, k).pow(2) * 4])
         .collect();
 
-    let mut pair_mips: Vec<Vec<&mut [u8]>> = (0..pairs).map(|_| Vec::new()).collect();
+    let mut pair_mips: Vec<Vec<&mut [u8]>> = (0..tasks).map(|_| Vec::new()).collect();
     for (k, level) in (1..).zip(mips.iter_mut()) {
-        let size = 2 * level_side(res, k).pow(2) * 4;
-        for (slot, part) in pair_mips.iter_mut().zip(level.chunks_mut(size)) {
+        let size = level_side(res, k).pow(2) * 4;
+        for (slot, part) in pair_mips.iter_mut().zip(task_parts(level, size)) {
             slot.push(part);
         }
     }
     let mut lod_parts = lod_first.chunks_mut(texels * 4);
-    let tasks: Vec<Pair<'_>> = shells
-        .chunks_mut(2 * texels * 4)
-        .zip(coverage.chunks_mut(2 * texels))
-        .zip(tangents.chunks_mut(2 * texels * 4))
-        .zip(mean_coverage.chunks_mut(2))
+    let tasks: Vec<Pair<'_>> = task_parts(&mut shells, texels * 4)
+        .zip(task_parts(&mut coverage, texels))
+        .zip(task_parts(&mut tangents, texels * 4))
+        .zip(task_parts(&mut mean_coverage, 1))
         .zip(pair_mips)
         .enumerate()
         .map(|(j, ((((rgba, coverage), tangent), mean), mips))| Pair {
-            first: 2 * j,
+            first: (2 * j).saturating_sub(1),
             rgba,
             coverage,
             tangent,

@@ -2,7 +2,7 @@ use std::f64::consts::PI;
 
 use super::bake::bake_validated;
 use super::coverage::CoverageMode;
-use super::lod::{composite_pairs, lod_chain};
+use super::lod::{composite_level, level_counts, lod_chain};
 use super::*;
 use crate::error::PeltError;
 use crate::hair::{Coat, HairParams, Strand, grow_strands};
@@ -218,7 +218,7 @@ fn trim_drops_the_layers_above_the_tallest_strand() {
         top.iter().any(|&c| c > 0.0),
         "the last kept layer still holds hair"
     );
-    assert_eq!(v.lod.len(), 4, "12 → 6 → 3 → 2 → 1 layers");
+    assert_eq!(v.lod.len(), 5, "12 → 7 → 4 → 3 → 2 → 1 layers");
     assert_eq!(v.lod.last().map(|l| l.len()), Some(4 * texels));
 }
 
@@ -292,7 +292,7 @@ fn lod_composites_pairs_with_over_and_mips_average() {
     let red = [linear_to_srgb8(1.0), 0, 0, 255];
     let green = [0, linear_to_srgb8(1.0), 0, 128];
     let stack: Vec<u8> = red.iter().chain(green.iter()).copied().collect();
-    let out = composite_pairs(&stack, 2, 1);
+    let out = composite_level(&stack, 2, 1);
     assert_eq!(out.len(), 4);
     let a = 128.0 / 255.0;
     let lin = |b: u8| f64::from(srgb_to_linear(f32::from(b) / 255.0));
@@ -312,6 +312,77 @@ fn lod_composites_pairs_with_over_and_mips_average() {
     let v = bake_volume(&HairParams::default(), &small(), None).unwrap();
     assert_eq!(v.mips.len(), full_mip_count(32, 32) - 1);
     assert_eq!(v.mips.last().map(Vec::len), Some(4 * v.layers));
+}
+
+#[test]
+fn lod_keeps_the_skin_apart_and_composites_runs_of_hair_over_it() {
+    assert_eq!(level_counts(1), [1]);
+    assert_eq!(level_counts(2), [2, 1]);
+    assert_eq!(level_counts(6), [6, 4, 3, 2, 1]);
+    assert_eq!(level_counts(9), [9, 5, 3, 2, 1]);
+    // One texel per layer: an opaque skin, then hair of varied color and opacity.
+    for layers in [6usize, 9] {
+        let stack: Vec<u8> = (0..layers)
+            .flat_map(|l| {
+                let alpha = if l == 0 { 255 } else { (40 + 23 * l) as u8 };
+                [(30 * l) as u8, (200 - 17 * l) as u8, (90 + 11 * l) as u8, alpha]
+            })
+            .collect();
+        let chain = lod_chain(&stack, layers, 1);
+        let counts = level_counts(layers);
+        // Straight over of level-0 layers `range` in f64, outermost last, premultiplied linear.
+        let over = |range: std::ops::RangeInclusive<usize>| {
+            range.fold([0.0f64; 4], |under, l| {
+                let px = &stack[4 * l..4 * l + 4];
+                let a = f64::from(px[3]) / 255.0;
+                let c = |b: u8| f64::from(srgb_to_linear(f32::from(b) / 255.0)) * a;
+                let top = [c(px[0]), c(px[1]), c(px[2]), a];
+                std::array::from_fn(|i| top[i] + (1.0 - a) * under[i])
+            })
+        };
+        for (k, level) in (1..).zip(&chain) {
+            assert_eq!(level.len(), 4 * counts[k], "layers {layers}, level {k}");
+            let step = 1usize << k;
+            for j in 0..counts[k] {
+                let range = match (counts[k], j) {
+                    (1, _) => 0..=layers - 1,
+                    (_, 0) => 0..=0,
+                    _ => (j - 1) * step + 1..=(j * step).min(layers - 1),
+                };
+                let want = over(range.clone());
+                let px = &level[4 * j..4 * j + 4];
+                let a = f64::from(px[3]) / 255.0;
+                let got = [0, 1, 2].map(|i| f64::from(srgb_to_linear(f32::from(px[i]) / 255.0)) * a);
+                assert!(
+                    (a - want[3]).abs() < 0.02,
+                    "{layers} layers, level {k} layer {j} ({range:?}): alpha {a} vs {}",
+                    want[3]
+                );
+                for i in 0..3 {
+                    assert!(
+                        (got[i] - want[i]).abs() < 0.02,
+                        "{layers} layers, level {k} layer {j} ({range:?}): {got:?} vs {want:?}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn the_bake_s_lod_is_the_chain_of_its_shells() {
+    // The stack composites level 1 while it samples; it must equal compositing afterwards, with
+    // an odd and an even layer count (no trim).
+    for layers in [7, 8, 2] {
+        let params = VolumeParams {
+            layers,
+            trim: false,
+            ..small()
+        };
+        let v = bake_volume(&HairParams::default(), &params, None).unwrap();
+        assert_eq!(v.layers, layers);
+        assert_eq!(v.lod, lod_chain(&v.shells, layers, 32 * 32), "{layers} layers");
+    }
 }
 
 #[test]
