@@ -131,8 +131,10 @@ impl Pyramid {
                 })
             } else {
                 let h = 1usize << (m - 2);
+                // Halves added, not the sum halved: the sum of two densities near f32::MAX is
+                // inf, which a zero σ then turned into NaN.
                 separable(&levels[m - 1], res, |line, i, n| {
-                    0.5 * (line[(i + n - h % n) % n] + line[(i + h) % n])
+                    0.5 * line[(i + n - h % n) % n] + 0.5 * line[(i + h) % n]
                 })
             };
             levels.push(next);

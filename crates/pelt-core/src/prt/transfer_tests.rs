@@ -277,6 +277,30 @@ fn huge_density_is_opaque_without_nan() {
 }
 
 #[test]
+fn largest_density_without_extinction_is_unshadowed() {
+    // Found by the long Python fuzz (seed 102): the sweep's density pyramid summed two values
+    // near f32::MAX to inf, and σ = 0 made that NaN.
+    let (res, layers) = (5, 2);
+    let density = vec![f32::MAX; layers * res * res];
+    let vol = volume(res, layers, 3.0, &density);
+    for method in [Method::Brute, Method::Sweep] {
+        let p = TransferParams {
+            method,
+            sigma: 0.0,
+            ..TransferParams::default()
+        };
+        for dir in [[0.0, 0.0, 1.0], [0.7, 0.1, 0.2], [1.0, 0.0, 5e-5]] {
+            let t = transmittance(&vol, &p, dir).unwrap();
+            assert!(t.iter().all(|&v| v == 1.0), "{method:?} {dir:?}");
+        }
+        let mut q = params(method, 45, 3);
+        q.sigma = 0.0;
+        let baked = bake_transfer(&vol, &q, None).unwrap();
+        assert!(baked.coefficients.iter().all(|c| c.is_finite()), "{method:?}");
+    }
+}
+
+#[test]
 fn grazing_directions_stay_finite_and_match_the_slab() {
     let (res, layers, rho) = (5, 4, 1e-6f32);
     let mut density = cylinders(res, layers, 1.0, 6, 9);
