@@ -112,13 +112,16 @@ fn shading_height(layers: Layers) -> f32 {
     if (frame.counts.z != 1u || top == 0u) {
         return f32(top);
     }
-    let step = frame.lod.z;
-    let middle = 0.5 * f32(top + ((top - 1u) / step) * step + 1u);
+    let middle = group_middle(top, frame.lod.z);
     if (layers.coarse == NO_LAYER || frame.fin.y <= 0.0) {
         return middle;
     }
-    let twin = 0.5 * f32(top + ((top - 1u) / (2u * step)) * (2u * step) + 1u);
-    return mix(middle, twin, frame.fin.y);
+    return mix(middle, group_middle(top, 2u * frame.lod.z), frame.fin.y);
+}
+
+// The middle height of the group of `step` level-0 layers whose top is layer `top > 0`.
+fn group_middle(top: u32, step: u32) -> f32 {
+    return 0.5 * f32(top + ((top - 1u) / step) * step + 1u);
 }
 
 // Lighting at one point, affine in the (premultiplied) texel: lit = albedo × scale + alpha × add.

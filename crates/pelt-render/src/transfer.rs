@@ -219,8 +219,8 @@ pub(super) fn upload(
 
 /// Every texture's coefficients for all LOD levels (`levels`), premultiplied by the opacity of
 /// their shell texel, level 0 being `packed`: level `k` layer `j` composites the layers of level
-/// `k − 1` that its shells do ([`sources`]: inner, and outer over it) with weights `a_i (1 − a_o)` and `a_o` from the shells'
-/// opacity (`alpha`, level 0's `[L][R²]` bytes, carried in f32 through the levels), or the plain
+/// `k − 1` that its shells do ([`sources`]: inner, and outer over it) with weights
+/// `a_i (1 − a_o)` and `a_o` from the shells' opacity (`alpha`, level 0's `[L][R²]` bytes, carried in f32 through the levels), or the plain
 /// mean where both are empty. Runs in the current rayon pool; every value is computed on its
 /// own, so the result does not depend on the thread count.
 pub(super) fn premultiplied_levels(packed: &PackedF16, alpha: &[u8], levels: &Levels) -> Vec<Vec<f16>> {
@@ -237,7 +237,10 @@ pub(super) fn premultiplied_levels(packed: &PackedF16, alpha: &[u8], levels: &Le
                 let (inner, outer) = sources(levels.counts[k - 1] as usize, j);
                 let inner = prev[inner * texels + x];
                 match outer {
-                    Some(outer) => prev[outer * texels + x] + inner * (1.0 - prev[outer * texels + x]),
+                    Some(outer) => {
+                        let outer = prev[outer * texels + x];
+                        outer + inner * (1.0 - outer)
+                    }
                     None => inner,
                 }
             })

@@ -17,7 +17,7 @@ use pelt_core::export::{PngOptions, save_png};
 use pelt_core::hair::grow_strands;
 use pelt_core::pipeline::{BakeParams, Pipeline, TransferChoice};
 use pelt_core::reference::metrics::{
-    ImageErrors, LinearRgba, compare, display_rgb8, distance_from_mask, flip_map, flip_picture,
+    ImageErrors, LinearRgba, compare, display_rgb8, distance_from_mask, flip_map, flip_picture, luminance,
 };
 use pelt_core::reference::scenes::{CanonicalScene, FurLength, LightSetup, Shape, canonical_scene, framing};
 use pelt_core::reference::{
@@ -581,9 +581,8 @@ fn view(pixels: &[[f32; 4]], width: usize, height: usize) -> LinearRgba<'_> {
 /// Luminance and alpha summed over the pixels: their quotient is the covered pixels' mean
 /// luminance, a figure that stays put while the object shrinks.
 fn luminance_sums(pixels: &[[f32; 4]]) -> (f64, f64) {
-    pixels.iter().fold((0.0, 0.0), |(lum, alpha), p| {
-        let l = 0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2]);
-        (lum + l, alpha + f64::from(p[3]))
+    pixels.iter().fold((0.0, 0.0), |(lum, alpha), &p| {
+        (lum + luminance(p), alpha + f64::from(p[3]))
     })
 }
 

@@ -285,17 +285,14 @@ fn largest_density_without_extinction_is_unshadowed() {
     let vol = volume(res, layers, 3.0, &density);
     for method in [Method::Brute, Method::Sweep] {
         let p = TransferParams {
-            method,
             sigma: 0.0,
-            ..TransferParams::default()
+            ..params(method, 45, 3)
         };
         for dir in [[0.0, 0.0, 1.0], [0.7, 0.1, 0.2], [1.0, 0.0, 5e-5]] {
             let t = transmittance(&vol, &p, dir).unwrap();
             assert!(t.iter().all(|&v| v == 1.0), "{method:?} {dir:?}");
         }
-        let mut q = params(method, 45, 3);
-        q.sigma = 0.0;
-        let baked = bake_transfer(&vol, &q, None).unwrap();
+        let baked = bake_transfer(&vol, &p, None).unwrap();
         assert!(baked.coefficients.iter().all(|c| c.is_finite()), "{method:?}");
     }
 }

@@ -149,7 +149,7 @@ fn detail_energy(image: LinearRgba<'_>, mask: &[bool]) -> f64 {
 }
 
 /// Rec. 709 luminance.
-fn luminance(p: [f32; 4]) -> f64 {
+pub fn luminance(p: [f32; 4]) -> f64 {
     0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2])
 }
 
