@@ -18,7 +18,7 @@ RESOLUTION_ITEMS = tuple(
     (str(r), f"{r}²", f"Shell textures of {r}×{r} texels") for r in (64, 128, 256, 512, 1024)
 )
 SHELL_METHOD_ITEMS = (
-    ("AUTO", "Auto", "Marched on a CPU adapter, where it is several times faster; instanced on a GPU"),
+    ("AUTO", "Auto", "Marched: several times faster than instanced on a CPU adapter and on a GPU"),
     ("INSTANCED", "Instanced", "Every shell drawn as a copy of the mesh (exact per layer)"),
     ("MARCHED", "Marched", "One hull whose pixels march down through the layers (one mesh of triangles)"),
     (

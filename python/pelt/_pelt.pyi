@@ -623,8 +623,8 @@ class Preview:
         triangles whatever the shell count, several times faster on a CPU adapter, lit once per
         pixel; ``"planes"`` traces each pixel's ray through the asset's virtual planes (a bake
         with ``planes``; raycast paper), crossing at most ``plane_loop_limit`` (``[1, 256]``) of
-        them, the shell count and LOD not applying; ``"auto"`` marches on a CPU adapter and
-        instances on a GPU. ``mesh_error``: the
+        them, the shell count and LOD not applying; ``"auto"`` marches (faster on every adapter
+        measured). ``mesh_error``: the
         most pixels a simplified version of the mesh, drawn instead of the full one where the
         object is small on screen, may stray from it (0 always draws the full mesh; after
         :meth:`update`, a simplified version that would smear the new colors or lengths, such

@@ -273,7 +273,7 @@ impl Renderer {
 
     /// How this renderer draws shells asked for with `method` ([`ShellMethod::Auto`] resolved).
     pub fn shell_method(&self, method: ShellMethod) -> ShellMethod {
-        method.resolve(self.is_cpu())
+        method.resolve()
     }
 
     /// The device, to make textures for [`Renderer::render_to_texture`].

@@ -29,9 +29,10 @@ pub enum ShellMethod {
     /// for 32 shells head-on, every layer at the limb). Near the silhouette, where the surface
     /// bends within the ray's run, it differs from the instanced shells most.
     Marched,
-    /// `Marched` on a CPU adapter, where it is several times faster, `Instanced` on a GPU
-    /// ([`crate::Renderer::shell_method`] tells which): for interactive previews. The
-    /// default stays `Instanced`, so that the same settings draw the same way on every adapter.
+    /// The faster method on the adapters measured, for interactive previews: `Marched`, several
+    /// times faster than `Instanced` on a CPU adapter and on a GPU alike (`docs/benchmarks.md`,
+    /// "Frames on a GPU"); [`crate::Renderer::shell_method`] tells which. The default stays
+    /// `Instanced`, the paper's method.
     Auto,
     /// The raycast paper's virtual planes (raycast-fur-virtual-planes §3): one hull whose
     /// fragments trace the view ray through two families of planes standing across the tile's
@@ -44,11 +45,10 @@ pub enum ShellMethod {
 }
 
 impl ShellMethod {
-    /// The method drawn for this one on an adapter that is (`cpu`) or is not a CPU.
-    pub fn resolve(self, cpu: bool) -> ShellMethod {
+    /// The method drawn for this one.
+    pub fn resolve(self) -> ShellMethod {
         match self {
-            ShellMethod::Auto if cpu => ShellMethod::Marched,
-            ShellMethod::Auto => ShellMethod::Instanced,
+            ShellMethod::Auto => ShellMethod::Marched,
             method => method,
         }
     }
@@ -487,13 +487,10 @@ mod tests {
     }
 
     #[test]
-    fn auto_marches_on_a_cpu_and_instances_on_a_gpu_and_the_rest_stay() {
-        assert_eq!(Auto.resolve(true), Marched);
-        assert_eq!(Auto.resolve(false), Instanced);
-        for cpu in [true, false] {
-            assert_eq!(Instanced.resolve(cpu), Instanced);
-            assert_eq!(Marched.resolve(cpu), Marched);
-            assert_eq!(VirtualPlanes.resolve(cpu), VirtualPlanes);
+    fn auto_marches_and_the_rest_stay() {
+        assert_eq!(Auto.resolve(), Marched);
+        for method in [Instanced, Marched, VirtualPlanes] {
+            assert_eq!(method.resolve(), method);
         }
     }
 }

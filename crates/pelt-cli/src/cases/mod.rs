@@ -23,6 +23,7 @@ mod reference;
 mod render;
 #[cfg(feature = "metrics")]
 mod strands;
+mod stream;
 mod volume;
 
 /// One line of the benchmark table.

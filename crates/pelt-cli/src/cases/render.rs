@@ -1,6 +1,7 @@
 //! Bench cases of the wgpu fur renderer (`pelt-render`): frames of Suzanne subdivided to
 //! about 62k triangles under lapped patches, 32 shells and fins, on the adapter [`Renderer`]
-//! picks (hardware first). Uploads are not timed; every frame is read back to the CPU.
+//! picks (hardware first). Uploads are not timed; every `render.frame*` frame is read back to
+//! the CPU, while `render.stream*` draws frames back to back into a texture, as a window does.
 //!
 //! Where the time goes is read off the same frame with parts removed: `.skin` (skin only),
 //! `.no_fins`, and `.tiny` (64², so fill costs next to nothing and what is left is vertex and
@@ -13,6 +14,7 @@ use glam::dcamera::rh::proj::directx;
 use glam::dcamera::rh::view::look_at_mat4;
 use rayon::prelude::*;
 
+use super::stream::streamed;
 use super::{BenchOptions, CaseResult, time_fallible};
 use pelt_core::error::Result;
 use pelt_core::hair::HairParams;
@@ -109,13 +111,14 @@ pub(super) fn suzanne_patched(options: &BenchOptions) -> Result<(FurMesh, Patche
 
 /// `render.frame`: one frame of Suzanne subdivided three times (61,952 triangles; twice in
 /// `--quick`, 15,488) with lapped-patch UVs, 32 shells and fins, Kajiya–Kay, at 512² and
-/// 1920 × 1080, drawn as a preview on this adapter draws it (`ShellMethod::Auto`: shells
-/// marched per pixel on a CPU adapter, instanced on a GPU) and each drawing the coarsest
-/// geometric level within a pixel of the full mesh (`.full_mesh` draws every triangle); the
+/// 1920 × 1080, drawn as a preview draws it (`ShellMethod::Auto`: shells marched per pixel) and
+/// each drawing the coarsest geometric level within a pixel of the full mesh (`.full_mesh` draws every triangle); the
 /// parts (`.skin`, `.no_fins`, `.tiny`); `.lod`, the same scene 4× as far with LOD on
 /// (baseline: the near frame); each shell method forced (`.instanced*`, `.marched*`); PRT
 /// (`.prt` and `.instanced.prt`, order 5, not in `--quick`) with the CPU rotation it avoids
-/// (`render.prt.rotate.cpu`); and the scene's upload and a color update
+/// (`render.prt.rotate.cpu`); `render.stream*`, frames drawn back to back into a texture as a
+/// window draws them (`.skin`, `.no_fins` and `.tiny` to split the 1080p frame's time); and the
+/// scene's upload and a color update
 /// (`render.scene.upload`, `render.scene.update`) and a pose (`render.scene.deform`).
 pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let renderer = Renderer::new(AdapterChoice::PreferHardware)?;
@@ -134,9 +137,8 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let mut scene = FurScene::new(&renderer, &mesh, &patches.uv, &volume, FUR_DEPTH)?;
     let reps = if options.quick { 5 } else { 15 };
     let upload_cases = scene_upload(&renderer, &mesh, &patches.uv, &volume, reps / 3)?;
-    // The frame as the renderer draws it for a preview on this adapter: shells marched per
-    // pixel on a CPU adapter, instanced on a GPU (`ShellMethod::Auto`); `.instanced` and
-    // `.marched` force one method.
+    // The frame as the renderer draws it for a preview (`ShellMethod::Auto`: shells marched
+    // per pixel); `.instanced` and `.marched` force one method.
     let settings = RenderSettings {
         shell_method: ShellMethod::Auto,
         ..RenderSettings::default()
@@ -184,6 +186,26 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
             camera.width, camera.height
         );
         Ok::<_, pelt_core::PeltError>(CaseResult::timed(case, size, timing))
+    };
+    // The same frames drawn back to back into a texture, as a window shows them.
+    let streamed_case = |scene: &FurScene,
+                         case: &str,
+                         camera: &Camera,
+                         settings: &RenderSettings,
+                         lighting: &Lighting,
+                         note: &str| {
+        let streamed = streamed(&renderer, scene, camera, lighting, settings, reps.div_ceil(3))?;
+        let method = match renderer.shell_method(settings.shell_method) {
+            ShellMethod::Marched => "shells marched per pixel",
+            _ => "shells instanced",
+        };
+        let size = format!(
+            "{}x{}, {what}{note}, {method}, {}; {name}",
+            camera.width,
+            camera.height,
+            streamed.split()
+        );
+        Ok::<_, pelt_core::PeltError>(CaseResult::timed(case, size, streamed.timing()))
     };
     let near = camera(5.0, 512, 512);
     let hd = camera(5.0, 1920, 1080);
@@ -305,6 +327,28 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
         &lighting,
         kk,
     )?);
+    let viewport = camera(5.0, 960, 540);
+    let tiny = camera(5.0, 64, 64);
+    for (case, camera, settings, note) in [
+        ("render.stream.540p", &viewport, &settings, kk),
+        ("render.stream.1080p", &hd, &settings, kk),
+        ("render.stream.1080p.instanced", &hd, &instanced, kk),
+        ("render.stream.1080p.skin", &hd, &skin, ", skin only"),
+        (
+            "render.stream.1080p.no_fins",
+            &hd,
+            &no_fins(&settings),
+            ", fins off",
+        ),
+        (
+            "render.stream.tiny",
+            &tiny,
+            &settings,
+            ", 64² (what a frame costs besides its pixels)",
+        ),
+    ] {
+        results.push(streamed_case(&scene, case, camera, settings, &lighting, note)?);
+    }
     if !options.quick {
         let order = 5;
         let input = VolumeInput::new(&volume, f64::from(FUR_DEPTH) / TILE);
@@ -348,6 +392,12 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
             .map(|k| [1.0 / (1.0 + k as f64); 3])
             .collect();
         let timing = time_fallible(reps, || rotate_on_cpu(&frames, &light))?;
+        for (case, settings) in [
+            ("render.stream.1080p.prt", &settings),
+            ("render.stream.1080p.prt.instanced", &instanced),
+        ] {
+            results.push(streamed_case(&scene, case, &hd, settings, &prt, ", PRT order 5")?);
+        }
         results.push(versus(&prt_instanced, prt_case));
         results.push(prt_instanced);
         results.push(CaseResult::timed(

@@ -12,6 +12,7 @@
 //!   coverage it keeps (their added opacity with the LOD over without, composited exactly).
 
 use super::render::{FUR_DEPTH, SHELLS, camera, note_adapter, suzanne_patched};
+use super::stream::streamed;
 use super::{BenchOptions, CaseResult, time_fallible};
 use pelt_core::error::Result;
 use pelt_core::guard::guard_hairs;
@@ -163,6 +164,31 @@ pub(super) fn strand_cases(options: &BenchOptions) -> Result<Vec<CaseResult>> {
         let hybrid = frame(&scene, name, camera, settings, &few)?;
         results.push(versus(&shells, hybrid));
         results.push(shells);
+    }
+    // The 1080p hybrid frame as a window shows it (drawn into a texture, no readback), with
+    // each shell method.
+    for (method, settings) in [("", &preview), (".instanced", &instanced)] {
+        for (part, hairs) in [("", true), (".shells", false)] {
+            let settings = RenderSettings {
+                guard_hairs: hairs,
+                ..*settings
+            };
+            let streamed = streamed(&renderer, &scene, &hd, &lighting, &settings, reps.div_ceil(3))?;
+            let what = if hairs { few.as_str() } else { "shells alone" };
+            let shells = match renderer.shell_method(settings.shell_method) {
+                ShellMethod::Marched => "shells marched",
+                _ => "shells instanced",
+            };
+            results.push(CaseResult::timed(
+                &format!("render.frame.hybrid.stream.1080p{method}{part}"),
+                format!(
+                    "1920x1080, Suzanne ({} triangles), {SHELLS} shells + fins, {shells}, {what}, {}; {adapter}",
+                    mesh.face_count(),
+                    streamed.split()
+                ),
+                streamed.timing(),
+            ));
+        }
     }
     scene.set_guard_hairs(&renderer, &many)?;
     let full = frame(&scene, "render.frame.hybrid.100k", &near, &preview, &lots)?;
