@@ -25,24 +25,12 @@ from pathlib import Path
 import bpy
 import numpy as np
 from _setup import register_addon, write_cases
+from bench_preview_frame import projection
 from mathutils import Matrix
 
 WIDTH, HEIGHT = 960, 540
 VIEWS = 9
 REDRAWS = 120
-
-
-def projection() -> np.ndarray:
-    near, far, focal = 0.1, 100.0, 1.8
-    return np.array(
-        [
-            [focal * HEIGHT / WIDTH, 0, 0, 0],
-            [0, focal, 0, 0],
-            [0, 0, (far + near) / (near - far), 2 * far * near / (near - far)],
-            [0, 0, -1, 0],
-        ],
-        np.float32,
-    )
 
 
 def view_of(obj, turn: float) -> np.ndarray:
@@ -85,7 +73,7 @@ def main() -> None:
         # Blender evaluated the depsgraph before it drew the viewport.
         depsgraph = bpy.context.evaluated_depsgraph_get()
         start = time.perf_counter()
-        session.request(obj, depsgraph, scene, view_of(obj, turn), projection(), WIDTH, HEIGHT)
+        session.request(obj, depsgraph, scene, view_of(obj, turn), projection(WIDTH, HEIGHT), WIDTH, HEIGHT)
         frame = session.take_frame()
         return time.perf_counter() - start, frame
 

@@ -109,11 +109,19 @@ pub(super) fn suzanne_patched(options: &BenchOptions) -> Result<(FurMesh, Patche
     Ok((mesh, patches))
 }
 
+/// How `renderer` draws shells asked for with `method`, for a case's description.
+pub(super) fn shells_drawn(renderer: &Renderer, method: ShellMethod) -> &'static str {
+    match renderer.shell_method(method) {
+        ShellMethod::Marched => "shells marched per pixel",
+        _ => "shells instanced",
+    }
+}
+
 /// `render.frame`: one frame of Suzanne subdivided three times (61,952 triangles; twice in
 /// `--quick`, 15,488) with lapped-patch UVs, 32 shells and fins, Kajiya–Kay, at 512² and
 /// 1920 × 1080, drawn as a preview draws it (`ShellMethod::Auto`: shells marched per pixel) and
-/// each drawing the coarsest geometric level within a pixel of the full mesh (`.full_mesh` draws every triangle); the
-/// parts (`.skin`, `.no_fins`, `.tiny`); `.lod`, the same scene 4× as far with LOD on
+/// each drawing the coarsest geometric level within a pixel of the full mesh (`.full_mesh` draws
+/// every triangle); the parts (`.skin`, `.no_fins`, `.tiny`); `.lod`, the same scene 4× as far with LOD on
 /// (baseline: the near frame); each shell method forced (`.instanced*`, `.marched*`); PRT
 /// (`.prt` and `.instanced.prt`, order 5, not in `--quick`) with the CPU rotation it avoids
 /// (`render.prt.rotate.cpu`); `render.stream*`, frames drawn back to back into a texture as a
@@ -167,10 +175,7 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
                  note: &str| {
         let timing = time_fallible(reps, || renderer.render(scene, camera, lighting, settings))?;
         let info = renderer.frame_info(scene, camera, settings)?;
-        let method = match renderer.shell_method(settings.shell_method) {
-            ShellMethod::Marched => "shells marched per pixel",
-            _ => "shells instanced",
-        };
+        let method = shells_drawn(&renderer, settings.shell_method);
         let auto = if settings.shell_method == ShellMethod::Auto {
             " (auto)"
         } else {
@@ -195,10 +200,7 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
                          lighting: &Lighting,
                          note: &str| {
         let streamed = streamed(&renderer, scene, camera, lighting, settings, reps.div_ceil(3))?;
-        let method = match renderer.shell_method(settings.shell_method) {
-            ShellMethod::Marched => "shells marched per pixel",
-            _ => "shells instanced",
-        };
+        let method = shells_drawn(&renderer, settings.shell_method);
         let size = format!(
             "{}x{}, {what}{note}, {method}, {}; {name}",
             camera.width,

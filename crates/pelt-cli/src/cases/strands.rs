@@ -11,7 +11,7 @@
 //! - `render.frame.hybrid.lod`: 8× as far, the strand LOD's frame and how much of the strands'
 //!   coverage it keeps (their added opacity with the LOD over without, composited exactly).
 
-use super::render::{FUR_DEPTH, SHELLS, camera, note_adapter, suzanne_patched};
+use super::render::{FUR_DEPTH, SHELLS, camera, note_adapter, shells_drawn, suzanne_patched};
 use super::stream::streamed;
 use super::{BenchOptions, CaseResult, time_fallible};
 use pelt_core::error::Result;
@@ -125,10 +125,7 @@ pub(super) fn strand_cases(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     };
     let frame = |scene: &FurScene, name: &str, camera: &Camera, settings: &RenderSettings, what: &str| {
         let timing = time_fallible(reps, || renderer.render(scene, camera, &lighting, settings))?;
-        let method = match renderer.shell_method(settings.shell_method) {
-            ShellMethod::Marched => "shells marched",
-            _ => "shells instanced",
-        };
+        let method = shells_drawn(&renderer, settings.shell_method);
         Ok::<_, pelt_core::PeltError>(CaseResult::timed(
             name,
             format!(
@@ -175,10 +172,7 @@ pub(super) fn strand_cases(options: &BenchOptions) -> Result<Vec<CaseResult>> {
             };
             let streamed = streamed(&renderer, &scene, &hd, &lighting, &settings, reps.div_ceil(3))?;
             let what = if hairs { few.as_str() } else { "shells alone" };
-            let shells = match renderer.shell_method(settings.shell_method) {
-                ShellMethod::Marched => "shells marched",
-                _ => "shells instanced",
-            };
+            let shells = shells_drawn(&renderer, settings.shell_method);
             results.push(CaseResult::timed(
                 &format!("render.frame.hybrid.stream.1080p{method}{part}"),
                 format!(

@@ -1,32 +1,31 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The live preview's frame without Blender: render, read back and convert as the worker does.
 
-``blender_scripts/bench_preview.py`` times the add-on's preview inside Blender on the CPU adapter;
+``bench_preview.py`` beside it times the add-on's preview inside Blender on the CPU adapter;
 this times the same worker step (``pelt.Preview.render`` with the add-on's default settings, then
 ``live.texture_pixels``, the conversion Blender's texture takes) on whichever adapter is asked
-for, at 960×540 and 1920×1080, so a machine with a GPU but no Blender gives the figure too. The
-scene is the Blender bench's: a UV sphere of 192 segments and 80 rings (30,336 triangles), tiles
-0.3 wide, fur 0.08 deep, Kajiya–Kay.
+for, at 960×540 and 1920×1080, so a machine with a GPU but no Blender gives the figure too (it
+imports no bpy). The scene is the Blender bench's: a UV sphere of 192 segments and 80 rings
+(30,336 triangles), tiles 0.3 wide, fur 0.08 deep, Kajiya–Kay.
 """
 
 import argparse
 import importlib.util
-import json
 import statistics
 import time
 from pathlib import Path
 
 import numpy as np
 import pelt
+from _setup import REPO, write_cases
 
-ROOT = Path(__file__).resolve().parent.parent
 SIZES = ((960, 540), (1920, 1080))
 FRAMES = 30
 
 
 def load_live():
     """``addon/io/live.py`` alone: the add-on's package imports bpy, its ``io`` part does not."""
-    spec = importlib.util.spec_from_file_location("pelt_live", ROOT / "addon" / "io" / "live.py")
+    spec = importlib.util.spec_from_file_location("pelt_live", REPO / "addon" / "io" / "live.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
@@ -64,6 +63,7 @@ def view_matrix(turn: float) -> np.ndarray:
 
 
 def projection(width: int, height: int) -> np.ndarray:
+    """The lens of both preview benches (this and ``bench_preview.py``), as OpenGL clip space."""
     near, far, focal = 0.1, 100.0, 1.8
     return np.array(
         [
@@ -116,11 +116,7 @@ def main() -> None:
                 "seconds": seconds,
             }
         )
-    for case in cases:
-        fps = 1 / case["seconds"]
-        print(f"{case['name']:24s} {case['seconds'] * 1e3:8.2f} ms  {fps:7.1f} fps  {case['size']}")
-    if args.json:
-        args.json.write_text(json.dumps({"cases": cases}, indent=2))
+    write_cases(cases, args.json)
 
 
 if __name__ == "__main__":
