@@ -4,8 +4,10 @@ without a GPU), with a 30k-triangle sphere baked and drawn at 960×540.
 - ``blender.preview.frame``: a full-size frame on the worker thread (pose and attributes
   applied, rendered, turned into the texture's floats), median over views drawn one at a time;
   ``.interactive``: a frame during an orbit redrawn at 60 Hz (half size first where a full frame
-  is over the worker's budget); ``.painted``: full size after red dabs, which keep the renderer
-  on the full mesh (its coarser levels would smear them).
+  is over the worker's budget); ``.painted``: full size after red dabs, which the mesh's coarser
+  levels would smear, once the worker has made them anew under the paint (the strokes' own
+  frames draw the full mesh).
+- ``blender.preview.remake``: the worker's remake of the levels after a stroke, median.
 - ``blender.preview.redraw``: the main thread's share of a redraw (``Session.request`` and
   ``take_frame``: the view handed over, the pose read when it moved), the worst of the orbit's
   redraws (made while the worker renders) and a pose's; the GPU texture upload after it needs a
@@ -136,7 +138,10 @@ def main() -> None:
         assert session.worker.wait_idle(300.0), session.worker.error
         session.take_frame()
     assert not session.out_of_date
-    # Painted, the mesh's coarser levels would smear the colors: every frame draws the full mesh.
+    # The coarser levels would smear the dabs: each stroke's frames drew the full mesh, and the
+    # worker made the levels anew once it settled (wait_idle waits for that).
+    remakes = list(session.worker.remakes)
+    assert remakes and not session.worker.preview.levels_dropped
     painted_frames = full_frames([0.2 * i + 0.05 for i in range(VIEWS // 2)])
     adapter = session.worker.adapter
     live.stop()
@@ -156,8 +161,13 @@ def main() -> None:
         },
         {
             "name": "blender.preview.frame.painted",
-            "size": f"{size}, red dabs painted (the full mesh drawn): a full-size frame",
+            "size": f"{size}, red dabs painted, the levels made anew under them: a full-size frame",
             "seconds": statistics.median(painted_frames),
+        },
+        {
+            "name": "blender.preview.remake",
+            "size": f"{size}: the levels of detail made anew under a stroke's paint, on the worker",
+            "seconds": statistics.median(remakes),
         },
         {
             "name": "blender.preview.redraw",

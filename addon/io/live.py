@@ -11,6 +11,11 @@ Where a full frame takes longer than ``Worker.budget`` (a CPU adapter at a large
 new request is drawn first at half the size, stretched over the viewport, and then, if no newer
 request came meanwhile, at full size: a stroke or an orbit reaches the screen in about half the
 time, and the picture sharpens when the user stops.
+
+A repaint that the mesh's coarser levels of detail would smear leaves the full mesh drawn, several
+times slower far away (``pelt.Preview.levels_dropped``). Once the repaints have stopped for
+``Worker.settle`` seconds the worker makes the levels anew under the new paint
+(``pelt.Preview.remake_levels``), before the next frame: once per stroke, not per dab.
 """
 
 import threading
@@ -91,6 +96,10 @@ def texture_pixels(rgba: np.ndarray) -> np.ndarray:
     return floats.ravel()
 
 
+# What ``Worker._next`` hands the thread when the levels of detail are due to be made anew.
+REMAKE_LEVELS = "remake levels"
+
+
 class Worker:
     """Renders the newest request with the preview that ``build()`` makes on the worker thread
     (device creation and upload take a while too). After a failure the worker stops and keeps the
@@ -99,6 +108,9 @@ class Worker:
     # Seconds a full frame may take before new requests are drawn at half size first.
     budget = 1.0 / 15.0
     interactive_scale = 0.5
+    # Seconds without a repaint before dropped levels of detail are made anew: a stroke's dabs
+    # come faster, and each remake costs about a tenth of a second on 60k triangles.
+    settle = 0.25
 
     def __init__(self, build: Callable[[], pelt.Preview]):
         self._build = build
@@ -109,6 +121,10 @@ class Worker:
         self._frame_is_new = False
         self._busy = False
         self._stopping = False
+        # time.perf_counter() after which the levels are made anew, or None.
+        self._remake_at: float | None = None
+        # Seconds each remake of the levels took (scripts and the bench read them).
+        self.remakes: list[float] = []
         self.preview: pelt.Preview | None = None
         self.adapter: dict | None = None
         self.error: BaseException | None = None
@@ -148,11 +164,12 @@ class Worker:
         return self._thread.is_alive()
 
     def wait_idle(self, timeout: float) -> bool:
-        """Waits until no request waits or renders (scripts and tests); ``True`` when idle."""
+        """Waits until no request waits or renders and no remake of the levels is due (scripts and
+        tests); ``True`` when idle."""
         deadline = time.monotonic() + timeout
         with self._condition:
             while self._thread.is_alive() and (
-                self._pending is not None or self._busy or self.preview is None
+                self._pending is not None or self._busy or self.preview is None or self._remake_at is not None
             ):
                 left = deadline - time.monotonic()
                 if left <= 0.0:
@@ -167,15 +184,21 @@ class Worker:
             self._pending = None
             self._condition.notify_all()
 
-    def _next(self) -> Request | None:
+    def _next(self) -> Request | str | None:
+        """The next request, ``REMAKE_LEVELS`` when a repaint has settled (before any request),
+        or None to stop."""
         with self._condition:
-            while self._pending is None and not self._stopping:
-                self._condition.wait()
-            if self._stopping:
-                return None
-            request, self._pending = self._pending, None
-            self._busy = True
-            return request
+            while not self._stopping:
+                now = time.perf_counter()
+                if self._remake_at is not None and now >= self._remake_at:
+                    self._remake_at, self._busy = None, True
+                    return REMAKE_LEVELS
+                if self._pending is not None:
+                    request, self._pending = self._pending, None
+                    self._busy = True
+                    return request
+                self._condition.wait(None if self._remake_at is None else self._remake_at - now)
+            return None
 
     def _run(self) -> None:
         try:
@@ -190,12 +213,16 @@ class Worker:
             self._condition.notify_all()
         while (request := self._next()) is not None:
             try:
+                if request is REMAKE_LEVELS:
+                    self._remake_levels(preview)
+                    continue
                 if request.fur_depth is not None:
                     match_fur_depth(preview, request.fur_depth)
                 if request.pose is not None:
                     preview.deform(*request.pose)
                 if request.attributes:
                     preview.update(**request.attributes)
+                    self._schedule_remake(preview.levels_dropped)
                 scales = (self.interactive_scale, 1.0) if self._slow else (1.0,)
                 for scale in scales:
                     if scale == 1.0 and len(scales) > 1 and self._pending is not None:
@@ -205,6 +232,21 @@ class Worker:
                 self.error = error
                 break
         self._finish()
+
+    def _schedule_remake(self, dropped: bool) -> None:
+        """After a repaint: the levels are made anew ``settle`` seconds after the last one that
+        dropped some (one that drops none, such as painting back, cancels it)."""
+        with self._condition:
+            self._remake_at = time.perf_counter() + self.settle if dropped else None
+
+    def _remake_levels(self, preview: pelt.Preview) -> None:
+        start = time.perf_counter()
+        remade = preview.remake_levels()
+        with self._condition:
+            if remade:
+                self.remakes.append(time.perf_counter() - start)
+            self._busy = False
+            self._condition.notify_all()
 
     def _render(self, preview: pelt.Preview, request: Request, scale: float) -> Frame:
         start = time.perf_counter()

@@ -663,6 +663,15 @@ class Preview:
         texture upload; the fur keeps its place on the skin and the comb turns with it. Each
         pose is taken from the rest shape. A wrong row count or a non-finite value raises
         :class:`InvalidMeshError` naming ``positions`` or ``normals``; the preview is unchanged."""
+    @property
+    def levels_dropped(self) -> bool:
+        """Whether a repaint (:meth:`update`) left the mesh's coarser levels of detail undrawn
+        (they would smear it), so far-away frames draw the full mesh until :meth:`remake_levels`."""
+    def remake_levels(self) -> bool:
+        """Simplify the mesh again under the current colors and lengths when :attr:`levels_dropped`
+        and upload the new levels (GIL released; about as long as the upload's simplification, a
+        tenth of a second on 60k triangles): frames far away draw a coarse level again. Returns
+        whether it made them."""
     def set_transfer(self, transfer: FurAsset | TransferResult) -> None:
         """Replace the PRT transfer textures with another bake's of the same hair volume (same
         layers and resolution, else :class:`InvalidParameterError`)."""

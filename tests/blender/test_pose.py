@@ -144,6 +144,13 @@ def test_after_bake_the_pose_is_read_under_pelts_own_fur_modifier(addon):
     posed = render()
     assert obj.session_uid not in pose.NOTES
     assert overlap(posed, rest) < 0.8
+    # The skin's rows read alone are those of the whole evaluated mesh's read.
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+    skin = len(obj.data.vertices)
+    assert len(evaluated.vertices) > 2 * skin
+    whole = addon.io.bridge.read_positions(evaluated)
+    assert np.array_equal(pose.first_positions(evaluated, skin), whole[:skin])
+    assert np.array_equal(pose.first_positions(evaluated, 7), whole[:7])
     # A Subdivision before Pelt's fur may change the topology: the rest shape, and why.
     subdivision = obj.modifiers.new("Subdivision", "SUBSURF")
     bpy.ops.object.modifier_move_to_index(modifier=subdivision.name, index=0)

@@ -405,6 +405,18 @@ impl PyPreview {
         detached(py, || self.lock_scene().deform(positions, normals))
     }
 
+    /// Whether a repaint left the coarser geometric levels undrawn. See the stub.
+    #[getter]
+    fn levels_dropped(&self) -> bool {
+        self.lock_scene().levels_dropped()
+    }
+
+    /// Simplifies the mesh again under the current colors and lengths (GIL released); whether it
+    /// did. See the stub.
+    fn remake_levels(&self, py: Python<'_>) -> PyResult<bool> {
+        detached(py, || self.lock_scene().remake_levels(&self.renderer))
+    }
+
     /// Replaces the PRT transfer textures: a `FurAsset`'s or a `bake_transfer` result's. A
     /// transfer from another bake (other layers or resolution) raises `InvalidParameterError`
     /// and leaves the preview as it was.

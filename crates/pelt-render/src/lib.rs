@@ -51,6 +51,7 @@ mod planes;
 mod prt_light;
 mod prt_rotate;
 mod readback;
+mod remade_levels;
 mod scene;
 mod settings;
 mod shaders;

@@ -20,11 +20,12 @@ use pelt_core::mesh::{MAX_LENGTH, bounding_sphere};
 use pelt_core::prt::pack::PackedF16;
 use pelt_core::scene::deform::Deformer;
 use pelt_core::scene::fin_cull::FinPlanes;
+use pelt_core::scene::fin_mesh::FinMesh;
 use pelt_core::scene::fin_pose::PosedFinPlanes;
 use pelt_core::scene::level_hosts::LevelHosts;
 use pelt_core::scene::scene_levels::{self, MeshLevel, SceneLevels};
-use pelt_core::scene::surface_mesh;
 use pelt_core::scene::surface_mesh::expand;
+use pelt_core::scene::surface_mesh::{self, SurfaceMesh};
 use pelt_core::threads::pool;
 use pelt_core::volume::slices::check_slices;
 use pelt_core::volume::{HairVolume, PlaneSlices};
@@ -89,6 +90,18 @@ impl GpuMesh {
         }
     }
 
+    /// The fins of every level, under `attributes` (colors and lengths per mesh vertex).
+    pub(super) fn fins(device: &wgpu::Device, fins: &FinMesh, attributes: (&[[f32; 4]], &[f32])) -> Self {
+        GpuMesh::new(
+            device,
+            "fins",
+            bytemuck::cast_slice(&fins.vertices),
+            &fins.indices,
+            &expand(attributes.0, &fins.source),
+            &expand(attributes.1, &fins.source),
+        )
+    }
+
     /// Sets vertex buffers 0–2 and the index buffer.
     pub fn bind(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_vertex_buffer(0, self.geometry.slice(..));
@@ -121,7 +134,7 @@ impl GpuMesh {
 /// A furred mesh on the GPU of one [`Renderer`].
 pub struct FurScene {
     renderer_id: u64,
-    queue: wgpu::Queue,
+    pub(super) queue: wgpu::Queue,
     pub(super) surface: GpuMesh,
     pub(super) fins: GpuMesh,
     /// The fins' planes, from which each frame collects the fins it draws.
@@ -129,20 +142,20 @@ pub struct FurScene {
     /// The full mesh and its simplified versions, finest first.
     pub(super) mesh_levels: Vec<MeshLevel>,
     /// Where each coarser level stands: after a repaint, those that would smear it are not
-    /// drawn.
-    level_hosts: Vec<LevelHosts>,
+    /// drawn (until [`FurScene::remake_levels`]).
+    pub(super) level_hosts: Vec<LevelHosts>,
     /// The current colors and lengths, per mesh vertex.
-    attributes: (Vec<[f32; 4]>, Vec<f32>),
+    pub(super) attributes: (Vec<[f32; 4]>, Vec<f32>),
     /// Levels, finest first, that a frame may draw under them.
-    drawable: usize,
+    pub(super) drawable: usize,
     pub(super) uniforms: wgpu::Buffer,
     pub(super) bind_group: wgpu::BindGroup,
     /// The volume's textures, which the bind group holds (kept to make it anew).
     volume_textures: VolumeTextures,
     /// The virtual planes' slices, when set.
     pub(super) planes: Option<ScenePlanes>,
-    surface_source: Vec<u32>,
-    fin_source: Vec<u32>,
+    /// The mesh vertex each fin vertex came from.
+    pub(super) fin_source: Vec<u32>,
     mesh_vertices: usize,
     pub(super) layers: u32,
     pub(super) layer_spacing: f32,
@@ -156,11 +169,13 @@ pub struct FurScene {
     /// Bounding sphere and longest painted length, for the LOD schedule.
     pub(super) extent: Extent,
     pub(super) transfer: Option<SceneTransfer>,
-    uploads: UploadStats,
+    pub(super) uploads: UploadStats,
     /// The rest shape, to pose the scene.
     deformer: Deformer,
-    /// The skin's rest vertices, which the guard strands' points are placed over.
-    rest_surface: Vec<pelt_core::scene::surface_mesh::SurfaceVertex>,
+    /// The mesh as uploaded and its skin's rest vertices (which the guard strands' points are
+    /// placed over), from which the geometric levels are made anew.
+    pub(super) rest_mesh: FurMesh,
+    pub(super) rest_surface: SurfaceMesh,
     /// The guard strands, when set.
     pub(super) strands: Option<SceneStrands>,
 }
@@ -300,6 +315,7 @@ impl FurScene {
             (&surface_colors, &surface_lengths),
         );
 
+        let surface_indices = with_room_for_levels(&surface_indices, surface.indices.len());
         let (surface_gpu, fins_gpu, volume_gpu, uniforms, bind_group) =
             scoped(device, "uploading the scene", || {
                 let surface_gpu = GpuMesh::new(
@@ -310,14 +326,7 @@ impl FurScene {
                     &surface_colors,
                     &surface_lengths,
                 );
-                let fins_gpu = GpuMesh::new(
-                    device,
-                    "fins",
-                    bytemuck::cast_slice(&fins.vertices),
-                    &fins.indices,
-                    &expand(&colors, &fins.source),
-                    &expand(&lengths, &fins.source),
-                );
+                let fins_gpu = GpuMesh::fins(device, &fins, (&colors, &lengths));
                 let volume_gpu = textures::upload_volume(device, &renderer.queue, volume, &levels)?;
                 let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("frame uniforms"),
@@ -347,8 +356,7 @@ impl FurScene {
             pose_bytes: 0,
         };
         let deformer = Deformer::new(mesh, &surface);
-        let rest_surface = surface.vertices.clone();
-        let fin_ends = fins.source.chunks_exact(4).map(|c| [c[0], c[1]]).collect();
+        let fin_ends = fins.ends();
         let extent = extent(mesh.positions(), &lengths);
         Ok(FurScene {
             renderer_id: renderer.id,
@@ -367,7 +375,6 @@ impl FurScene {
             bind_group,
             volume_textures: volume_gpu,
             planes: None,
-            surface_source: surface.source,
             fin_source: fins.source,
             mesh_vertices: mesh.vertex_count(),
             layers: volume.layers as u32,
@@ -380,7 +387,8 @@ impl FurScene {
             transfer: None,
             uploads,
             deformer,
-            rest_surface,
+            rest_mesh: mesh.clone(),
+            rest_surface: surface,
             strands: None,
         })
     }
@@ -448,13 +456,13 @@ impl FurScene {
             },
         )?;
         let n = order * order;
-        let rotated_bytes = (self.surface_source.len() * n * 16) as u64;
+        let rotated_bytes = (self.rest_surface.source.len() * n * 16) as u64;
         if rotated_bytes > limits.max_storage_buffer_binding_size {
             return Err(PeltError::parameter(
                 "transfer",
                 format!(
                     "order {order} on {} surface vertices needs a {rotated_bytes}-byte lighting buffer, the device allows {}",
-                    self.surface_source.len(),
+                    self.rest_surface.source.len(),
                     limits.max_storage_buffer_binding_size
                 ),
             ));
@@ -626,10 +634,10 @@ impl FurScene {
         // and sent.
         let bytes = 2.0 * (160.0 * guard_hairs.spans.len() as f64 + 16.0 * guard_hairs.points.len() as f64);
         pelt_core::memory::check("guard strand upload", bytes, || "`guard_share`".into())?;
-        let lengths = expand(&self.attributes.1, &self.surface_source);
+        let lengths = expand(&self.attributes.1, &self.rest_surface.source);
         let prepared = super::guard_strands::prepare(
             guard_hairs,
-            &self.rest_surface,
+            &self.rest_surface.vertices,
             self.deformer.triangles(),
             &lengths,
         )?;
@@ -711,7 +719,7 @@ impl FurScene {
     /// Rewrites the per-vertex colors and/or lengths (one row per mesh vertex, like
     /// [`pelt_core::MeshInput`]'s) in place; nothing else is sent to the GPU. Geometric levels of
     /// detail that cannot hold the new values (`pelt_core::scene::level_hosts`) are not drawn until they
-    /// can again.
+    /// can again, or until [`FurScene::remake_levels`] makes them anew under these.
     ///
     /// # Errors
     /// [`PeltError::InvalidParameter`] naming `color` / `length` (wrong row count) or the first
@@ -728,7 +736,7 @@ impl FurScene {
         let mut bytes = 0u64;
         if let Some(c) = color {
             for (mesh, source) in [
-                (&self.surface, &self.surface_source),
+                (&self.surface, &self.rest_surface.source),
                 (&self.fins, &self.fin_source),
             ] {
                 let rows = expand(c, source);
@@ -742,7 +750,7 @@ impl FurScene {
         }
         if let Some(l) = length {
             for (mesh, source) in [
-                (&self.surface, &self.surface_source),
+                (&self.surface, &self.rest_surface.source),
                 (&self.fins, &self.fin_source),
             ] {
                 let rows = expand(l, source);
@@ -854,7 +862,7 @@ impl FurScene {
 
     /// GPU vertices of the skin and shells (mesh vertices plus the copies made at UV seams).
     pub fn surface_vertex_count(&self) -> usize {
-        self.surface_source.len()
+        self.rest_surface.source.len()
     }
 
     /// Whether the virtual planes' slices are set ([`FurScene::set_planes`]).
@@ -923,6 +931,16 @@ impl FurScene {
     pub(super) fn renderer_id(&self) -> u64 {
         self.renderer_id
     }
+}
+
+/// `indices` (every level's) followed by zeros up to twice the full mesh's `full` indices: each
+/// coarser level has at most half the triangles of the one above (`geometry_lod`), so levels made
+/// anew under other colors always fit, written in place (the PRT bind group keeps the buffer).
+fn with_room_for_levels(indices: &[u32], full: usize) -> Vec<u32> {
+    let mut padded = Vec::with_capacity(2 * full);
+    padded.extend_from_slice(indices);
+    padded.resize((2 * full).max(indices.len()), 0);
+    padded
 }
 
 /// Group 0 of every fur pass: the frame's uniforms, the volume's textures and samplers, the

@@ -49,6 +49,13 @@ pub struct FinMesh {
     pub normals: Vec<[f32; 3]>,
 }
 
+impl FinMesh {
+    /// Each fin's edge ends (mesh vertices), which a pose moves its plane with.
+    pub fn ends(&self) -> Vec<[u32; 2]> {
+        self.source.chunks_exact(4).map(|c| [c[0], c[1]]).collect()
+    }
+}
+
 /// Mean edge length of `quads` in fin texture units (their `u` interval), 0 for none.
 fn mean_length(quads: &[FinQuad]) -> f64 {
     let sum: f64 = quads.iter().map(|q| q.u1 - q.u0).sum();

@@ -45,6 +45,24 @@ impl PosedFinPlanes {
         self.stale = levels.collect();
     }
 
+    /// Other fins (a scene's levels made anew): their rest `planes` and `ends`, every one of
+    /// `levels`' fin ranges out of date when a pose was taken, so that the next frame brings
+    /// them to it.
+    pub fn replace(
+        &mut self,
+        planes: FinPlanes,
+        ends: Vec<[u32; 2]>,
+        levels: impl Iterator<Item = Range<u32>>,
+    ) {
+        self.planes = planes;
+        self.ends = ends;
+        self.stale = if self.positions.is_empty() {
+            Vec::new()
+        } else {
+            levels.collect()
+        };
+    }
+
     /// [`FinPlanes::visible_indices`] of `fins`, their planes first brought to the last pose.
     pub fn visible_indices(&mut self, eye: [f32; 4], fins: Range<u32>) -> Vec<u32> {
         let (positions, normals) = (&self.positions, &self.normals);
@@ -96,5 +114,24 @@ mod tests {
             planes.visible_indices(aside, 1..2),
             crate::mesh::quad_triangles(1)
         );
+    }
+
+    #[test]
+    fn fins_made_anew_after_a_pose_follow_it() {
+        let rest = || FinPlanes::new(vec![[0.5, 0.0, 0.0]], vec![[0.0, 1.0, 0.0]]);
+        let (above, aside) = ([0.5, 5.0, 0.0, 1.0], [-5.0, 0.5, 0.0, 1.0]);
+        let mut unposed = PosedFinPlanes::new(rest(), vec![[0, 1]]);
+        unposed.replace(rest(), vec![[0, 1]], std::iter::once(0..1));
+        assert_eq!(
+            unposed.visible_indices(above, 0..1).len(),
+            6,
+            "no pose: the rest planes"
+        );
+        let mut planes = PosedFinPlanes::new(rest(), vec![[0, 1]]);
+        let turned = [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        planes.pose(&turned, vec![[0.0, 0.0, 1.0]; 2], std::iter::once(0..1));
+        planes.replace(rest(), vec![[0, 1]], std::iter::once(0..1));
+        assert!(planes.visible_indices(above, 0..1).is_empty());
+        assert_eq!(planes.visible_indices(aside, 0..1).len(), 6);
     }
 }
