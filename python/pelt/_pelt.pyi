@@ -591,6 +591,7 @@ class Preview:
         fins: bool = True,
         lod: bool = False,
         linear: bool = False,
+        texture: bool = False,
         background: tuple[float, float, float, float] = ...,
         min_shells: int = 2,
         max_shells: int = 64,
@@ -606,7 +607,9 @@ class Preview:
         occluder_bias: float | None = None,
     ) -> npt.NDArray[np.uint8] | npt.NDArray[np.float32]:
         """One frame (GIL released): ``[height, width, 4]`` uint8 sRGB, or float32 linear with
-        ``linear=True``; straight alpha, top row first.
+        ``linear=True``; straight alpha, top row first. ``texture=True`` returns it as an
+        OpenGL-style texture takes it (Blender's ``gpu.types.GPUTexture``): float32 (the sRGB
+        bytes over 255, or linear), bottom row first, converted on Pelt's threads.
 
         ``view_matrix`` maps the mesh's object space to view space and ``projection_matrix`` is
         an OpenGL projection (clip depth -1..1), both 4×4 in the math convention (``M @ v``), as

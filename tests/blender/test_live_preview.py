@@ -412,17 +412,6 @@ def test_depth_at_half_size_keeps_the_nearest_of_each_block(addon):
             assert small[r, c] == depth[rows[r] : rows[r + 1], cols[c] : cols[c + 1]].min()
 
 
-def test_texture_pixels_are_the_frame_bottom_up_in_unit_floats(addon):
-    rgba = np.random.default_rng(4).integers(0, 256, (3, 5, 4), dtype=np.uint8)
-    pixels = addon.io.live.texture_pixels(rgba)
-    assert pixels.dtype == np.float32 and pixels.shape == (3 * 5 * 4,)
-    for row in range(3):
-        for col in range(5):
-            for channel in range(4):
-                texel = pixels[((2 - row) * 5 + col) * 4 + channel]
-                assert texel == pytest.approx(rgba[row, col, channel] / 255.0, abs=1e-7)
-
-
 def test_a_renamed_object_keeps_its_preview_and_a_deleted_one_frees_it(live):
     obj = furred_suzanne()
     assert bpy.ops.pelt.bake() == {"FINISHED"}

@@ -123,6 +123,14 @@ def test_frames_are_numpy_images_in_both_formats(preview, asset):
     assert np.array_equal(preview.render(VIEW, PROJECTION, SIDE, SIDE), image)
     info = preview.last_frame
     assert info["shells"] == asset.layers - 1 and info["level"] == 0
+    # As a texture (Blender's GPUTexture): the same frame bottom row first, in float32, the
+    # bytes over 255 (or linear as it was).
+    texture = preview.render(VIEW, PROJECTION, SIDE, SIDE, texture=True)
+    assert texture.shape == (SIDE, SIDE, 4) and texture.dtype == np.float32
+    assert texture.flags.c_contiguous
+    np.testing.assert_allclose(texture, image[::-1] / 255.0, rtol=0, atol=1e-7)
+    linear_texture = preview.render(VIEW, PROJECTION, SIDE, SIDE, linear=True, texture=True)
+    assert np.array_equal(linear_texture, linear[::-1])
 
 
 def test_marched_shells_cover_what_instanced_shells_cover(preview):

@@ -174,6 +174,15 @@ fn frame_dict<'py>(py: Python<'py>, info: &FrameInfo) -> PyResult<Bound<'py, PyD
     Ok(d)
 }
 
+/// Reverses the order of `values`' rows of `row` values (top first ↔ bottom first).
+fn bottom_up(values: &mut [f32], row: usize) {
+    let rows = values.len() / row.max(1);
+    for y in 0..rows / 2 {
+        let (top, bottom) = values.split_at_mut((rows - 1 - y) * row);
+        top[y * row..(y + 1) * row].swap_with_slice(&mut bottom[..row]);
+    }
+}
+
 /// The packed float16 transfer of a `FurAsset` or of a `bake_transfer` dict.
 fn packed_transfer(obj: &Bound<'_, PyAny>) -> PyResult<PackedF16> {
     if let Ok(asset) = obj.cast::<PyFurAsset>() {
@@ -238,10 +247,11 @@ impl PyPreview {
     }
 
     /// Renders one frame (GIL released); `[height, width, 4]` uint8 sRGB, or float32 linear with
-    /// `linear=True`, straight alpha, top row first. See the stub for the arguments.
+    /// `linear=True`, straight alpha, top row first; `texture=True` gives float32 (bytes over
+    /// 255) bottom row first. See the stub for the arguments.
     #[pyo3(signature = (
         view_matrix, projection_matrix, width, height, *, lighting=None, shells=None, fins=true,
-        lod=false, linear=false, background=(0.0, 0.0, 0.0, 0.0), min_shells=2,
+        lod=false, linear=false, texture=false, background=(0.0, 0.0, 0.0, 0.0), min_shells=2,
         max_shells=64, shells_per_pixel=1.0, shell_method="instanced", mesh_error=1.0,
         guard_hairs=true, strand_order="stochastic", strand_bands=4, strand_pixels=1.0,
         plane_loop_limit=16, occluders=None, occluder_bias=None
@@ -259,6 +269,7 @@ impl PyPreview {
         fins: bool,
         lod: bool,
         linear: bool,
+        texture: bool,
         background: (f32, f32, f32, f32),
         min_shells: i128,
         max_shells: i128,
@@ -322,11 +333,20 @@ impl PyPreview {
             let info = self.renderer.frame_info(&scene, &camera, &settings)?;
             let (r, o) = (&self.renderer, occluders.as_ref());
             let pixels = if linear {
-                Err(r
+                let mut floats = r
                     .render_linear_over(&scene, &camera, &lighting, &settings, o)?
-                    .pixels)
+                    .pixels;
+                if texture {
+                    bottom_up(&mut floats, shape[1] * 4);
+                }
+                Err(floats)
             } else {
-                Ok(r.render_over(&scene, &camera, &lighting, &settings, o)?.pixels)
+                let image = r.render_over(&scene, &camera, &lighting, &settings, o)?;
+                if texture {
+                    Err(image.texture_floats())
+                } else {
+                    Ok(image.pixels)
+                }
             };
             Ok((info, pixels))
         })?;
