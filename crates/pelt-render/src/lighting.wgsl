@@ -9,7 +9,10 @@
 
 // Kajiya-Kay alone lights hair on the side of the body turned away from the light as brightly
 // as the lit side; the body shadows it. A wrapped N·L fades the direct terms over a soft band
-// around the terminator (wider than Lambert's, as light scatters through the fur).
+// around the terminator (wider than Lambert's, as light scatters through the fur). Like the
+// fur's own shadow below, the body's falls on nothing the eye sees when the light comes from the
+// eye: it fades at the hot spot too (under a light from the eye it had darkened the fur by a
+// quarter on average, most at the rim, where the reference's hair is lit brightest).
 const TERMINATOR_WRAP: f32 = 0.3;
 
 // Banks darkening (Lengyel §2.4) is linear in height, 1 − b (1 − h): none at the tips, 1 − b at
@@ -26,13 +29,18 @@ const MIN_SLANT_COS: f32 = 0.1;
 // spot) between 0 and 20° and keep it beyond (docs/accuracy.md).
 const HOT_SPOT_WIDTH: f32 = 0.35;
 
+// How much of the path from `light` is the view ray's own: 1 when the light comes from the eye,
+// fading over HOT_SPOT_WIDTH.
+fn shared_path(light: vec3<f32>, view: vec3<f32>) -> f32 {
+    let apart = acos(clamp(dot(light, view), -1.0, 1.0));
+    return exp(-apart / HOT_SPOT_WIDTH);
+}
+
 // The Banks strengths: x for the ambient light, y for the light from `light` seen from `view`.
 fn banks_strengths(normal: vec3<f32>, light: vec3<f32>, view: vec3<f32>) -> vec2<f32> {
     let b = clamp(frame.fur.z, 0.0, 1.0);
     let slant = 1.0 / max(dot(normal, light), MIN_SLANT_COS);
-    let apart = acos(clamp(dot(light, view), -1.0, 1.0));
-    let shared_path = exp(-apart / HOT_SPOT_WIDTH);
-    let direct = 1.0 - pow(max(1.0 - b, 1e-8), slant * (1.0 - shared_path));
+    let direct = 1.0 - pow(max(1.0 - b, 1e-8), slant * (1.0 - shared_path(light, view)));
     return vec2<f32>(b, direct);
 }
 
@@ -70,8 +78,8 @@ fn hair_parts(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>) -> HairPar
     // The floor keeps pow's base positive (pow(0, y) is undefined in WGSL).
     let diffuse = pow(max(1.0 - u * u, 1e-8), 0.5 * frame.kajiya_kay.z);
     let specular = pow(max(1.0 - v * v, 1e-8), 0.5 * frame.kajiya_kay.w);
-    let lit = clamp((dot(normal, l) + TERMINATOR_WRAP) / (1.0 + TERMINATOR_WRAP), 0.0, 1.0)
-        * directional_attenuation(tangent, l, view);
+    let body = clamp((dot(normal, l) + TERMINATOR_WRAP) / (1.0 + TERMINATOR_WRAP), 0.0, 1.0);
+    let lit = mix(body, 1.0, shared_path(l, view)) * directional_attenuation(tangent, l, view);
     return HairParts(frame.ambient.rgb, frame.light_color.rgb * lit * (frame.kajiya_kay.x * diffuse),
                      lit * (frame.kajiya_kay.y * specular));
 }

@@ -57,7 +57,14 @@ pub(super) const TILE: f64 = 0.25;
 /// A camera `distance` units in front of Suzanne (she faces −y), a little above and to the side,
 /// 40° vertical field of view, `width × height` pixels.
 pub(super) fn camera(distance: f64, width: u32, height: u32) -> Camera {
+    camera_turned(distance, 0.0, width, height)
+}
+
+/// [`camera`]'s view turned by `turn` radians about the vertical axis through the mesh.
+pub(super) fn camera_turned(distance: f64, turn: f64, width: u32, height: u32) -> Camera {
     let eye = DVec3::new(0.35 * distance, -distance, 0.25 * distance);
+    let (sin, cos) = turn.sin_cos();
+    let eye = DVec3::new(cos * eye.x - sin * eye.y, sin * eye.x + cos * eye.y, eye.z);
     let aspect = f64::from(width) / f64::from(height);
     let projection = directx::perspective(40f64.to_radians(), aspect, 0.1, 10.0 * distance);
     Camera {

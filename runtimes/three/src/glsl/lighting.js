@@ -17,13 +17,17 @@ const float PELT_TERMINATOR_WRAP = 0.3;
 const float PELT_MIN_SLANT_COS = 0.1;
 const float PELT_HOT_SPOT_WIDTH = 0.35;
 
+// lighting.wgsl shared_path(): how much of the light's path is the view ray's own (the hot spot).
+float peltSharedPath( vec3 light, vec3 view ) {
+	float apart = acos( clamp( dot( light, view ), -1.0, 1.0 ) );
+	return exp( -apart / PELT_HOT_SPOT_WIDTH );
+}
+
 // lighting.wgsl banks_strengths(): x for the ambient light, y for the light seen from view.
 vec2 peltBanksStrengths( vec3 normal, vec3 light, vec3 view ) {
 	float b = clamp( peltSelfShadow, 0.0, 1.0 );
 	float slant = 1.0 / max( dot( normal, light ), PELT_MIN_SLANT_COS );
-	float apart = acos( clamp( dot( light, view ), -1.0, 1.0 ) );
-	float sharedPath = exp( -apart / PELT_HOT_SPOT_WIDTH );
-	float direct = 1.0 - pow( max( 1.0 - b, 1e-8 ), slant * ( 1.0 - sharedPath ) );
+	float direct = 1.0 - pow( max( 1.0 - b, 1e-8 ), slant * ( 1.0 - peltSharedPath( light, view ) ) );
 	return vec2( b, direct );
 }
 
@@ -42,7 +46,9 @@ void peltHairParts( vec3 tangent, vec3 normal, vec3 view, out vec3 ambient, out 
 	// The floor keeps pow's base positive.
 	float diffuse = pow( max( 1.0 - u * u, 1e-8 ), 0.5 * peltKajiyaKay.z );
 	float specular = pow( max( 1.0 - v * v, 1e-8 ), 0.5 * peltKajiyaKay.w );
-	float lit = clamp( ( dot( normal, l ) + PELT_TERMINATOR_WRAP ) / ( 1.0 + PELT_TERMINATOR_WRAP ), 0.0, 1.0 );
+	// The body's shadow, wrapped over the terminator, fading at the hot spot.
+	float body = clamp( ( dot( normal, l ) + PELT_TERMINATOR_WRAP ) / ( 1.0 + PELT_TERMINATOR_WRAP ), 0.0, 1.0 );
+	float lit = mix( body, 1.0, peltSharedPath( l, view ) );
 	ambient = peltAmbient;
 	direct = peltLightColor * lit * ( peltKajiyaKay.x * diffuse );
 	shine = lit * ( peltKajiyaKay.y * specular );
