@@ -57,11 +57,11 @@ def _background_sh(scene, order: int) -> np.ndarray:
     return pelt.sh_project_equirect(np.ascontiguousarray(constant), order)
 
 
-def world_ambient(scene) -> tuple:
-    """The World's mean radiance (RGB): the Kajiya-Kay ambient term. ``Y00 = 1/√(4π)``, so the
-    first coefficient over ``√(4π)`` is the mean over the sphere."""
-    mean = _background_sh(scene, 1)[0] / math.sqrt(4.0 * math.pi)
-    return tuple(float(c) for c in np.maximum(mean, 0.0))
+def world_ambient(scene) -> np.ndarray:
+    """The World's Background as SH ``[4, 3]`` (bands 0 and 1, world space): the Kajiya-Kay
+    ambient, which ``pelt.Preview.render`` takes as ``environment`` (its mean radiance, brighter
+    on fur facing where the World is bright)."""
+    return _background_sh(scene, 2).astype(np.float32)
 
 
 def world_sh(scene, order: int, target=(0.0, 0.0, 0.0)) -> np.ndarray:

@@ -35,8 +35,8 @@ def rotate_sh(coefficients: np.ndarray, rotation: np.ndarray) -> np.ndarray:
 
 def object_lighting(scene, obj, model: str, order: int | None) -> dict:
     """The ``lighting`` dict of ``pelt.Preview.render`` for ``obj``: the key light and the World's
-    mean radiance as ambient (Kajiya-Kay) or the World and lights as SH (PRT), both in the
-    object's frame."""
+    low bands as ambient (Kajiya-Kay) or the World and lights as SH (PRT), both in the object's
+    frame."""
     world = obj.matrix_world
     rotation = np.array(world.to_3x3().normalized(), np.float64)
     target = tuple(world.translation)
@@ -52,7 +52,7 @@ def object_lighting(scene, obj, model: str, order: int | None) -> dict:
         "model": "kajiya-kay",
         "direction": tuple(local),
         "color": tuple(float(c) for c in color),
-        "ambient": lighting.world_ambient(scene),
+        "environment": rotate_sh(lighting.world_ambient(scene), rotation),
     }
 
 

@@ -535,12 +535,16 @@ class LightingDict(TypedDict, total=False):
     color: tuple[float, float, float]
     self_shadow: float
     ambient: tuple[float, float, float]
+    # Kajiya-Kay: the ambient's change per unit of the normal's x, y, z ([3, 3], rows per axis).
+    ambient_gradient: npt.ArrayLike
     diffuse: float
     specular: float
     diffuse_power: float
     specular_power: float
     reflect: float
     transmit: float
+    # SH radiance [n², 3] (object space): PRT's lighting; under Kajiya-Kay its first two bands
+    # set ``ambient`` and ``ambient_gradient`` (the irradiance about each normal over π).
     environment: npt.ArrayLike
     light_radius: float
 

@@ -63,16 +63,22 @@ def test_a_sun_adds_its_cap_along_its_axis(addon):
     assert np.allclose(direction, (1, 0, 0), atol=1e-6) and np.allclose(color, [3.0, 1.5, 0.75])
 
 
-def test_kajiya_kay_takes_the_worlds_mean_radiance_as_ambient(addon):
+def test_kajiya_kay_takes_the_worlds_low_bands_as_ambient(addon):
     # A preview lit by a sun under a black World once kept the renderer's default ambient (0.12),
-    # lighting the fur a sun leaves in shadow (6.8x the reference under a back light).
+    # lighting the fur a sun leaves in shadow (6.8x the reference under a back light). The
+    # World's bands 0 and 1 go over as `environment`: its mean radiance and how it changes with
+    # the normal.
     from addon.blender import preview
 
     obj = bpy.data.objects.new("Furred", bpy.data.meshes.new("Furred"))
     bpy.context.scene.collection.objects.link(obj)
     world((0.2, 0.4, 0.6), 2.0)
     light = preview.object_lighting(bpy.context.scene, obj, "kajiya-kay", None)
-    assert np.allclose(light["ambient"], (0.4, 0.8, 1.2), rtol=1e-5)
+    environment = np.asarray(light["environment"])
+    assert environment.shape == (4, 3) and "ambient" not in light
+    mean = environment[0] / np.sqrt(4.0 * np.pi)
+    assert np.allclose(mean, (0.4, 0.8, 1.2), rtol=1e-4)
+    assert np.abs(environment[1:]).max() < 1e-4 * environment[0].max()
     world((0.0, 0.0, 0.0), 1.0)
     light = preview.object_lighting(bpy.context.scene, obj, "kajiya-kay", None)
-    assert light["ambient"] == (0.0, 0.0, 0.0)
+    assert not np.asarray(light["environment"]).any()

@@ -368,6 +368,44 @@ def test_a_pose_moves_the_fur_and_a_bad_pose_is_named(asset):
     assert np.array_equal(preview.render(VIEW, PROJECTION, SIDE, SIDE), rest)
 
 
+def test_kajiya_kay_under_a_sky_lights_fur_facing_it_more(preview):
+    # Radiance 0.6 + 0.4 z, no sun: the fur's ambient is the irradiance about its normal over
+    # π, 0.6 + 0.27 n_z, so the sphere's upper half is brighter than its lower half; the same
+    # mean radiance alone (band 0) lights both halves alike.
+    sh = pelt.sh_project_equirect(sky_image(lambda z: 0.6 + 0.4 * z), 2)
+    lit = {"model": "kajiya-kay", "color": (0.0, 0.0, 0.0), "environment": sh}
+    sky = preview.render(VIEW, PROJECTION, SIDE, SIDE, linear=True, lighting=lit)
+    mean = preview.render(VIEW, PROJECTION, SIDE, SIDE, linear=True, lighting={**lit, "environment": sh[:1]})
+    half = SIDE // 2
+    upper, lower = (slice(4, half - 4), slice(half + 4, SIDE - 4))
+    middle = slice(half - 12, half + 12)
+
+    def brightness(image, rows):
+        return image[rows, middle, :3].mean()
+
+    assert brightness(sky, upper) > 1.15 * brightness(mean, upper)
+    assert brightness(sky, lower) < 0.9 * brightness(mean, lower)
+    # An explicit gradient (per unit of the normal's x, y, z) gives the same picture.
+    g = 2.0 / 3.0 * np.sqrt(3.0 / (4.0 * np.pi)) * sh[[3, 1, 2]]
+    explicit = {**lit, "environment": sh[:1], "ambient_gradient": g}
+    np.testing.assert_allclose(
+        preview.render(VIEW, PROJECTION, SIDE, SIDE, linear=True, lighting=explicit), sky, atol=2e-3
+    )
+    for bad, name in [
+        ({**lit, "environment": np.full((4, 3), np.nan)}, "lighting.environment"),
+        ({**lit, "ambient_gradient": np.zeros((2, 3))}, "lighting.ambient_gradient"),
+    ]:
+        with pytest.raises(pelt.InvalidParameterError, match=name):
+            preview.render(VIEW, PROJECTION, SIDE, SIDE, lighting=bad)
+
+
+def sky_image(radiance, height=64):
+    """An equirectangular image ``[H, 2H, 3]`` of ``radiance(z)`` (row 0 at the zenith)."""
+    z = np.cos(np.pi * (np.arange(height) + 0.5) / height)
+    rows = np.asarray(radiance(z), np.float32)
+    return np.ascontiguousarray(np.broadcast_to(rows[:, None, None], (height, 2 * height, 3)))
+
+
 def test_bad_input_names_the_problem_and_the_preview_survives(asset):
     preview = pelt.Preview(asset, adapter="cpu")
     good = preview.render(VIEW, PROJECTION, SIDE, SIDE)

@@ -136,6 +136,26 @@ fn parse_lighting(obj: Option<&Bound<'_, PyAny>>, has_transfer: bool) -> PyResul
             ("color", _) => lighting.color = triple(&value, &name)?,
             ("self_shadow", _) => lighting.self_shadow = number(&value, &name)?,
             ("ambient", LightModel::KajiyaKay(kk)) => kk.ambient = triple(&value, &name)?,
+            ("ambient_gradient", LightModel::KajiyaKay(kk)) => {
+                let (array, _) =
+                    float_ndarray(&value, "lighting.ambient_gradient", "[3, 3]", |s| s == [3, 3])?;
+                let rows = flat(&array)?.as_chunks::<3>().0.to_vec();
+                kk.ambient_gradient = [rows[0], rows[1], rows[2]];
+            }
+            ("environment", LightModel::KajiyaKay(kk)) => {
+                let (array, _) = float_ndarray(&value, "lighting.environment", "[n², 3]", |s| {
+                    s.len() == 2 && s[0] >= 1 && s[1] == 3
+                })?;
+                let sh = flat(&array)?.as_chunks::<3>().0.to_vec();
+                if let Some(i) = sh.iter().position(|c| !c.iter().all(|v| v.is_finite())) {
+                    return Err(PeltError::parameter(
+                        format!("lighting.environment[{i}]"),
+                        format!("must be finite, got {:?}", sh[i]),
+                    )
+                    .into_pyerr());
+                }
+                *kk = kk.under_environment(&sh);
+            }
             ("diffuse", LightModel::KajiyaKay(kk)) => kk.diffuse = number(&value, &name)?,
             ("specular", LightModel::KajiyaKay(kk)) => kk.specular = number(&value, &name)?,
             ("diffuse_power", LightModel::KajiyaKay(kk)) => kk.diffuse_power = number(&value, &name)?,

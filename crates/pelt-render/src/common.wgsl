@@ -39,6 +39,8 @@ struct Frame {
     planes: vec4<f32>,
     // Kajiya-Kay: x Goldman's ρ_reflect, y ρ_transmit.
     goldman: vec4<f32>,
+    // Kajiya-Kay: the ambient's change per unit of the normal's x, y and z (rgb).
+    ambient_gradient: array<vec4<f32>, 3>,
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;

@@ -28,6 +28,7 @@ pub(super) struct FrameUniforms {
     strand_counts: [u32; 4],
     planes: [f32; 4],
     goldman: [f32; 4],
+    ambient_gradient: [[f32; 4]; 3],
 }
 
 /// The scene's side of the frame.
@@ -94,6 +95,7 @@ impl FrameUniforms {
                 scene.planes.1[1],
             ],
             goldman: [light.goldman[0], light.goldman[1], 0.0, 0.0],
+            ambient_gradient: light.ambient_gradient.map(v3),
         }
     }
 }

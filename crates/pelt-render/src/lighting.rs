@@ -24,6 +24,12 @@ pub const MAX_RADIANCE: f32 = 1e4;
 pub struct KajiyaKay {
     /// `Ka`: ambient, linear RGB, each `[0, MAX_RADIANCE]`.
     pub ambient: [f32; 3],
+    /// How the ambient changes with the surface normal `n` (object space): the hair and skin
+    /// take `ambient + n.x · g[0] + n.y · g[1] + n.z · g[2]` (clamped at 0), so that fur facing
+    /// a bright sky gets more of it than fur facing the ground. Linear RGB per unit of normal,
+    /// each of magnitude at most [`MAX_RADIANCE`]; zero (the default) is a uniform ambient.
+    /// [`KajiyaKay::under_environment`] sets both from an environment's SH.
+    pub ambient_gradient: [[f32; 3]; 3],
     /// `Kd`, `[0, MAX_RADIANCE]`.
     pub diffuse: f32,
     /// `Ks`, `[0, MAX_RADIANCE]`.
@@ -46,12 +52,34 @@ impl Default for KajiyaKay {
     fn default() -> Self {
         KajiyaKay {
             ambient: [0.12; 3],
+            ambient_gradient: [[0.0; 3]; 3],
             diffuse: 0.9,
             specular: 0.25,
             diffuse_power: 1.0,
             specular_power: 48.0,
             reflect: 1.0,
             transmit: 1.0,
+        }
+    }
+}
+
+impl KajiyaKay {
+    /// This model's ambient under an environment of radiance `sh` (real SH coefficients in
+    /// Pelt's basis, object space, at least one band; bands past the first are ignored): for a
+    /// normal `n`, the irradiance an open hemisphere about `n` receives over π (Ramamoorthi and
+    /// Hanrahan 2001: band 0 kept, band 1 weighed 2/3), the radiance a white diffuse surface
+    /// facing `n` would show. Under a sky brighter above than below, fur facing up is lit more;
+    /// the mean radiance alone had lit the reference's sky scenes' fur 10–30% too dark.
+    pub fn under_environment(self, sh: &[[f32; 3]]) -> Self {
+        const Y0: f32 = 0.282_094_8; // √(1 / 4π)
+        const Y1: f32 = 0.488_602_5; // √(3 / 4π)
+        let band = |k: usize| sh.get(k).copied().unwrap_or([0.0; 3]);
+        let slope = |k: usize| band(k).map(|c| 2.0 / 3.0 * Y1 * c);
+        KajiyaKay {
+            ambient: band(0).map(|c| (Y0 * c).max(0.0)),
+            // Y_1^{-1} ∝ y, Y_1^0 ∝ z, Y_1^1 ∝ x (`prt::sh`).
+            ambient_gradient: [slope(3), slope(1), slope(2)],
+            ..self
         }
     }
 }
@@ -158,6 +186,8 @@ pub(super) struct LightingFrame {
     /// What a white Lambertian surface facing the light shows: [`Lighting::color`] / π.
     pub color: [f32; 3],
     pub ambient: [f32; 3],
+    /// [`KajiyaKay::ambient_gradient`] (zero under PRT).
+    pub ambient_gradient: [[f32; 3]; 3],
     /// `Kd, Ks, Pd, Ps`.
     pub kajiya_kay: [f32; 4],
     /// Goldman's `ρ_reflect, ρ_transmit` (1, 1 under PRT: no attenuation).
@@ -192,6 +222,7 @@ impl Lighting {
                     direction,
                     color,
                     ambient: kk.ambient,
+                    ambient_gradient: kk.ambient_gradient,
                     kajiya_kay: [kk.diffuse, kk.specular, kk.diffuse_power, kk.specular_power],
                     goldman: [kk.reflect, kk.transmit],
                     self_shadow: self.self_shadow,
@@ -204,6 +235,7 @@ impl Lighting {
                     direction,
                     color,
                     ambient: [0.0; 3],
+                    ambient_gradient: [[0.0; 3]; 3],
                     kajiya_kay: [0.0; 4],
                     goldman: [1.0; 2],
                     self_shadow: 0.0,
@@ -217,6 +249,12 @@ impl Lighting {
 fn check_kajiya_kay(kk: &KajiyaKay) -> Result<()> {
     for (i, &c) in kk.ambient.iter().enumerate() {
         in_range(&format!("kajiya_kay.ambient[{i}]"), c, 0.0, MAX_RADIANCE, false)?;
+    }
+    for (axis, row) in kk.ambient_gradient.iter().enumerate() {
+        for (i, &c) in row.iter().enumerate() {
+            let name = format!("kajiya_kay.ambient_gradient[{axis}][{i}]");
+            in_range(&name, c, -MAX_RADIANCE, MAX_RADIANCE, false)?;
+        }
     }
     in_range("kajiya_kay.diffuse", kk.diffuse, 0.0, MAX_RADIANCE, false)?;
     in_range("kajiya_kay.specular", kk.specular, 0.0, MAX_RADIANCE, false)?;
@@ -255,4 +293,49 @@ fn check_prt(prt: &Prt) -> Result<()> {
         }
     }
     in_range("prt.light_radius", prt.light_radius, 0.0, MAX_LIGHT_RADIUS, false)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pelt_core::prt::sphere::fibonacci_directions;
+
+    /// A sky brighter above than below: its ambient about each normal is the irradiance there
+    /// over π, summed here over the hemisphere direction by direction.
+    #[test]
+    fn the_ambient_under_an_environment_is_its_irradiance_about_the_normal_over_pi() {
+        let radiance = |d: [f64; 3]| 0.6 + 0.4 * d[2] + 0.1 * d[0];
+        let directions = fibonacci_directions(20_000);
+        let weight = 4.0 * std::f64::consts::PI / directions.len() as f64;
+        let weights = vec![weight; directions.len()];
+        let values: Vec<f64> = directions.iter().map(|&d| radiance(d)).collect();
+        let coefficients = sh::project_samples(2, &directions, &weights, &values).unwrap();
+        let sh: Vec<[f32; 3]> = coefficients.iter().map(|&c| [c as f32; 3]).collect();
+        let kk = KajiyaKay::default().under_environment(&sh);
+        for n in [
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, -1.0],
+            [1.0, 0.0, 0.0],
+            [0.0, -0.6, 0.8],
+        ] {
+            let irradiance: f64 = directions
+                .iter()
+                .map(|&d| {
+                    let cos = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
+                    radiance(d) * cos.max(0.0) * weight
+                })
+                .sum();
+            let expected = irradiance / std::f64::consts::PI;
+            let g = kk.ambient_gradient;
+            let ambient =
+                f64::from(kk.ambient[0]) + (0..3).map(|axis| n[axis] * f64::from(g[axis][0])).sum::<f64>();
+            assert!(
+                (ambient - expected).abs() < 0.005 * expected,
+                "normal {n:?}: {ambient} against {expected}"
+            );
+        }
+        // A uniform sky gives its radiance everywhere, without a gradient.
+        let uniform = KajiyaKay::default().under_environment(&[[2.0 * (std::f32::consts::PI).sqrt(); 3]]);
+        assert!((uniform.ambient[0] - 1.0).abs() < 1e-6 && uniform.ambient_gradient == [[0.0; 3]; 3]);
+    }
 }

@@ -70,6 +70,13 @@ fn directional_attenuation(tangent: vec3<f32>, light: vec3<f32>, view: vec3<f32>
     return 0.5 * (1.0 + kappa) * frame.goldman.x + 0.5 * (1.0 - kappa) * frame.goldman.y;
 }
 
+// The ambient light at a surface facing `normal`: brighter where the sky is (KajiyaKay::ambient_gradient).
+fn ambient_at(normal: vec3<f32>) -> vec3<f32> {
+    let g = frame.ambient_gradient;
+    let a = frame.ambient.rgb + normal.x * g[0].rgb + normal.y * g[1].rgb + normal.z * g[2].rgb;
+    return max(a, vec3<f32>(0.0));
+}
+
 fn hair_parts(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>) -> HairParts {
     let l = frame.light_direction.xyz;
     let h = unit_or(l + view, normal);
@@ -80,7 +87,7 @@ fn hair_parts(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>) -> HairPar
     let specular = pow(max(1.0 - v * v, 1e-8), 0.5 * frame.kajiya_kay.w);
     let body = clamp((dot(normal, l) + TERMINATOR_WRAP) / (1.0 + TERMINATOR_WRAP), 0.0, 1.0);
     let lit = mix(body, 1.0, shared_path(l, view)) * directional_attenuation(tangent, l, view);
-    return HairParts(frame.ambient.rgb, frame.light_color.rgb * lit * (frame.kajiya_kay.x * diffuse),
+    return HairParts(ambient_at(normal), frame.light_color.rgb * lit * (frame.kajiya_kay.x * diffuse),
                      lit * (frame.kajiya_kay.y * specular));
 }
 
@@ -121,5 +128,5 @@ fn shade_skin(albedo: vec3<f32>, normal: vec3<f32>, view: vec3<f32>) -> vec3<f32
     let lit = clamp((dot(normal, l) + TERMINATOR_WRAP) / (1.0 + TERMINATOR_WRAP), 0.0, 1.0);
     let light = frame.light_color.rgb * (lit * frame.kajiya_kay.x);
     let b = banks_strengths(normal, l, view);
-    return albedo * (frame.ambient.rgb * (1.0 - b.x) + light * (1.0 - b.y));
+    return albedo * (ambient_at(normal) * (1.0 - b.x) + light * (1.0 - b.y));
 }

@@ -18,6 +18,9 @@ export const DEFAULT_LIGHTING = Object.freeze( {
 	model: 'auto',
 	kajiyaKay: Object.freeze( {
 		ambient: [ 0.12, 0.12, 0.12 ],
+		// The ambient's change per unit of the normal's x, y and z (rows, linear RGB, world space):
+		// a sky brighter above lights fur facing up more. Zero: a uniform ambient.
+		ambientGradient: [ [ 0, 0, 0 ], [ 0, 0, 0 ], [ 0, 0, 0 ] ],
 		diffuse: 0.9,
 		specular: 0.25,
 		diffusePower: 1,
@@ -85,6 +88,7 @@ export function lightingValues( lighting, order = 0 ) {
 		direction: d.map( ( c ) => c / len ),
 		color: lighting.color.map( ( c ) => c / Math.PI ),
 		ambient: kk.ambient,
+		ambientGradient: kk.ambientGradient,
 		kajiyaKay: [ kk.diffuse, kk.specular, kk.diffusePower, kk.specularPower ],
 		selfShadow: Math.min( Math.max( lighting.selfShadow, 0 ), 1 ),
 	};

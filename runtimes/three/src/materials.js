@@ -28,6 +28,7 @@ function sharedUniforms( stack, light ) {
 		peltLightDirection: { value: new Vector3( ...light.direction ) },
 		peltLightColor: { value: new Vector3( ...light.color ) },
 		peltAmbient: { value: new Vector3( ...light.ambient ) },
+		peltAmbientGradient: { value: light.ambientGradient.map( ( g ) => new Vector3( ...g ) ) },
 		peltKajiyaKay: { value: new Vector4( ...light.kajiyaKay ) },
 		peltSelfShadow: { value: light.selfShadow },
 	};

@@ -547,8 +547,6 @@ fn preview_lighting(lights: &[ReferenceLight], prt: bool) -> Lighting {
             ..defaults
         },
         Some(ReferenceLight::Environment { sh }) => {
-            // Y_0^0 = 1 / √(4π): the mean radiance is the first coefficient over √(4π).
-            let mean = sh[0].map(|c| c / (4.0 * std::f32::consts::PI).sqrt());
             Lighting {
                 color: [0.0; 3],
                 model: if prt {
@@ -557,10 +555,9 @@ fn preview_lighting(lights: &[ReferenceLight], prt: bool) -> Lighting {
                         ..Prt::default()
                     })
                 } else {
-                    LightModel::KajiyaKay(KajiyaKay {
-                        ambient: mean,
-                        ..KajiyaKay::default()
-                    })
+                    // The sky's irradiance over the normal's hemisphere, as the add-on hands the
+                    // World over.
+                    LightModel::KajiyaKay(KajiyaKay::default().under_environment(sh))
                 },
                 ..defaults
             }

@@ -7,6 +7,8 @@ export const lighting = /* glsl */`
 uniform vec3 peltLightDirection;
 uniform vec3 peltLightColor;
 uniform vec3 peltAmbient;
+// The ambient's change per unit of the normal's x, y and z.
+uniform vec3 peltAmbientGradient[ 3 ];
 // Kd, Ks, Pd, Ps.
 uniform vec4 peltKajiyaKay;
 // Banks self-shadow strength b.
@@ -36,6 +38,13 @@ float peltBanksAt( float b, float height ) {
 	return 1.0 - b * ( 1.0 - clamp( height, 0.0, 1.0 ) );
 }
 
+// lighting.wgsl ambient_at(): the ambient light at a surface facing normal.
+vec3 peltAmbientAt( vec3 normal ) {
+	vec3 a = peltAmbient + normal.x * peltAmbientGradient[ 0 ] + normal.y * peltAmbientGradient[ 1 ]
+		+ normal.z * peltAmbientGradient[ 2 ];
+	return max( a, vec3( 0.0 ) );
+}
+
 // lighting.wgsl hair_parts(), as its HairParts: ambient, direct (rgb) and the highlight's
 // multiple of the light color (shine).
 void peltHairParts( vec3 tangent, vec3 normal, vec3 view, out vec3 ambient, out vec3 direct, out float shine ) {
@@ -49,7 +58,7 @@ void peltHairParts( vec3 tangent, vec3 normal, vec3 view, out vec3 ambient, out 
 	// The body's shadow, wrapped over the terminator, fading at the hot spot.
 	float body = clamp( ( dot( normal, l ) + PELT_TERMINATOR_WRAP ) / ( 1.0 + PELT_TERMINATOR_WRAP ), 0.0, 1.0 );
 	float lit = mix( body, 1.0, peltSharedPath( l, view ) );
-	ambient = peltAmbient;
+	ambient = peltAmbientAt( normal );
 	direct = peltLightColor * lit * ( peltKajiyaKay.x * diffuse );
 	shine = lit * ( peltKajiyaKay.y * specular );
 }
@@ -81,6 +90,6 @@ vec3 peltShadeSkin( vec3 albedo, vec3 normal, vec3 view ) {
 	float lit = clamp( ( dot( normal, l ) + PELT_TERMINATOR_WRAP ) / ( 1.0 + PELT_TERMINATOR_WRAP ), 0.0, 1.0 );
 	vec3 light = peltLightColor * ( lit * peltKajiyaKay.x );
 	vec2 b = peltBanksStrengths( normal, l, view );
-	return albedo * ( peltAmbient * ( 1.0 - b.x ) + light * ( 1.0 - b.y ) );
+	return albedo * ( peltAmbientAt( normal ) * ( 1.0 - b.x ) + light * ( 1.0 - b.y ) );
 }
 `;
