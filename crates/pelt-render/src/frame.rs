@@ -19,6 +19,7 @@ use super::settings::{RenderSettings, ShellMethod};
 use super::strands::{self, Bands};
 use super::{Renderer, scoped};
 use pelt_core::error::{PeltError, Result};
+use pelt_core::scene::fin_pose::PosedFinPlanes;
 use pelt_core::scene::geometry_lod;
 
 /// The depth target of one size and, for offscreen frames, a color target of that size, kept
@@ -366,11 +367,14 @@ impl Renderer {
         let [r, g, b, a] = settings.background.map(f64::from);
         let max_groups = self.device.limits().max_compute_workgroups_per_dimension;
         let fin_indices = if settings.fins && settings.fin_opacity > 0.0 {
-            scene
+            // On Pelt's own threads, not the global pool of the process it shares (Blender's).
+            let mut planes = scene
                 .fin_planes
                 .lock()
-                .unwrap_or_else(std::sync::PoisonError::into_inner)
-                .visible_indices(checked.camera.eye.to_array(), level.fins.clone())
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            let planes: &mut PosedFinPlanes = &mut planes;
+            let eye = checked.camera.eye.to_array();
+            pelt_core::threads::pool().install(|| planes.visible_indices(eye, level.fins.clone()))
         } else {
             Vec::new()
         };

@@ -19,12 +19,14 @@ use super::{BenchOptions, CaseResult, time_fallible};
 use pelt_core::error::Result;
 use pelt_core::hair::HairParams;
 use pelt_core::lapped::{PatchParams, Patches, build_patches};
+use pelt_core::mesh::fin_quads;
 use pelt_core::mesh::shapes::{subdivide, suzanne};
 use pelt_core::mesh::{FurMesh, MeshInput};
 use pelt_core::prt::pack::pack_f16;
 use pelt_core::prt::sh::{self, ShRotation};
 use pelt_core::prt::volume_input::VolumeInput;
 use pelt_core::prt::{TransferParams, bake_transfer};
+use pelt_core::scene::fin_cull::FinPlanes;
 use pelt_core::threads::pool;
 use pelt_core::volume::{HairVolume, VolumeParams, bake_volume};
 use pelt_render::{
@@ -152,6 +154,7 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
     let mut scene = FurScene::new(&renderer, &mesh, &patches.uv, &volume, FUR_DEPTH)?;
     let reps = if options.quick { 5 } else { 15 };
     let upload_cases = scene_upload(&renderer, &mesh, &patches.uv, &volume, reps / 3)?;
+    let cull_case = fin_cull(&mesh, reps)?;
     // The frame as the renderer draws it for a preview (`ShellMethod::Auto`: shells marched
     // per pixel); `.instanced` and `.marched` force one method.
     let settings = RenderSettings {
@@ -231,6 +234,7 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
         frame(&scene, "render.frame", &near, &settings, &lighting, kk)?,
     );
     results.extend(upload_cases);
+    results.push(cull_case);
     results.push(base.clone());
     results.push(frame(
         &scene,
@@ -506,5 +510,57 @@ fn scene_upload(
         format!("{posed}, normals given (as Blender's)"),
         timing,
     );
-    Ok(vec![upload, update, deform, deform_given])
+    // Specks one vertex across, a different set each time: the coarse levels cannot hold them.
+    let specks: [Vec<[f32; 4]>; 2] = [0, 48].map(|offset| {
+        (0..mesh.vertex_count())
+            .map(|v| {
+                if (v + offset) % 97 == 0 {
+                    [1.0, 0.1, 0.1, 1.0]
+                } else {
+                    [1.0; 4]
+                }
+            })
+            .collect()
+    });
+    let timing = time_fallible(reps.max(3), || {
+        turn ^= 1;
+        scene.update_attributes(Some(&specks[turn]), None)?;
+        scene.remake_levels(renderer)
+    })?;
+    let remake = CaseResult::timed(
+        "render.scene.remake",
+        format!(
+            "{} vertices' colors with red specks the coarse levels cannot hold, then the levels made \
+             anew under them (FurScene::remake_levels): levels of {:?} triangles",
+            mesh.vertex_count(),
+            scene.level_triangles()
+        ),
+        timing,
+    );
+    Ok(vec![upload, update, deform, deform_given, remake])
+}
+
+/// `render.fins.cull`: the fins a frame draws, collected on the CPU farthest first
+/// ([`FinPlanes::visible_indices`], every frame that draws fins), over the full mesh's fins.
+fn fin_cull(mesh: &FurMesh, reps: usize) -> Result<CaseResult> {
+    let quads = fin_quads(mesh, 1.0);
+    let planes = FinPlanes::new(
+        quads.iter().map(|q| q.center).collect(),
+        quads.iter().map(|q| q.normal).collect(),
+    );
+    let fins = 0..quads.len() as u32;
+    let eye = [1.75, -5.0, 1.25, 1.0];
+    let cull = || pool().install(|| planes.visible_indices(eye, fins.clone()));
+    let kept = cull().len() / 6;
+    let timing = time_fallible(reps.max(3) * 3, || Ok::<_, pelt_core::PeltError>(cull()))?;
+    Ok(CaseResult::timed(
+        "render.fins.cull",
+        format!(
+            "{} fins of {} triangles, {kept} left visible from the bench's camera, farthest first ({} threads)",
+            quads.len(),
+            mesh.face_count(),
+            pool().current_num_threads()
+        ),
+        timing,
+    ))
 }

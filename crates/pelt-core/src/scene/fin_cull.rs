@@ -73,10 +73,11 @@ impl FinPlanes {
             })
             .collect();
         let mut visible = chunks.concat();
-        visible.sort_unstable();
+        // Keys are distinct (each holds its fin), so the parallel sort is deterministic.
+        visible.par_sort_unstable();
         visible
-            .iter()
-            .flat_map(|&key| quad_triangles(key as u32))
+            .par_iter()
+            .flat_map_iter(|&key| quad_triangles(key as u32))
             .collect()
     }
 }
