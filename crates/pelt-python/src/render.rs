@@ -18,7 +18,7 @@ use pelt_core::error::PeltError;
 use pelt_core::prt::pack::PackedF16;
 use pelt_render::{
     AdapterChoice, Camera, FrameInfo, FurScene, KajiyaKay, LightModel, Lighting, Occluders, Prt,
-    RenderSettings, Renderer, ShellMethod, StrandOrder,
+    RenderSettings, Renderer, ShellMethod, StrandOrder, check_environment,
 };
 
 /// The preview renderer of one baked asset.
@@ -147,13 +147,7 @@ fn parse_lighting(obj: Option<&Bound<'_, PyAny>>, has_transfer: bool) -> PyResul
                     s.len() == 2 && s[0] >= 1 && s[1] == 3
                 })?;
                 let sh = flat(&array)?.as_chunks::<3>().0.to_vec();
-                if let Some(i) = sh.iter().position(|c| !c.iter().all(|v| v.is_finite())) {
-                    return Err(PeltError::parameter(
-                        format!("lighting.environment[{i}]"),
-                        format!("must be finite, got {:?}", sh[i]),
-                    )
-                    .into_pyerr());
-                }
+                check_environment("lighting.environment", &sh).map_err(py_err)?;
                 *kk = kk.under_environment(&sh);
             }
             ("diffuse", LightModel::KajiyaKay(kk)) => kk.diffuse = number(&value, &name)?,

@@ -72,7 +72,9 @@ mod tests;
 
 pub use camera::{Camera, MAX_IMAGE_SIDE};
 pub use image::{LinearImage, RgbaImage};
-pub use lighting::{KajiyaKay, LightModel, Lighting, MAX_LIGHT_RADIUS, MAX_POWER, MAX_RADIANCE, Prt};
+pub use lighting::{
+    KajiyaKay, LightModel, Lighting, MAX_LIGHT_RADIUS, MAX_POWER, MAX_RADIANCE, Prt, check_environment,
+};
 pub use lod::FrameInfo;
 pub use occluders::Occluders;
 pub use scene::{FurScene, UploadStats};

@@ -270,6 +270,26 @@ fn check_kajiya_kay(kk: &KajiyaKay) -> Result<()> {
     )
 }
 
+/// Checks the rows of an environment's SH radiance (`name[i]`): finite, magnitude at most
+/// [`MAX_RADIANCE`].
+///
+/// # Errors
+/// [`PeltError::InvalidParameter`] naming `name[i]`, the first bad row.
+pub fn check_environment(name: &str, rows: &[[f32; 3]]) -> Result<()> {
+    for (i, row) in rows.iter().enumerate() {
+        if let Some(c) = row.iter().find(|c| !(c.is_finite() && c.abs() <= MAX_RADIANCE)) {
+            return Err(PeltError::parameter(
+                format!("{name}[{i}]"),
+                format!(
+                    "values must be finite with magnitude at most {MAX_RADIANCE}, got {}",
+                    Num(f64::from(*c))
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 fn check_prt(prt: &Prt) -> Result<()> {
     let n = prt.environment.len();
     if n > 0 && sh::order_of_len(n).is_err() {
@@ -281,17 +301,7 @@ fn check_prt(prt: &Prt) -> Result<()> {
             ),
         ));
     }
-    for (i, row) in prt.environment.iter().enumerate() {
-        if let Some(c) = row.iter().find(|c| !(c.is_finite() && c.abs() <= MAX_RADIANCE)) {
-            return Err(PeltError::parameter(
-                format!("prt.environment[{i}]"),
-                format!(
-                    "values must be finite with magnitude at most {MAX_RADIANCE}, got {}",
-                    Num(f64::from(*c))
-                ),
-            ));
-        }
-    }
+    check_environment("prt.environment", &prt.environment)?;
     in_range("prt.light_radius", prt.light_radius, 0.0, MAX_LIGHT_RADIUS, false)
 }
 

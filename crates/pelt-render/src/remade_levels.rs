@@ -51,7 +51,7 @@ impl FurScene {
             let surface_colors = expand(colors, &surface.source);
             let surface_lengths = expand(lengths, &surface.source);
             SceneLevels::new(
-                &self.rest_mesh,
+                self.deformer.rest(),
                 surface,
                 (colors, lengths),
                 (&surface_colors, &surface_lengths),

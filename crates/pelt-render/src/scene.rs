@@ -170,11 +170,10 @@ pub struct FurScene {
     pub(super) extent: Extent,
     pub(super) transfer: Option<SceneTransfer>,
     pub(super) uploads: UploadStats,
-    /// The rest shape, to pose the scene.
-    deformer: Deformer,
-    /// The mesh as uploaded and its skin's rest vertices (which the guard strands' points are
-    /// placed over), from which the geometric levels are made anew.
-    pub(super) rest_mesh: FurMesh,
+    /// The rest shape (the mesh as uploaded), to pose the scene and make its levels anew.
+    pub(super) deformer: Deformer,
+    /// The skin's rest vertices (which the guard strands' points are placed over), from which
+    /// the geometric levels are made anew.
     pub(super) rest_surface: SurfaceMesh,
     /// The guard strands, when set.
     pub(super) strands: Option<SceneStrands>,
@@ -387,7 +386,6 @@ impl FurScene {
             transfer: None,
             uploads,
             deformer,
-            rest_mesh: mesh.clone(),
             rest_surface: surface,
             strands: None,
         })

@@ -76,6 +76,11 @@ impl Deformer {
         &self.layout.indices
     }
 
+    /// The mesh at rest, as given.
+    pub fn rest(&self) -> &FurMesh {
+        &self.rest
+    }
+
     /// The skin's GPU vertices of the current pose (the rest shape's before any).
     pub fn current(&self) -> &[SurfaceVertex] {
         &self.surface
