@@ -170,6 +170,49 @@ fn skin_radiance_is_albedo_times_the_transfer_dot_product() {
         .collect();
     let r = f.volume.resolution;
     let voxels = f.transfer.layers * r * r;
+    // The hot spot (light 36° from the view): the light's share of the lighting × how much of its
+    // path is the view's, from 0.05 up; the skin's radiance × the top layer's mean radiance over
+    // the skin layer's (opacity-weighted tile means), floored at a twentieth.
+    let view = [0.0, 0.0, 1.0];
+    let apart = (0..3).map(|i| d[i] / len * view[i]).sum::<f64>().acos();
+    let shared = (-apart / 0.35).exp();
+    let sun: f64 = lighting
+        .color
+        .iter()
+        .map(|&c| f64::from(c) / std::f64::consts::PI)
+        .sum();
+    let sky: f64 = prt.environment[0]
+        .iter()
+        .map(|&c| (f64::from(c) * 0.5 / std::f64::consts::PI.sqrt()).max(0.0))
+        .sum();
+    let hot = sun / (sun + sky) * (shared - 0.05).max(0.0) / 0.95;
+    assert!(
+        hot > 0.05,
+        "the test's light is near enough the view to clear: {hot}"
+    );
+    let mean_radiance = |layer: usize, c: usize| -> f64 {
+        (0..n)
+            .map(|k| {
+                let (mut sum, mut weight) = (0.0, 0.0);
+                for i in 0..r * r {
+                    let a = f64::from(f.volume.shells[4 * (layer * r * r + i) + 3]);
+                    sum +=
+                        a * f64::from(f.transfer.texels[texel_index(k, layer * r * r + i, voxels)].to_f32());
+                    weight += a;
+                }
+                light[k][c] * sum / weight
+            })
+            .sum()
+    };
+    let gain: [f64; 3] = std::array::from_fn(|c| {
+        let top = mean_radiance(f.transfer.layers - 1, c).max(0.0);
+        let ratio = top / mean_radiance(0, c).max(0.05 * top).max(1e-6);
+        1.0 + hot * (ratio.max(1.0) - 1.0)
+    });
+    assert!(
+        gain.iter().all(|&g| g > 1.01),
+        "the hot spot raises the skin: {gain:?}"
+    );
     for y in 0..side {
         for x in 0..side {
             let texel = (side - 1 - y) as usize * r + x as usize;
@@ -186,7 +229,7 @@ fn skin_radiance_is_albedo_times_the_transfer_dot_product() {
             assert_eq!(got[3], 1.0);
             for c in 0..3 {
                 let albedo = f64::from(srgb_to_linear(f32::from(shell[c]) / 255.0));
-                let want = albedo * radiance[c];
+                let want = albedo * radiance[c] * gain[c];
                 let err = (f64::from(got[c]) - want).abs();
                 // The half-float target holds ≈ 5e-4 relative; lavapipe decodes the sRGB shell
                 // texels by an approximation that is up to 0.7 % off the exact table here
@@ -316,6 +359,19 @@ fn rotating_object_light_and_camera_together_leaves_the_image_unchanged() {
     agrees(&render_all(&posed, &turned_camera, &turned_lighting));
 }
 
+/// A sun of strength π from `direction` under PRT, no environment.
+fn sun_alone(direction: [f32; 3]) -> Lighting {
+    Lighting {
+        direction,
+        color: [std::f32::consts::PI; 3],
+        model: LightModel::Prt(Prt {
+            environment: Vec::new(),
+            light_radius: 0.2,
+        }),
+        ..Lighting::default()
+    }
+}
+
 #[test]
 fn a_light_behind_the_skin_lights_nothing_and_one_above_lights_the_fur() {
     let f = fixture();
@@ -323,16 +379,7 @@ fn a_light_behind_the_skin_lights_nothing_and_one_above_lights_the_fur() {
     let scene = scene(&mesh, &uvs);
     let camera = looking_at_the_grid_from([0.0, -1.5, 3.0]);
     let lit_by = |direction: [f32; 3]| {
-        let lighting = Lighting {
-            direction,
-            color: [std::f32::consts::PI; 3],
-            model: LightModel::Prt(Prt {
-                environment: Vec::new(),
-                light_radius: 0.2,
-            }),
-            ..Lighting::default()
-        };
-        let image = render_all(&scene, &camera, &lighting);
+        let image = render_all(&scene, &camera, &sun_alone(direction));
         image.pixels.chunks_exact(4).map(|p| f64::from(p[0])).sum::<f64>()
     };
     let above = lit_by([0.0, 0.0, 1.0]);
@@ -341,6 +388,56 @@ fn a_light_behind_the_skin_lights_nothing_and_one_above_lights_the_fur() {
     // Transfer is zero below the horizon; only the ringing of the order-3 cap is left, clamped.
     assert!(below < 0.02 * above, "lit from below: {below} vs {above}");
     let _ = f;
+}
+
+/// The fixture's volume baked without extinction: its transfer shadows nothing.
+fn unshadowed_transfer() -> PackedF16 {
+    let f = fixture();
+    let input = VolumeInput::new(&f.volume, f64::from(FUR_DEPTH) / 2.0);
+    let params = TransferParams {
+        order: ORDER,
+        directions: 128,
+        sigma: 0.0,
+        ..TransferParams::default()
+    };
+    pack_f16(&bake_transfer(&input.transfer_volume(&f.volume), &params, None).unwrap()).unwrap()
+}
+
+#[test]
+fn a_light_from_the_eye_lights_the_fur_it_sees_as_if_unshadowed() {
+    // Hapke's shadow hiding: the light's way into the fur is the view ray's own, which the
+    // composite shows clear; light from elsewhere stays shadowed.
+    let f = fixture();
+    let (mesh, uvs) = grid(8, |p| p);
+    let shadowed = scene(&mesh, &uvs);
+    let mut clear = FurScene::new(&f.renderer, &mesh, &uvs, &f.volume, FUR_DEPTH).unwrap();
+    clear.set_transfer(&f.renderer, &unshadowed_transfer()).unwrap();
+    let eye = [0.0, -1.2, 3.0];
+    let camera = Camera {
+        view: column_major(view_matrix(eye, [0.0; 3], [0.0, 0.0, 1.0])),
+        projection: orthographic(1.2, 0.5, 6.0),
+        width: 64,
+        height: 64,
+    };
+    let brightness = |scene: &FurScene, direction: [f32; 3]| {
+        let image = render_all(scene, &camera, &sun_alone(direction));
+        image
+            .pixels
+            .chunks_exact(4)
+            .map(|p| f64::from(p[0] + p[1] + p[2]))
+            .sum::<f64>()
+    };
+    let from_eye = eye.map(|c| c as f32);
+    let ratio = brightness(&shadowed, from_eye) / brightness(&clear, from_eye);
+    // Measured: 1.00; without the hot spot 0.68.
+    assert!(
+        (0.9..=1.1).contains(&ratio),
+        "from the eye: shadowed / unshadowed {ratio}"
+    );
+    // 70° from the view, above the grid: the fur's own shadow stays (measured: 0.57).
+    let aside = [0.0, 1.0, 0.9];
+    let ratio = brightness(&shadowed, aside) / brightness(&clear, aside);
+    assert!(ratio < 0.9, "from aside: shadowed / unshadowed {ratio}");
 }
 
 #[test]

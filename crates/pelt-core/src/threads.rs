@@ -36,7 +36,9 @@ pub fn pool() -> Arc<rayon::ThreadPool> {
             eprintln!("pelt: {e}; using one thread per core");
             0
         });
-        Arc::new(build(threads))
+        // A process that cannot start even one thread, after `build`'s retries, cannot run Pelt.
+        let pool = build(threads).or_else(|_| build(1));
+        Arc::new(pool.expect("a one-thread pool can be built"))
     })
     .clone()
 }
@@ -69,13 +71,26 @@ pub fn threads_from_env() -> Result<usize> {
 /// Replaces the pool by one of `threads` workers (0: one per core); later stages use it.
 ///
 /// # Errors
-/// [`PeltError::InvalidParameter`] naming `threads` above [`MAX_THREADS`].
+/// [`PeltError::InvalidParameter`] naming `threads` above [`MAX_THREADS`], or when the system
+/// will not start that many threads (the pool in use stays).
 pub fn set_thread_count(threads: usize) -> Result<()> {
     if threads > MAX_THREADS {
         return Err(thread_count_out_of_range(threads));
     }
-    let pool = Arc::new(build(threads));
-    *POOL.write().unwrap_or_else(|e| e.into_inner()) = Some(pool);
+    replace_pool(threads, build)
+}
+
+type Built = std::result::Result<rayon::ThreadPool, rayon::ThreadPoolBuildError>;
+
+/// Puts `build(threads)` in place of the pool, or names the system's refusal and keeps it.
+fn replace_pool(threads: usize, build: impl Fn(usize) -> Built) -> Result<()> {
+    let pool = build(threads).map_err(|e| {
+        PeltError::parameter(
+            "threads",
+            format!("the system would not start {threads} threads ({e}); the pool in use stays"),
+        )
+    })?;
+    *POOL.write().unwrap_or_else(|e| e.into_inner()) = Some(Arc::new(pool));
     Ok(())
 }
 
@@ -87,13 +102,23 @@ pub fn thread_count_out_of_range(got: impl std::fmt::Display) -> PeltError {
     )
 }
 
-fn build(threads: usize) -> rayon::ThreadPool {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .thread_name(|i| format!("pelt-{i}"))
-        .build()
-        .or_else(|_| rayon::ThreadPoolBuilder::new().num_threads(1).build())
-        .expect("a one-thread pool can always be built")
+/// Tries to start a pool this many times: a refused thread (`EAGAIN`) is often one that the pool
+/// just replaced still holds while it winds down.
+const BUILD_ATTEMPTS: u32 = 5;
+
+fn build(threads: usize) -> Built {
+    let mut attempt = 0;
+    loop {
+        let built = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .thread_name(|i| format!("pelt-{i}"))
+            .build();
+        attempt += 1;
+        if built.is_ok() || attempt == BUILD_ATTEMPTS {
+            return built;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10 << attempt));
+    }
 }
 
 /// Number of threads in [`pool`].
@@ -118,6 +143,27 @@ pub fn deterministic_sum(n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn threads_the_system_refuses_are_a_named_error_and_the_pool_stays() {
+        // As when a replaced pool's threads still wind down (the Python fuzz met `EAGAIN` so).
+        let refused = |threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .spawn_handler(|_| Err(std::io::Error::from(std::io::ErrorKind::WouldBlock)))
+                .build()
+        };
+        let kept = pool();
+        let error = replace_pool(3, refused).unwrap_err().to_string();
+        assert!(
+            error.contains("`threads`")
+                && error.contains("3 threads")
+                && error.contains("the pool in use stays"),
+            "{error}"
+        );
+        assert!(kept.install(|| (0..100).into_par_iter().sum::<i32>()) == 4950);
+        assert!(thread_count() >= 1);
+    }
 
     #[test]
     fn thread_counts_are_capped_with_a_named_error() {

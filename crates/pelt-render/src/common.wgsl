@@ -8,7 +8,8 @@ struct Frame {
     view_proj: mat4x4<f32>,
     // The eye: w = 1 its position (perspective), w = 0 the unit direction toward it (orthographic).
     eye: vec4<f32>,
-    // xyz: unit direction toward the light.
+    // xyz: unit direction toward the light; w: under PRT its share of the light, which its hot
+    // spot clears of the transfer's shadow (`LightingFrame::hot_spot_share`).
     light_direction: vec4<f32>,
     light_color: vec4<f32>,
     ambient: vec4<f32>,
@@ -145,6 +146,19 @@ fn clip_position(p: vec3<f32>) -> vec4<f32> {
 // Unit vector from `p` toward the viewer.
 fn view_vector(p: vec3<f32>) -> vec3<f32> {
     return normalize(frame.eye.xyz - p * frame.eye.w);
+}
+
+// Angle, radians, over which the hot spot fades (e^−1 at this angle between light and view):
+// the reference's strands lose their lead over their own density volume (which has no hot
+// spot) between 0 and 20° and keep it beyond (docs/accuracy.md).
+const HOT_SPOT_WIDTH: f32 = 0.35;
+
+// How much of the path from `light` is the view ray's own (Hapke's shadow hiding): 1 when the
+// light comes from the eye, fading over HOT_SPOT_WIDTH. Both lighting models clear their fur's
+// shadow by it: Banks darkening (`lighting.wgsl`) and the transfer (`prt.wgsl`).
+fn shared_path(light: vec3<f32>, view: vec3<f32>) -> f32 {
+    let apart = acos(clamp(dot(light, view), -1.0, 1.0));
+    return exp(-apart / HOT_SPOT_WIDTH);
 }
 
 // The direction hair grows at a vertex: the normal plus the tangential part of the comb vector

@@ -1,7 +1,7 @@
 #define_import_path pelt::fin_prt
 
 #import pelt::common::fin_texel
-#import pelt::prt::mean_radiance
+#import pelt::prt::{mean_radiance, hot_spot}
 #import pelt::light_model::{FinIn, FinCorner}
 
 // Fins under PRT lighting: the fin texture has no transfer of its own (prt-shell-fur §4 leaves
@@ -10,8 +10,8 @@
 
 struct FinOut {
     @builtin(position) clip: vec4<f32>,
-    // Fin texture uv; the weight of the second end.
-    @location(0) uv_along: vec3<f32>,
+    // Fin texture uv; the weight of the second end; the hot spot (`hot_spot`).
+    @location(0) uv_along_hot: vec4<f32>,
     // Vertex color; opacity.
     @location(1) color_opacity: vec4<f32>,
     // The surface vertices at the edge's ends.
@@ -19,16 +19,18 @@ struct FinOut {
 };
 
 fn fin_vertex(v: FinIn, c: FinCorner) -> FinOut {
-    return FinOut(c.clip, vec3<f32>(v.uv, v.along), vec4<f32>(v.color.rgb, c.opacity), v.ends);
+    return FinOut(c.clip, vec4<f32>(v.uv, v.along, hot_spot(c.position)),
+                  vec4<f32>(v.color.rgb, c.opacity), v.ends);
 }
 
 // Premultiplied: texel × vertex color × opacity, lit per fragment.
 fn fin_fragment(f: FinOut) -> vec4<f32> {
-    let uv = f.uv_along.xy;
+    let uv = f.uv_along_hot.xy;
     let texel = fin_texel(uv);
     let opacity = f.color_opacity.w;
     let albedo = texel.rgb * f.color_opacity.rgb * opacity;
     let ids = vec3<u32>(f.ends, f.ends.x);
-    let w = vec3<f32>(1.0 - f.uv_along.z, f.uv_along.z, 0.0);
-    return vec4<f32>(albedo * mean_radiance(ids, w, 1.0 - uv.y), texel.a * opacity);
+    let w = vec3<f32>(1.0 - f.uv_along_hot.z, f.uv_along_hot.z, 0.0);
+    let lit = mean_radiance(ids, w, 1.0 - uv.y, f.uv_along_hot.w);
+    return vec4<f32>(albedo * lit, texel.a * opacity);
 }

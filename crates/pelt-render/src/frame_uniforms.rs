@@ -67,7 +67,10 @@ impl FrameUniforms {
         FrameUniforms {
             view_proj: camera.view_proj.to_cols_array(),
             eye: camera.eye.to_array(),
-            light_direction: v3(light.direction),
+            light_direction: {
+                let [x, y, z] = light.direction;
+                [x, y, z, light.hot_spot_share()]
+            },
             light_color: v3(light.color),
             ambient: v3(light.ambient),
             kajiya_kay: light.kajiya_kay,

@@ -246,6 +246,24 @@ impl Lighting {
     }
 }
 
+impl LightingFrame {
+    /// Under PRT, the directional light's share of the light a surface facing it gets: its
+    /// irradiance over that plus the environment's mean radiance × π (band 0), summed over RGB.
+    /// The hot spot (`prt.wgsl` `hot_spot`) clears the transfer's shadow of this share. 0 under
+    /// Kajiya–Kay, whose Banks darkening has its own hot spot.
+    pub fn hot_spot_share(&self) -> f32 {
+        let Some(prt) = &self.prt else {
+            return 0.0;
+        };
+        // Y_0^0: the mean radiance is the band-0 coefficient × this; `color` is already E / π.
+        let y00 = 0.5 / std::f32::consts::PI.sqrt();
+        let band0 = prt.environment.first().copied().unwrap_or([0.0; 3]);
+        let sun: f32 = self.color.iter().sum();
+        let sky: f32 = band0.iter().map(|c| (c * y00).max(0.0)).sum();
+        if sun > 0.0 { sun / (sun + sky) } else { 0.0 }
+    }
+}
+
 fn check_kajiya_kay(kk: &KajiyaKay) -> Result<()> {
     for (i, &c) in kk.ambient.iter().enumerate() {
         in_range(&format!("kajiya_kay.ambient[{i}]"), c, 0.0, MAX_RADIANCE, false)?;

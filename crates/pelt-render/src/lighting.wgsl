@@ -1,6 +1,6 @@
 #define_import_path pelt::lighting
 
-#import pelt::common::{frame, HairLight, unit_or}
+#import pelt::common::{frame, HairLight, unit_or, shared_path}
 
 // Hair lighting (Lengyel et al. 2001, §2.4): the modified Banks / Kajiya-Kay model
 //   Ka + Kd (1 - u²)^(Pd/2) + Ks (1 - v²)^(Ps/2),  u = T·L, v = T·H,
@@ -24,17 +24,6 @@ const TERMINATOR_WRAP: f32 = 0.3;
 // keeps b.
 // Smallest cosine a light's slant is taken at: past the terminator the wrapped N·L fades it.
 const MIN_SLANT_COS: f32 = 0.1;
-// Angle, radians, over which the hot spot fades (e^−1 at this angle between light and view):
-// the reference's strands lose their lead over their own density volume (which has no hot
-// spot) between 0 and 20° and keep it beyond (docs/accuracy.md).
-const HOT_SPOT_WIDTH: f32 = 0.35;
-
-// How much of the path from `light` is the view ray's own: 1 when the light comes from the eye,
-// fading over HOT_SPOT_WIDTH.
-fn shared_path(light: vec3<f32>, view: vec3<f32>) -> f32 {
-    let apart = acos(clamp(dot(light, view), -1.0, 1.0));
-    return exp(-apart / HOT_SPOT_WIDTH);
-}
 
 // The Banks strengths: x for the ambient light, y for the light from `light` seen from `view`.
 fn banks_strengths(normal: vec3<f32>, light: vec3<f32>, view: vec3<f32>) -> vec2<f32> {

@@ -1,6 +1,6 @@
 #define_import_path pelt::prt
 
-#import pelt::common::{frame, tile_sampler}
+#import pelt::common::{frame, tile_sampler, shared_path, view_vector}
 
 // Precomputed radiance transfer (prt-shell-fur §2.4): the lighting, already rotated into each
 // surface vertex's tile frame by the compute pass (`prt_rotate.wgsl`), dotted per fragment with
@@ -23,20 +23,30 @@ fn light_at(ids: vec3<u32>, w: vec3<f32>, k: u32) -> vec3<f32> {
 
 // Σ_k L'_k t_k with the transfer sampled at `uv` in layer `layer` of every transfer texture;
 // `alpha` is the shell texel's opacity sampled alike, which the premultiplied transfer divides
-// out.
+// out. Raised by the hot spot `hot` (`hot_spot`) at `height` (share of the fur depth), whose mean
+// radiances (`hot_spot_factor`) are summed in the same loop, so the lighting is read once.
 fn transfer_radiance(ids: vec3<u32>, w: vec3<f32>, uv: vec2<f32>, layer: u32, grad: vec4<f32>,
-                     alpha: f32) -> vec3<f32> {
+                     alpha: f32, height: f32, hot: f32) -> vec3<f32> {
     let n = frame.prt.x;
+    let clears = hot > 0.0;
     var sum = vec3<f32>(0.0);
+    var m = MeanRadiances(vec3<f32>(0.0), vec3<f32>(0.0));
     for (var t = 0u; t < frame.prt.y; t++) {
         let c = textureSampleGrad(transfer_texture, tile_sampler, uv, t * frame.prt.z + layer,
                                   grad.xy, grad.zw);
         for (var ch = 0u; ch < 4u && 4u * t + ch < n; ch++) {
-            sum += light_at(ids, w, 4u * t + ch) * c[ch];
+            let k = 4u * t + ch;
+            let l = light_at(ids, w, k);
+            sum += l * c[ch];
+            if (clears) {
+                m.here += l * mean_transfer(k, height);
+                m.top += l * top_transfer(k);
+            }
         }
     }
     // A band-limited light rings slightly negative past the terminator.
-    return max(sum / max(alpha, 1e-4), vec3<f32>(0.0));
+    let radiance = max(sum / max(alpha, 1e-4), vec3<f32>(0.0));
+    return select(radiance, radiance * hot_spot_factor(m, hot), clears);
 }
 
 // The hair's mean transfer coefficient k at `height` (share of the fur depth): linear between
@@ -50,14 +60,69 @@ fn mean_transfer(k: u32, height: f32) -> f32 {
     return mix(layer_means[below * n + k], layer_means[above * n + k], at - f32(below));
 }
 
-// Σ_k L'_k t̄_k with the hair's mean transfer at `height` for the fins, which have no transfer of
-// their own.
-fn mean_radiance(ids: vec3<u32>, w: vec3<f32>, height: f32) -> vec3<f32> {
-    var sum = vec3<f32>(0.0);
+// Σ_k L'_k t̄_k with the hair's mean transfer at `height`, and at the top layer.
+struct MeanRadiances {
+    here: vec3<f32>,
+    top: vec3<f32>,
+};
+
+fn mean_radiances(ids: vec3<u32>, w: vec3<f32>, height: f32) -> MeanRadiances {
+    var m = MeanRadiances(vec3<f32>(0.0), vec3<f32>(0.0));
     for (var k = 0u; k < frame.prt.x; k++) {
-        sum += light_at(ids, w, k) * mean_transfer(k, height);
+        let l = light_at(ids, w, k);
+        m.here += l * mean_transfer(k, height);
+        m.top += l * top_transfer(k);
     }
-    return max(sum, vec3<f32>(0.0));
+    return m;
+}
+
+// The mean transfer coefficient k of the top layer's hair.
+fn top_transfer(k: u32) -> f32 {
+    return layer_means[(frame.prt.w - 1u) * frame.prt.x + k];
+}
+
+// The hot spot (Hapke's shadow hiding): where the directional light comes from the eye, the path
+// it takes through the fur is the view ray's own, which the composite shows clear, so the hair
+// the eye sees is lit as if unshadowed; the transfer shadows it all the same (light from the eye
+// left PRT's fronts at 0.67 of the reference). How much of the lighting clears at `position`:
+// the directional light's share of it (`frame.light_direction.w`,
+// `LightingFrame::hot_spot_share`) × `shared_path`.
+// `shared_path` is taken from HOT_SPOT_MIN up, rescaled to stay continuous: more than 60° from
+// the light nothing clears and the hot spot costs nothing.
+fn hot_spot(position: vec3<f32>) -> f32 {
+    let clear = shared_path(frame.light_direction.xyz, view_vector(position));
+    return frame.light_direction.w * max(clear - HOT_SPOT_MIN, 0.0) / (1.0 - HOT_SPOT_MIN);
+}
+
+// See `hot_spot`: e^(−60° / HOT_SPOT_WIDTH) ≈ 0.05.
+const HOT_SPOT_MIN: f32 = 0.05;
+
+// The top layer's mean radiance over a depth's is taken at most 1 / HOT_SPOT_FLOOR: deep in the
+// fur, where the transfer holds little light, its small values are the least exact.
+const HOT_SPOT_FLOOR: f32 = 0.05;
+
+// The factor the hot spot `hot` raises radiance at a height by: unshadowed over shadowed, taken as
+// the hair's mean radiance at the top layer (whose hair nothing shadows) over its mean there.
+fn hot_spot_factor(m: MeanRadiances, hot: f32) -> vec3<f32> {
+    let top = max(m.top, vec3<f32>(0.0));
+    let ratio = top / max(m.here, max(HOT_SPOT_FLOOR * top, vec3<f32>(1e-6)));
+    return 1.0 + hot * (max(ratio, vec3<f32>(1.0)) - 1.0);
+}
+
+// `hot_spot_factor` at `height` (share of the fur depth); 1 away from the hot spot, where it
+// costs nothing.
+fn hot_spot_gain(ids: vec3<u32>, w: vec3<f32>, height: f32, hot: f32) -> vec3<f32> {
+    if (hot <= 0.0) {
+        return vec3<f32>(1.0);
+    }
+    return hot_spot_factor(mean_radiances(ids, w, height), hot);
+}
+
+// Σ_k L'_k t̄_k with the hair's mean transfer at `height` for the fins, which have no transfer of
+// their own, raised by the hot spot `hot`.
+fn mean_radiance(ids: vec3<u32>, w: vec3<f32>, height: f32, hot: f32) -> vec3<f32> {
+    let m = mean_radiances(ids, w, height);
+    return max(m.here, vec3<f32>(0.0)) * hot_spot_factor(m, hot);
 }
 
 // How much the mean radiance changes from height `start` to height `end`.

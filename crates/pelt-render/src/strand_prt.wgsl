@@ -1,6 +1,6 @@
 #define_import_path pelt::strand_prt
 
-#import pelt::prt::mean_radiance
+#import pelt::prt::{mean_radiance, hot_spot}
 #import pelt::light_model::StrandOut
 
 // Guard hairs under PRT lighting: a strand has no transfer of its own, so it takes the hair's
@@ -8,5 +8,6 @@
 // its root triangle's vertices: shadowed as the volume around it is.
 
 fn shade_strand(v: StrandOut, tangent: vec3<f32>, height: f32) -> vec4<f32> {
-    return vec4<f32>(v.color.rgb * mean_radiance(v.corners, v.weights, height), v.color.a);
+    let lit = mean_radiance(v.corners, v.weights, height, hot_spot(v.position));
+    return vec4<f32>(v.color.rgb * lit, v.color.a);
 }

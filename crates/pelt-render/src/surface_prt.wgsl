@@ -2,9 +2,11 @@
 
 #import pelt::common::{
     frame, skin_vertices, SKIN_FLOATS, skin_vec3, NO_LAYER, Layers, skin_layers, shell_layers,
-    HairLight, growth,
+    shading_height, HairLight, growth,
 }
-#import pelt::prt::{transfer_radiance, mean_radiance, mean_radiance_change}
+#import pelt::prt::{
+    transfer_radiance, mean_radiance, mean_radiance_change, hot_spot, hot_spot_gain,
+}
 #import pelt::surface::{
     SurfaceData, lift, Texels, layer_texels, blended, uv_gradients, MarchFrame,
 }
@@ -29,28 +31,32 @@ struct SurfaceOut {
     uv: vec2<f32>,
     color: vec4<f32>,
     length: f32,
-    // Array layers of the level drawn and the coarser one (see `Layers`).
+    // Array layers of the level drawn and the coarser one, level-0 height (see `Layers`).
     layer: u32,
     coarse: u32,
+    height: u32,
     ids: vec3<u32>,
     bary: vec3<f32>,
+    // The hot spot's share of the lighting at the fragment (`hot_spot`).
+    hot: f32,
 };
 
 // `SurfaceOut` as it crosses from vertex to fragment, in few locations (a CPU adapter sets up
 // every output location of every triangle, whatever its width).
 struct SurfaceVarying {
     @builtin(position) clip: vec4<f32>,
-    @location(0) uv_length: vec3<f32>,
+    // uv, length, hot spot.
+    @location(0) uv_length_hot: vec4<f32>,
     @location(1) color: vec4<f32>,
     @location(2) bary: vec3<f32>,
     @location(3) @interpolate(flat) ids: vec3<u32>,
-    // Layer drawn, coarser layer.
-    @location(4) @interpolate(flat) layers: vec2<u32>,
+    // Layer drawn, coarser layer, height.
+    @location(4) @interpolate(flat) layers: vec3<u32>,
 };
 
 fn surface_fragment(v: SurfaceVarying) -> SurfaceOut {
-    return SurfaceOut(v.uv_length.xy, v.color, v.uv_length.z, v.layers.x, v.layers.y, v.ids,
-                      v.bary);
+    return SurfaceOut(v.uv_length_hot.xy, v.color, v.uv_length_hot.z, v.layers.x, v.layers.y,
+                      v.layers.z, v.ids, v.bary, v.uv_length_hot.w);
 }
 
 fn load_surface(v: u32) -> SurfaceData {
@@ -70,8 +76,9 @@ fn surface_vertex(v: SurfaceIn, layers: Layers, painted: bool) -> SurfaceVarying
     let lifted = lift(d, layers.height, select(1.0, d.length, painted));
     var bary = vec3<f32>(0.0);
     bary[v.corner % 3u] = 1.0;
-    return SurfaceVarying(lifted.clip, vec3<f32>(d.uv, d.length), d.color, bary, ids,
-                          vec2<u32>(layers.fine, layers.coarse));
+    return SurfaceVarying(lifted.clip, vec4<f32>(d.uv, d.length, hot_spot(lifted.position)),
+                          d.color, bary, ids,
+                          vec3<u32>(layers.fine, layers.coarse, layers.height));
 }
 
 // The skin is a surface at height 0, lit by the transfer of its own layer; its `SkinVarying` is
@@ -87,17 +94,20 @@ fn skin_fragment(v: SurfaceVarying) -> vec3<f32> {
 
 // Each level's texel × vertex color, lit by the transfer of its own layer (the two levels'
 // layers are lit differently), cross-faded; premultiplied, opacity × texel alpha. A layer with
-// no coarser twin fades its color with its alpha (its coarse texel is zero).
+// no coarser twin fades its color with its alpha (its coarse texel is zero). The hot spot raises
+// both alike, by the factor at the height the layers are lit at.
 fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>) -> vec4<f32> {
+    let height = shading_height(Layers(s.height, s.layer, s.coarse)) * frame.fur.y;
     let tint = s.color.rgb * opacity;
     let fine = texels.fine.rgb
-        * transfer_radiance(s.ids, s.bary, s.uv, s.layer, grad, texels.fine.a);
+        * transfer_radiance(s.ids, s.bary, s.uv, s.layer, grad, texels.fine.a, height, s.hot);
     var rgb = fine;
     if (frame.fin.y > 0.0) {
         var coarse = vec3<f32>(0.0);
         if (s.coarse != NO_LAYER) {
             coarse = texels.coarse.rgb
-                * transfer_radiance(s.ids, s.bary, s.uv, s.coarse, grad, texels.coarse.a);
+                * transfer_radiance(s.ids, s.bary, s.uv, s.coarse, grad, texels.coarse.a, height,
+                                    s.hot);
         }
         rgb = mix(fine, coarse, frame.fin.y);
     }
@@ -128,9 +138,10 @@ fn march_frame(s: SurfaceOut) -> MarchFrame {
 // holds, and deeper hair is more shadowed. The texel's own transfer keeps the strands' detail.
 fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alpha: f32,
                grad: vec4<f32>, mean: f32) -> HairLight {
-    let texel = transfer_radiance(s.ids, s.bary, uv, layers.fine, grad, alpha);
+    let texel = transfer_radiance(s.ids, s.bary, uv, layers.fine, grad, alpha, 0.0, 0.0);
     let shift = mean_radiance_change(s.ids, s.bary, f32(layers.height) * frame.fur.y, mean);
-    return HairLight(vec3<f32>(0.0), max(texel + shift, vec3<f32>(0.0)), vec3<f32>(0.0));
+    let hot = hot_spot_gain(s.ids, s.bary, mean, hot_spot(f.position));
+    return HairLight(vec3<f32>(0.0), max(texel + shift, vec3<f32>(0.0)) * hot, vec3<f32>(0.0));
 }
 
 // The virtual planes' lighting: their slices hold no transfer of their own (a slice is a slab
@@ -138,7 +149,8 @@ fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alph
 // composite's mean height `mean`, as the fins and guard strands do.
 fn plane_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, grad: vec4<f32>,
                mean: f32) -> HairLight {
-    return HairLight(vec3<f32>(0.0), mean_radiance(s.ids, s.bary, mean), vec3<f32>(0.0));
+    let lit = mean_radiance(s.ids, s.bary, mean, hot_spot(f.position));
+    return HairLight(vec3<f32>(0.0), lit, vec3<f32>(0.0));
 }
 
 // The transfer holds the hair's self-shadowing: no Banks darkening on top.

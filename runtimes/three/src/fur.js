@@ -21,7 +21,7 @@ export class PeltFur {
 	/**
 	 * `skin`: the skin primitive's Mesh or SkinnedMesh; `ext`: its extension object; `textures`:
 	 * loadFurTextures' result; `light`: lightingValues' result; `prt`: whether PRT lights it;
-	 * `layerMeans`: the fins' mean transfer texture under PRT; `guardHairs`: the three.js lines of
+	 * `layerMeans`: the hair's mean transfer texture under PRT; `guardHairs`: the three.js lines of
 	 * the extension's guard-hair primitive, when it has one; `options`: the plugin's.
 	 */
 	constructor( { skin, ext, textures, light, prt, layerMeans = null, guardHairs = null, options = {} } ) {
@@ -38,7 +38,7 @@ export class PeltFur {
 		if ( ! skin.geometry.boundingSphere ) skin.geometry.computeBoundingSphere();
 		this.restSphere = skin.geometry.boundingSphere.clone();
 
-		const common = { stack, textures, light, prt };
+		const common = { stack, textures, light, prt, layerMeans };
 		const make = ( geometry, material, name ) => {
 
 			const mesh = skin.isSkinnedMesh ? new SkinnedMesh( geometry, material ) : new Mesh( geometry, material );
@@ -72,7 +72,7 @@ export class PeltFur {
 		const finsGeometry = options.fins === false ? null : finGeometry( skin.geometry, attributes, stack );
 		if ( finsGeometry ) {
 
-			const material = finMaterial( { ...common, finOpacity: options.finOpacity ?? 1, layerMeans } );
+			const material = finMaterial( { ...common, finOpacity: options.finOpacity ?? 1 } );
 			this.fins = make( finsGeometry, material, 'fins' );
 
 		}

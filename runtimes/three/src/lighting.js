@@ -76,7 +76,8 @@ export function usesPrt( lighting, stack ) {
 /**
  * The uniform values of `lighting` (lighting.rs `Lighting::frame`): the unit direction, the color
  * over π, and per model its terms; for PRT of `order` bands the sky's constant coefficient and the
- * cap's per-band weights, both over π (prt_light.rs `world_coefficients`).
+ * cap's per-band weights, both over π (prt_light.rs `world_coefficients`), and the light's share
+ * of the lighting, which its hot spot clears of the transfer's shadow.
  */
 export function lightingValues( lighting, order = 0 ) {
 
@@ -97,6 +98,10 @@ export function lightingValues( lighting, order = 0 ) {
 		// The sky's Y_0^0 coefficient is √(4π) × its radiance; the 1/π is folded in as the preview does.
 		values.sky = lighting.prt.sky.map( ( c ) => Math.sqrt( 4 * Math.PI ) * c / Math.PI );
 		values.capWeights = capBandWeights( order, lighting.prt.lightRadius );
+		// lighting.rs hot_spot_share(): the light's irradiance over that plus the sky's × π.
+		const sun = values.color.reduce( ( a, c ) => a + c, 0 );
+		const sky = lighting.prt.sky.reduce( ( a, c ) => a + Math.max( c, 0 ), 0 );
+		values.hotSpotShare = sun > 0 ? sun / ( sun + sky ) : 0;
 
 	}
 

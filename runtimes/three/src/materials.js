@@ -42,13 +42,19 @@ function vec4s( values, count ) {
 
 }
 
-/** The PRT uniforms: the sky, the light's cap per band, the 8-bit decoding, the textures. */
-function prtUniforms( stack, light, textures ) {
+/**
+ * The PRT uniforms: the sky, the light's cap per band and its hot spot share, the 8-bit decoding,
+ * the textures, and the hair's mean transfer per layer (`layerMeans`).
+ */
+function prtUniforms( stack, light, textures, layerMeans ) {
 
 	const count = stack.transfer.textures;
 	const u = {
 		peltSky: { value: new Vector3( ...light.sky ) },
 		peltCapWeights: { value: light.capWeights },
+		peltHotSpotShare: { value: light.hotSpotShare },
+		peltLayerMeans: { value: layerMeans },
+		peltTopLayer: { value: stack.layers - 1 },
 		peltTransferScale: { value: vec4s( stack.transfer.scale, count ) },
 		peltTransferBias: { value: vec4s( stack.transfer.bias, count ) },
 	};
@@ -70,9 +76,10 @@ function prtDefines( prt, defines ) {
 
 /**
  * The shells' material, or with `skin` the skin's (layer 0, opaque). `light` is lightingValues'
- * result; `prt` whether PRT lights the fur; `alphaTest` the shells' opacity threshold.
+ * result; `prt` whether PRT lights the fur, `layerMeans` its mean transfer texture; `alphaTest`
+ * the shells' opacity threshold.
  */
-export function surfaceMaterial( { stack, textures, light, prt, skin = false, alphaTest } ) {
+export function surfaceMaterial( { stack, textures, light, prt, layerMeans, skin = false, alphaTest } ) {
 
 	const order = prt ? stack.transfer.order : 0;
 	const uniforms = {
@@ -80,7 +87,7 @@ export function surfaceMaterial( { stack, textures, light, prt, skin = false, al
 		peltShellAtlas: { value: textures.shellsAtlas },
 		peltAlphaTest: { value: alphaTest },
 	};
-	if ( prt ) Object.assign( uniforms, prtUniforms( stack, light, textures ) );
+	if ( prt ) Object.assign( uniforms, prtUniforms( stack, light, textures, layerMeans ) );
 	else uniforms.peltTangentAtlas = { value: textures.tangentsAtlas };
 	const defines = prtDefines( prt, skin ? { PELT_SKIN: '' } : { PELT_SHELLS: stack.shells } );
 	if ( skin ) {
@@ -118,13 +125,7 @@ export function finMaterial( { stack, textures, light, prt, finOpacity, layerMea
 		peltFinTexture: { value: textures.fin },
 		peltFinOpacity: { value: finOpacity },
 	};
-	if ( prt ) {
-
-		Object.assign( uniforms, prtUniforms( stack, light, textures ) );
-		uniforms.peltLayerMeans = { value: layerMeans };
-		uniforms.peltTopLayer = { value: stack.layers - 1 };
-
-	}
+	if ( prt ) Object.assign( uniforms, prtUniforms( stack, light, textures, layerMeans ) );
 
 	return new ShaderMaterial( {
 		name: 'PELT_shell_fur fins',

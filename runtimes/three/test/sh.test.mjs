@@ -112,6 +112,8 @@ test( 'lighting defaults are the preview\'s, the light over π, PRT only with tr
 	assert.deepEqual( values.kajiyaKay, [ 0.9, 0.25, 1, 48 ] );
 	close( values.sky[ 0 ], Math.sqrt( 4 * Math.PI ) * 0.1 / Math.PI );
 	assert.equal( values.capWeights.length, 3 );
+	// The sun (1 per channel after the π) against the sky's radiance 0.1: 1 / 1.1 of the light.
+	close( values.hotSpotShare, 1 / 1.1 );
 	assert.equal( usesPrt( lighting, { transfer: null } ), false );
 	assert.equal( usesPrt( lighting, { transfer: { order: 3 } } ), true );
 	assert.equal( usesPrt( lighting, { transfer: { order: MAX_PRT_ORDER + 1 } } ), false, 'auto falls back to Kajiya-Kay' );

@@ -17,7 +17,8 @@ use pelt_core::export::{PngOptions, save_png};
 use pelt_core::hair::grow_strands;
 use pelt_core::pipeline::{BakeParams, Pipeline, TransferChoice};
 use pelt_core::reference::metrics::{
-    ImageErrors, LinearRgba, compare, display_rgb8, distance_from_mask, flip_map, flip_picture, luminance,
+    ImageErrors, LinearRgba, compare_noisy, display_rgb8, distance_from_mask, flip_map, flip_picture,
+    luminance,
 };
 use pelt_core::reference::scenes::{CanonicalScene, FurLength, LightSetup, Shape, canonical_scene, framing};
 use pelt_core::reference::{
@@ -328,9 +329,10 @@ fn object_cases(
             &ReferenceSettings::default(),
             None,
         )?;
-        let errors = compare(
+        let errors = compare_noisy(
             view(&volume.pixels, width, height),
             view(&reference.pixels, width, height),
+            Some(&reference.pixel_variance),
             &distance,
             fur_depth_pixels,
         )?;
@@ -419,18 +421,20 @@ fn object_cases(
                     .render_linear(drawn, &scene.camera, &lighting, &settings)?
                     .pixels,
             );
-            let errors = compare(
+            let errors = compare_noisy(
                 view(&preview, width, height),
                 view(&reference.pixels, width, height),
+                Some(&reference.pixel_variance),
                 &distance,
                 fur_depth_pixels,
             )?;
             let against_volume = volume
                 .as_ref()
                 .map(|v| {
-                    compare(
+                    compare_noisy(
                         view(&preview, width, height),
                         view(&v.pixels, width, height),
+                        Some(&v.pixel_variance),
                         &distance,
                         fur_depth_pixels,
                     )
@@ -498,6 +502,7 @@ fn case(
                 .clone()
                 .map(|bins| bins.into_iter().map(|b| b.is_finite().then_some(b)).collect()),
             detail_ratio: errors.detail_ratio,
+            detail_noise_share: errors.detail_noise_share,
             dolly_jump: dolly.map(|d| d.0),
             dolly_drift: dolly.map(|d| d.1),
             volume_error: None,

@@ -64,8 +64,11 @@ pub struct ImageFigures {
     /// The silhouette's mean coverage per tenth of a fur depth from the skin's outline, the
     /// preview's then the reference's; `None` where a bin has no pixel.
     pub alpha_profile: [Vec<Option<f64>>; 2],
-    /// Fine detail (luminance above about 0.1 cycle per pixel), preview over reference.
+    /// Fine detail (luminance above about 0.1 cycle per pixel), preview over reference, the
+    /// reference's Monte Carlo noise taken out of its detail.
     pub detail_ratio: f64,
+    /// The share of the reference's measured detail that was its Monte Carlo noise.
+    pub detail_noise_share: f64,
     /// LOD cases: the largest frame-to-frame change of mean luminance along a dolly out to 30×.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dolly_jump: Option<f64>,

@@ -36,8 +36,13 @@ pub struct ImageErrors {
     pub alpha_profile: [Vec<f64>; 2],
     /// The preview's fine detail over the reference's: the energy of luminance above about a
     /// tenth of a cycle per pixel (what a 5 × 5 box blur removes), over the fur's pixels. The
-    /// hybrid paper's complaint about shells, a velvety look, is a ratio below 1.
+    /// hybrid paper's complaint about shells, a velvety look, is a ratio below 1. With the
+    /// reference's pixel variances ([`compare_noisy`]) its Monte Carlo noise is taken out of its
+    /// detail first; NaN where nothing is left.
     pub detail_ratio: f64,
+    /// The share of the reference's measured detail that is its Monte Carlo noise (0 without
+    /// its variances).
+    pub detail_noise_share: f64,
 }
 
 /// An image to compare: premultiplied linear RGBA, rows top to bottom.
@@ -63,11 +68,28 @@ pub fn compare(
     skin_distance: &[f32],
     fur_depth_pixels: f64,
 ) -> Result<ImageErrors> {
+    compare_noisy(preview, reference, None, skin_distance, fur_depth_pixels)
+}
+
+/// [`compare`], with the variance of each reference pixel's luminance
+/// ([`super::ReferenceImage::pixel_variance`]), whose noise is taken out of the reference's
+/// detail.
+///
+/// # Errors
+/// As [`compare`], and when `reference_variance` has another length.
+pub fn compare_noisy(
+    preview: LinearRgba<'_>,
+    reference: LinearRgba<'_>,
+    reference_variance: Option<&[f32]>,
+    skin_distance: &[f32],
+    fur_depth_pixels: f64,
+) -> Result<ImageErrors> {
     let n = preview.width * preview.height;
     if (preview.width, preview.height) != (reference.width, reference.height)
         || preview.pixels.len() != n
         || reference.pixels.len() != n
         || skin_distance.len() != n
+        || reference_variance.is_some_and(|v| v.len() != n)
     {
         return Err(PeltError::parameter(
             "preview",
@@ -106,7 +128,11 @@ pub fn compare(
         .fold(0.0, f64::max);
     let (small_p, small_r) = (downsample4(preview), downsample4(reference));
     let fur_mask: Vec<bool> = (0..n).map(fur).collect();
-    let detail_r = detail_energy(reference, &fur_mask);
+    let measured = detail_energy(reference, &fur_mask);
+    let noise = reference_variance.map_or(0.0, |v| {
+        noise_detail(v, reference.width, reference.height, &fur_mask)
+    });
+    let detail_r = measured - noise;
     Ok(ImageErrors {
         relative_mse: if norm > 0.0 { diff / norm } else { 0.0 },
         flip: flip_mean(preview, reference),
@@ -119,6 +145,7 @@ pub fn compare(
         } else {
             f64::NAN
         },
+        detail_noise_share: if measured > 0.0 { noise / measured } else { 0.0 },
     })
 }
 
@@ -128,8 +155,23 @@ const DETAIL_BOX: usize = 5;
 /// Mean over the `mask`ed pixels of (luminance − its `DETAIL_BOX`² box mean)², premultiplied
 /// (a box cut at the image's edge averages what it has).
 fn detail_energy(image: LinearRgba<'_>, mask: &[bool]) -> f64 {
-    let (w, h) = (image.width, image.height);
     let lum: Vec<f64> = image.pixels.iter().map(|&p| luminance(p)).collect();
+    over_boxes(&lum, image.width, image.height, mask, |v, sum, n| {
+        (v - sum / n).powi(2)
+    })
+}
+
+/// What independent noise of per-pixel variance `variance` adds to [`detail_energy`] on average:
+/// the residual n_p − (1/N) Σ_box n_q has variance v_p (1 − 2/N) + Σ_box v_q / N².
+fn noise_detail(variance: &[f32], w: usize, h: usize, mask: &[bool]) -> f64 {
+    let variance: Vec<f64> = variance.iter().map(|&v| f64::from(v)).collect();
+    over_boxes(&variance, w, h, mask, |v, sum, n| {
+        v * (1.0 - 2.0 / n) + sum / (n * n)
+    })
+}
+
+/// Mean over the `mask`ed pixels of `term(value, Σ over its DETAIL_BOX² box, pixels in the box)`.
+fn over_boxes(values: &[f64], w: usize, h: usize, mask: &[bool], term: impl Fn(f64, f64, f64) -> f64) -> f64 {
     let r = DETAIL_BOX / 2;
     let (mut sum, mut count) = (0.0, 0usize);
     for y in 0..h {
@@ -137,11 +179,11 @@ fn detail_energy(image: LinearRgba<'_>, mask: &[bool]) -> f64 {
             let (mut s, mut n) = (0.0, 0.0);
             for yy in y.saturating_sub(r)..(y + r + 1).min(h) {
                 for xx in x.saturating_sub(r)..(x + r + 1).min(w) {
-                    s += lum[yy * w + xx];
+                    s += values[yy * w + xx];
                     n += 1.0;
                 }
             }
-            sum += (lum[y * w + x] - s / n).powi(2);
+            sum += term(values[y * w + x], s, n);
             count += 1;
         }
     }

@@ -41,6 +41,10 @@ pub struct ReferenceImage {
     /// Root mean square of the covered pixels' own standard errors, relative to their mean
     /// luminance: how noisy a single pixel still is.
     pub pixel_error: f64,
+    /// Per pixel, the variance of its luminance's Monte Carlo estimate (from the spread of its
+    /// passes; 0 where it had one pass or none): the noise left in the image, which the image
+    /// metrics take out of the reference's fine detail.
+    pub pixel_variance: Vec<f32>,
     /// Seconds spent rendering (the scene's BVH not included).
     pub seconds: f64,
 }
@@ -100,8 +104,8 @@ pub fn render_volume_reference(
 }
 
 /// Host memory per pixel of a reference image, for the memory budget: the f64 sums (56 bytes),
-/// the image (16) and a caller's copy of it (16).
-const BYTES_PER_PIXEL: f64 = 88.0;
+/// the image and its variances (20) and a caller's copy of both (20).
+const BYTES_PER_PIXEL: f64 = 96.0;
 
 fn render_with<S: Sampler>(
     scene: &S,
@@ -203,6 +207,11 @@ fn render_with<S: Sampler>(
     let inv = 1.0 / f64::from(samples);
     let out: Vec<[f32; 4]> = sums.iter().map(|s| (*s * inv).as_vec4().to_array()).collect();
     let pixel_error = pixel_error(&out, &lum_sum, &lum_squares, pass_means.len());
+    let pixel_variance = lum_sum
+        .iter()
+        .zip(&lum_squares)
+        .map(|(&s, &q)| mean_variance(s, q, pass_means.len()) as f32)
+        .collect();
     Ok(ReferenceImage {
         width: camera.width,
         height: camera.height,
@@ -210,6 +219,7 @@ fn render_with<S: Sampler>(
         samples,
         relative_error,
         pixel_error,
+        pixel_variance,
         seconds: start.elapsed().as_secs_f64(),
     })
 }
@@ -228,6 +238,17 @@ fn mean_error(means: &[f64]) -> f64 {
     (var / k).sqrt() / mean
 }
 
+/// The variance of the mean of `passes` pass luminances of sum `sum` and sum of squares
+/// `squares` (the unbiased sample variance over the passes, over their count); 0 under two passes.
+fn mean_variance(sum: f64, squares: f64, passes: usize) -> f64 {
+    if passes < 2 {
+        return 0.0;
+    }
+    let k = passes as f64;
+    let mean = sum / k;
+    ((squares / k - mean * mean) * k / (k - 1.0)).max(0.0) / k
+}
+
 fn pixel_error(pixels: &[[f32; 4]], sums: &[f64], squares: &[f64], passes: usize) -> f64 {
     if passes < 2 {
         return f64::INFINITY;
@@ -236,10 +257,8 @@ fn pixel_error(pixels: &[[f32; 4]], sums: &[f64], squares: &[f64], passes: usize
     let (mut var_total, mut lum_total, mut covered) = (0.0, 0.0, 0usize);
     for ((p, &s), &q) in pixels.iter().zip(sums).zip(squares) {
         if p[3] > 0.0 {
-            let mean = s / k;
-            let var = ((q / k - mean * mean) * k / (k - 1.0)).max(0.0);
-            var_total += var / k;
-            lum_total += mean;
+            var_total += mean_variance(s, q, passes);
+            lum_total += s / k;
             covered += 1;
         }
     }

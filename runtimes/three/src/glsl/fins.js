@@ -9,14 +9,14 @@
 
 import { common } from './common.js';
 import { lighting } from './lighting.js';
-import { prtCommon, prtFragment, prtVertex } from './prt.js';
+import { prtCommon, prtFragment, prtHotSpot, prtVertex } from './prt.js';
 
 export function finVertex( order, textures ) {
 
 	return /* glsl */`
 ${common}
 ${lighting}
-${order > 0 ? prtCommon( order, textures ) + prtVertex : ''}
+${order > 0 ? prtCommon( order, textures ) + prtVertex + prtHotSpot : ''}
 #include <skinning_pars_vertex>
 
 attribute vec3 peltOther;
@@ -33,8 +33,8 @@ attribute vec3 peltDpdv;
 uniform float peltFinOpacity;
 
 // fin_kk.wgsl FinOut in straight alpha: color × the lighting's scale and u; the highlight's
-// multiple of the light color, v and the opacity. fin_prt.wgsl's: color, and the end's
-// lighting (vPeltLight).
+// multiple of the light color, v and the opacity. fin_prt.wgsl's: color, the hot spot in place of
+// the highlight, and the end's lighting (vPeltLight).
 varying vec4 vScaleU;
 varying vec3 vShineVOpacity;
 
@@ -92,7 +92,7 @@ void main() {
 #ifdef PELT_PRT
 	// fin_prt.wgsl fin_vertex(): lit per fragment from the ends' lighting.
 	vScaleU = vec4( peltColor.rgb, peltFin.x );
-	vShineVOpacity = vec3( 0.0, peltFin.y, opacity );
+	vShineVOpacity = vec3( peltHotSpot( world.xyz ), peltFin.y, opacity );
 	peltTileLighting( wn0, toWorld * dpdu, toWorld * dpdv );
 #else
 	// fin_kk.wgsl fin_vertex(): the hair runs along the growth direction; lit at the corner.
@@ -137,7 +137,7 @@ void main() {
 	float alpha = texel.a * vShineVOpacity.z;
 #ifdef PELT_PRT
 	// fin_prt.wgsl fin_fragment(): texel × color × the mean transfer at the row's height, lit.
-	gl_FragColor = vec4( texel.rgb * vScaleU.rgb * peltMeanRadiance( 1.0 - uv.y ), alpha );
+	gl_FragColor = vec4( texel.rgb * vScaleU.rgb * peltMeanRadiance( 1.0 - uv.y, vShineVOpacity.x ), alpha );
 #else
 	// fin_kk.wgsl fin_fragment() in straight alpha.
 	gl_FragColor = vec4( texel.rgb * vScaleU.rgb + peltLightColor * vShineVOpacity.x, alpha );

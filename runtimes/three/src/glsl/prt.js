@@ -19,6 +19,21 @@ export function prtCommon( order, textures ) {
 
 }
 
+/**
+ * prt.wgsl hot_spot(): how much of the lighting clears of the transfer's shadow at a point, the
+ * light's share of it (lighting.rs `hot_spot_share`) × the path it shares with the view, from
+ * 0.05 up. Needs the lighting chunk (peltSharedPath).
+ */
+export const prtHotSpot = /* glsl */`
+uniform float peltHotSpotShare;
+const float PELT_HOT_SPOT_MIN = 0.05;
+
+float peltHotSpot( vec3 position ) {
+	float clear = peltSharedPath( peltLightDirection, peltViewVector( position ) );
+	return peltHotSpotShare * max( clear - PELT_HOT_SPOT_MIN, 0.0 ) / ( 1.0 - PELT_HOT_SPOT_MIN );
+}
+`;
+
 /** The vertex side: the light in the tile frame (prt_rotate.wgsl `main`, prt_light.rs). */
 export const prtVertex = /* glsl */`
 uniform float peltCapWeights[ PELT_ORDER ];
@@ -115,29 +130,57 @@ export function prtFragment( textures, means ) {
 	const common = /* glsl */`
 uniform vec3 peltSky;
 varying vec4 vPeltLight[ PELT_TRANSFER_TEXTURES ];
+uniform highp sampler2D peltLayerMeans;
+uniform int peltTopLayer;
+${prtHotSpot}
+
+// prt.wgsl mean_transfer(): the hair's mean transfer at height (share of the fur depth), linear
+// between the layers around it; texture t holds coefficients 4t .. 4t + 3.
+vec4 peltMeanTransfer( int t, float height ) {
+	float at = clamp( height / peltLayerSpacing, 0.0, float( peltTopLayer ) );
+	int below = min( int( at ), peltTopLayer );
+	int above = min( below + 1, peltTopLayer );
+	return mix( texelFetch( peltLayerMeans, ivec2( t, below ), 0 ), texelFetch( peltLayerMeans, ivec2( t, above ), 0 ), at - float( below ) );
+}
+
+// prt.wgsl mean_radiances(): the lighting dotted with the hair's mean transfer at height and at
+// the top layer.
+void peltMeanRadiances( float height, out vec3 here, out vec3 top ) {
+	float sumHere = 0.0;
+	float sumTop = 0.0;
+	float constantHere = 0.0;
+	float constantTop = 0.0;
+${perTexture( textures, ( t ) => /* glsl */`	{
+		vec4 m = peltMeanTransfer( ${t}, height );
+		vec4 tip = texelFetch( peltLayerMeans, ivec2( ${t}, peltTopLayer ), 0 );
+		sumHere += dot( vPeltLight[ ${t} ], m );
+		sumTop += dot( vPeltLight[ ${t} ], tip );
+		${t === 0 ? 'constantHere = m.x; constantTop = tip.x;' : ''}
+	}` )}
+	here = peltSky * constantHere + peltLightColor * sumHere;
+	top = peltSky * constantTop + peltLightColor * sumTop;
+}
+
+// prt.wgsl HOT_SPOT_FLOOR and hot_spot_factor(): unshadowed over shadowed radiance, the top
+// layer's mean radiance over the mean at the height, weighed by the hot spot.
+const float PELT_HOT_SPOT_FLOOR = 0.05;
+
+vec3 peltHotSpotFactor( vec3 here, vec3 top, float hot ) {
+	top = max( top, vec3( 0.0 ) );
+	vec3 ratio = top / max( here, max( PELT_HOT_SPOT_FLOOR * top, vec3( 1e-6 ) ) );
+	return 1.0 + hot * ( max( ratio, vec3( 1.0 ) ) - 1.0 );
+}
 `;
 	if ( means ) {
 
 		return common + /* glsl */`
-uniform highp sampler2D peltLayerMeans;
-uniform int peltTopLayer;
-
-// prt.wgsl mean_radiance() with mean_transfer(): the lighting dotted with the hair's mean
-// transfer at height (share of the fur depth), linear between the layers around it; the fins
-// have no transfer of their own.
-vec3 peltMeanRadiance( float height ) {
-	float at = clamp( height / peltLayerSpacing, 0.0, float( peltTopLayer ) );
-	int below = min( int( at ), peltTopLayer );
-	int above = min( below + 1, peltTopLayer );
-	float f = at - float( below );
-	float sum = 0.0;
-	float constant = 0.0;
-${perTexture( textures, ( t ) => /* glsl */`	{
-		vec4 m = mix( texelFetch( peltLayerMeans, ivec2( ${t}, below ), 0 ), texelFetch( peltLayerMeans, ivec2( ${t}, above ), 0 ), f );
-		sum += dot( vPeltLight[ ${t} ], m );
-		${t === 0 ? 'constant = m.x;' : ''}
-	}` )}
-	return max( peltSky * constant + peltLightColor * sum, vec3( 0.0 ) );
+// prt.wgsl mean_radiance(): the lighting dotted with the hair's mean transfer at height (share
+// of the fur depth), raised by the hot spot; the fins have no transfer of their own.
+vec3 peltMeanRadiance( float height, float hot ) {
+	vec3 here;
+	vec3 top;
+	peltMeanRadiances( height, here, top );
+	return max( here, vec3( 0.0 ) ) * peltHotSpotFactor( here, top, hot );
 }
 `;
 
@@ -150,9 +193,9 @@ uniform vec4 peltTransferScale[ PELT_TRANSFER_TEXTURES ];
 uniform vec4 peltTransferBias[ PELT_TRANSFER_TEXTURES ];
 
 // prt.wgsl transfer_radiance(): Σ_k L_k t_k with the transfer of the texel at atlasUv
-// (coefficient k in texture k / 4, channel k % 4). The files keep straight transfer, so there
-// is no division by the texel's opacity.
-vec3 peltTransferRadiance( vec2 atlasUv ) {
+// (coefficient k in texture k / 4, channel k % 4), raised by the hot spot at height. The files
+// keep straight transfer, so there is no division by the texel's opacity.
+vec3 peltTransferRadiance( vec2 atlasUv, float height, float hot ) {
 	float sum = 0.0;
 	float constant = 0.0;
 ${perTexture( textures, ( t ) => /* glsl */`	{
@@ -161,7 +204,12 @@ ${perTexture( textures, ( t ) => /* glsl */`	{
 		${t === 0 ? 'constant = c.x;' : ''}
 	}` )}
 	// A band-limited light rings slightly negative past the terminator.
-	return max( peltSky * constant + peltLightColor * sum, vec3( 0.0 ) );
+	vec3 radiance = max( peltSky * constant + peltLightColor * sum, vec3( 0.0 ) );
+	if ( hot <= 0.0 ) return radiance;
+	vec3 here;
+	vec3 top;
+	peltMeanRadiances( height, here, top );
+	return radiance * peltHotSpotFactor( here, top, hot );
 }
 `;
 

@@ -154,7 +154,7 @@ void main() {
 	vec3 albedo = texel.rgb * texel.a * vColor.rgb;
 	#ifdef PELT_PRT
 	// surface_prt.wgsl skin_fragment(): lit by the transfer of its own layer.
-	gl_FragColor = vec4( albedo * peltTransferRadiance( atlasUv ), 1.0 );
+	gl_FragColor = vec4( albedo * peltTransferRadiance( atlasUv, 0.0, peltHotSpot( position ) ), 1.0 );
 	#else
 	// surface_kk.wgsl skin_fragment().
 	gl_FragColor = vec4( peltShadeSkin( albedo, n, view ), 1.0 );
@@ -166,7 +166,8 @@ void main() {
 	vec3 albedo = texel.rgb * vColor.rgb;
 	#ifdef PELT_PRT
 	// surface_prt.wgsl shade_surface(): texel × color × the transfer dotted with the light.
-	gl_FragColor = vec4( albedo * peltTransferRadiance( atlasUv ), alpha );
+	float height = float( vLayer ) * peltLayerSpacing;
+	gl_FragColor = vec4( albedo * peltTransferRadiance( atlasUv, height, peltHotSpot( position ) ), alpha );
 	#else
 	// surface_kk.wgsl shade_surface(), straight alpha: the blend premultiplies.
 	float height = float( vLayer ) * peltLayerSpacing;

@@ -214,6 +214,38 @@ fn the_image_is_bit_identical_for_any_thread_count() {
     assert_eq!(one.pixels, three.pixels);
 }
 
+#[test]
+fn pixel_variances_match_the_spread_between_two_independent_renders() {
+    // Two renders with other seeds differ by two draws of the same noise: the mean of
+    // (A − B)² / 2 over the pixels estimates the variance each pixel's estimate has.
+    let scene = scene_of(&slab(800, true, 2));
+    let lights = [sun([0.3, 0.2, 1.0], 3.0)];
+    let camera = top_camera(0.4, 48);
+    let render = |seed| {
+        let settings = ReferenceSettings {
+            seed,
+            ..fixed_samples(16)
+        };
+        render_reference(&scene, &camera, &lights, &settings, None).unwrap()
+    };
+    let (a, b) = (render(1), render(2));
+    // Rec. 709, as the passes weigh their samples.
+    let lum = |p: &[f32; 4]| 0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2]);
+    let spread = a
+        .pixels
+        .iter()
+        .zip(&b.pixels)
+        .map(|(p, q)| (lum(p) - lum(q)).powi(2) / 2.0)
+        .sum::<f64>();
+    let claimed = a.pixel_variance.iter().map(|&v| f64::from(v)).sum::<f64>();
+    let ratio = claimed / spread;
+    // Measured: 1.00.
+    assert!(
+        (0.85..1.18).contains(&ratio),
+        "variance {claimed} vs spread {spread}: {ratio}"
+    );
+}
+
 /// A small furred sphere (radius 1, fur depth 0.15) and a perspective camera at `eye`.
 fn furred_sphere(density: u32) -> (Arc<FurMesh>, crate::pipeline::FurAsset) {
     let (positions, triangles) = shapes::uv_sphere(24, 12);
