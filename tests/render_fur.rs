@@ -657,6 +657,39 @@ fn a_light_from_the_eye_sees_no_self_shadow_and_a_slanted_one_crosses_more_fur()
 }
 
 #[test]
+fn light_along_a_flat_surface_lights_none_of_its_fur_and_a_curved_one_keeps_its_band() {
+    // The wrapped terminator lights hair past the body's shadow line only where the surface
+    // curves away under it (√(2 h κ) in N·L, at most 0.3): on a flat grid a sun along the surface
+    // lights nothing (it lit the fur to 0.29 of a 45° sun before, 6× the reference on the flat
+    // patch), while the torus's top, curving at 1 / 0.35 under 0.08 of fur, keeps its band.
+    let f = fixture();
+    let (plane, uvs) = combed_plane(8, [0.0; 3]);
+    let flat = FurScene::new(&f.renderer, &plane, &uvs, &f.volume, FUR_DEPTH).unwrap();
+    let curved = scene();
+    let no_fins = RenderSettings {
+        fins: false,
+        ..settings()
+    };
+    let light = |scene: &FurScene, direction: [f32; 3]| -> f64 {
+        let image = f
+            .renderer
+            .render_linear(scene, &top(), &sun(direction, 2.5, 0.0), &no_fins)
+            .unwrap();
+        image.pixels.chunks_exact(4).map(|p| f64::from(p[0] * p[3])).sum()
+    };
+    let (along, above) = ([1.0, 0.0, 0.0], [1.0, 0.0, 1.0]);
+    let flat_ratio = light(&flat, along) / light(&flat, above);
+    // Measured: 0.005; with the fixed 0.3 band 0.29.
+    assert!(flat_ratio < 0.01, "flat, sun along it: {flat_ratio} of a 45° sun");
+    let curved_ratio = light(&curved, along) / light(&curved, above);
+    // Measured: 0.39.
+    assert!(
+        curved_ratio > 0.1,
+        "torus, sun along its top: {curved_ratio} of a 45° sun"
+    );
+}
+
+#[test]
 fn goldman_attenuation_splits_the_hairs_direct_light_into_reflected_and_transmitted() {
     // Goldman's factor (1 + κ)/2 ρ_reflect + (1 − κ)/2 ρ_transmit scales the hair's direct
     // light, which is otherwise linear in it: image(ρr, ρt) = S + ρr R + ρt T, S the skin and

@@ -148,6 +148,24 @@ fn view_vector(p: vec3<f32>) -> vec3<f32> {
     return normalize(frame.eye.xyz - p * frame.eye.w);
 }
 
+// The surface's curvature from screen derivatives of the normal and position (taken in uniform
+// control flow): the larger of the two screen axes', where the normal turns away from the step;
+// 0 where flat or concave.
+fn surface_curvature(normal: vec3<f32>, position: vec3<f32>) -> f32 {
+    let dpx = dpdx(position);
+    let dpy = dpdy(position);
+    let kx = dot(dpdx(normal), dpx) / max(dot(dpx, dpx), 1e-30);
+    let ky = dot(dpdy(normal), dpy) / max(dot(dpy, dpy), 1e-30);
+    return max(max(kx, ky), 0.0);
+}
+
+// The curvature along the edge from `p0` (normal `n0`) to `p1` (`n1`): how fast the normal turns
+// per unit of it; 0 where flat or concave.
+fn edge_curvature(p0: vec3<f32>, n0: vec3<f32>, p1: vec3<f32>, n1: vec3<f32>) -> f32 {
+    let edge = p1 - p0;
+    return max(dot(n1 - n0, edge) / max(dot(edge, edge), 1e-30), 0.0);
+}
+
 // Angle, radians, over which the hot spot fades (e^−1 at this angle between light and view):
 // the reference's strands lose their lead over their own density volume (which has no hot
 // spot) between 0 and 20° and keep it beyond (docs/accuracy.md).

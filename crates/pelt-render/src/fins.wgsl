@@ -5,7 +5,8 @@
 // defines what reaches the fragment (`FinOut`, made by `fin_vertex`) and its color
 // (`fin_fragment`).
 
-#import pelt::common::{frame, skin_vec3, CULLED, clip_position, view_vector, growth}
+#import pelt::common::{frame, skin_vec3, CULLED, clip_position, view_vector, growth, edge_curvature}
+#import pelt::lighting::terminator_wrap
 #import pelt::light_model::{FinIn, FinCorner}
 #ifdef PRT
 #import pelt::fin_prt as model
@@ -34,7 +35,8 @@ fn vs_main(v: FinIn) -> model::FinOut {
     // uv.y is 0 at the top of the fur (the fin texture's first row) and 1 at the skin.
     let position = select(p0, p1, second) + (1.0 - v.uv.y) * frame.fur.x * v.length * g;
     let clip = select(CULLED, clip_position(position), fade > 0.0);
-    return model::fin_vertex(v, FinCorner(clip, position, normal, g, fade * v.color.a));
+    let wrap = terminator_wrap(edge_curvature(p0, n0, p1, n1), frame.fur.x * v.length);
+    return model::fin_vertex(v, FinCorner(clip, position, normal, g, fade * v.color.a, wrap));
 }
 
 @fragment

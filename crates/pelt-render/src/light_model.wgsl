@@ -13,9 +13,13 @@
 //   fn surface_vertex(v: SurfaceIn, layers: Layers, painted: bool) -> SurfaceVarying
 //     The vertex lifted to the height of `layers`, with its painted length or the multiplier 1.
 //   fn surface_fragment(v: SurfaceVarying) -> SurfaceOut
-//   fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>) -> vec4<f32>
+//   fn surface_wrap(s: SurfaceOut) -> f32
+//     The terminator band's width there (Kajiya–Kay's `terminator_wrap`; PRT fades its light in
+//     `prt_rotate.wgsl` and returns 0), from screen derivatives: call it before any discard.
+//   fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>, wrap: f32)
+//     -> vec4<f32>
 //     A shell's cross-faded texels × vertex color, lit; premultiplied, opacity × texel alpha.
-//     `grad`: the tile UV's screen derivatives, taken before any discard.
+//     `grad`: the tile UV's screen derivatives, taken before any discard; `wrap` as above.
 //   struct SkinVarying (PRT: its `SurfaceVarying`), fn skin_vertex(v: SurfaceIn) -> SkinVarying,
 //   fn skin_fragment(v: SkinVarying) -> vec3<f32>: the skin, opaque, at height 0.
 //   fn march_frame(s: SurfaceOut) -> MarchFrame: the hull fragment's point and tile frame.
@@ -57,6 +61,8 @@ struct FinCorner {
     growth: vec3<f32>,
     // Fade × fin opacity × vertex opacity.
     opacity: f32,
+    // The terminator band's width at the edge (Kajiya–Kay's `terminator_wrap`).
+    wrap: f32,
 };
 
 // A strand's corner, from `strands.wgsl`'s vertex to its fragment shader.
@@ -75,4 +81,6 @@ struct StrandOut {
     @location(6) @interpolate(flat) weights: vec3<f32>,
     // The strand, which seeds its stochastic coverage.
     @location(7) @interpolate(flat) strand: u32,
+    // The terminator band's width at the root (Kajiya–Kay's `terminator_wrap`).
+    @location(8) @interpolate(flat) wrap: f32,
 };

@@ -13,7 +13,16 @@
 // fur's own shadow below, the body's falls on nothing the eye sees when the light comes from the
 // eye: it fades at the hot spot too (under a light from the eye it had darkened the fur by a
 // quarter on average, most at the rim, where the reference's hair is lit brightest).
+// The band is where hair standing `h` above a surface curving at κ still sees past its terminator:
+// √(2 h κ) in N·L (a sphere's hair tip of radius R + h sees √(2h/R) past it), at most
+// TERMINATOR_WRAP. So a flat surface has none: under a grazing sun the flat patch's fur was 6×
+// the reference's, lit through hair that shadows it.
 const TERMINATOR_WRAP: f32 = 0.3;
+
+// The wrap at a surface of `curvature` (`surface_curvature`) under fur `height` object units deep.
+fn terminator_wrap(curvature: f32, height: f32) -> f32 {
+    return min(sqrt(2.0 * max(height, 0.0) * curvature), TERMINATOR_WRAP);
+}
 
 // Banks darkening (Lengyel §2.4) is linear in height, 1 − b (1 − h): none at the tips, 1 − b at
 // the skin. `frame.fur.z` is b for a light straight down the growth direction. A slanted light
@@ -66,7 +75,8 @@ fn ambient_at(normal: vec3<f32>) -> vec3<f32> {
     return max(a, vec3<f32>(0.0));
 }
 
-fn hair_parts(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>) -> HairParts {
+// `wrap`: the terminator band's width (`terminator_wrap`).
+fn hair_parts(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, wrap: f32) -> HairParts {
     let l = frame.light_direction.xyz;
     let h = unit_or(l + view, normal);
     let u = dot(tangent, l);
@@ -74,7 +84,7 @@ fn hair_parts(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>) -> HairPar
     // The floor keeps pow's base positive (pow(0, y) is undefined in WGSL).
     let diffuse = pow(max(1.0 - u * u, 1e-8), 0.5 * frame.kajiya_kay.z);
     let specular = pow(max(1.0 - v * v, 1e-8), 0.5 * frame.kajiya_kay.w);
-    let body = clamp((dot(normal, l) + TERMINATOR_WRAP) / (1.0 + TERMINATOR_WRAP), 0.0, 1.0);
+    let body = clamp((dot(normal, l) + wrap) / (1.0 + wrap), 0.0, 1.0);
     let lit = mix(body, 1.0, shared_path(l, view)) * directional_attenuation(tangent, l, view);
     return HairParts(ambient_at(normal), frame.light_color.rgb * lit * (frame.kajiya_kay.x * diffuse),
                      lit * (frame.kajiya_kay.y * specular));
@@ -88,23 +98,25 @@ struct HairTerms {
 };
 
 // `height` is the share of the fur depth (0 at the skin, 1 at the top of the volume).
-fn hair_terms(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f32) -> HairTerms {
-    let p = hair_parts(tangent, normal, view);
+fn hair_terms(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f32,
+              wrap: f32) -> HairTerms {
+    let p = hair_parts(tangent, normal, view, wrap);
     let b = banks_strengths(normal, frame.light_direction.xyz, view);
     let direct = banks_at(b.y, height);
     return HairTerms(p.ambient * banks_at(b.x, height) + p.direct * direct, p.shine * direct);
 }
 
 // The hair lighting at one point (see `HairLight` and `hair_terms`).
-fn hair_light(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f32) -> HairLight {
-    let k = hair_terms(tangent, normal, view, height);
+fn hair_light(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f32,
+              wrap: f32) -> HairLight {
+    let k = hair_terms(tangent, normal, view, height, wrap);
     return HairLight(vec3<f32>(0.0), k.scale, frame.light_color.rgb * k.shine);
 }
 
 // `albedo` is premultiplied by `alpha`; so is the result.
 fn shade(albedo: vec3<f32>, alpha: f32, tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>,
-         height: f32) -> vec4<f32> {
-    let k = hair_light(tangent, normal, view, height);
+         height: f32, wrap: f32) -> vec4<f32> {
+    let k = hair_light(tangent, normal, view, height, wrap);
     return vec4<f32>(albedo * k.scale + alpha * k.add, alpha);
 }
 
@@ -112,9 +124,9 @@ fn shade(albedo: vec3<f32>, alpha: f32, tangent: vec3<f32>, normal: vec3<f32>, v
 // whole of what shows), lit by the wrapped N·L instead of the hair terms. Its tangent map holds
 // the roots' mean direction, nearly the normal, which Kajiya-Kay would light darkest exactly
 // where the light falls straight on. Banks-darkened like the roots above it.
-fn shade_skin(albedo: vec3<f32>, normal: vec3<f32>, view: vec3<f32>) -> vec3<f32> {
+fn shade_skin(albedo: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, wrap: f32) -> vec3<f32> {
     let l = frame.light_direction.xyz;
-    let lit = clamp((dot(normal, l) + TERMINATOR_WRAP) / (1.0 + TERMINATOR_WRAP), 0.0, 1.0);
+    let lit = clamp((dot(normal, l) + wrap) / (1.0 + wrap), 0.0, 1.0);
     let light = frame.light_color.rgb * (lit * frame.kajiya_kay.x);
     let b = banks_strengths(normal, l, view);
     return albedo * (ambient_at(normal) * (1.0 - b.x) + light * (1.0 - b.y));

@@ -1,6 +1,6 @@
 #define_import_path pelt::march
 
-#import pelt::common::{frame, Layers, HairLight, view_vector}
+#import pelt::common::{frame, Layers, HairLight, view_vector, surface_curvature}
 #import pelt::surface::{uv_gradients, MarchFrame}
 #ifdef PRT
 #import pelt::surface_prt as model
@@ -63,16 +63,6 @@ fn ray_length(r: Ray, drop: f32) -> f32 {
     return min(2.0 * drop / (r.fall + sqrt(disc)), r.cap * drop);
 }
 
-// The surface's curvature from screen derivatives of the normal and position (taken in uniform
-// control flow): the larger of the two screen axes', where the normal turns away from the step.
-fn surface_curvature(normal: vec3<f32>, position: vec3<f32>) -> f32 {
-    let dpx = dpdx(position);
-    let dpy = dpdy(position);
-    let kx = dot(dpdx(normal), dpx) / max(dot(dpx, dpx), 1e-30);
-    let ky = dot(dpdy(normal), dpy) / max(dot(dpy, dpy), 1e-30);
-    return max(max(kx, ky), 0.0);
-}
-
 // What a march leaves: the composite (premultiplied, before the vertex color's rgb) and the layer
 // lit for it, the one where the composite passes half opacity.
 struct Marched {
@@ -131,7 +121,7 @@ struct HullFragment {
 fn hull_fragment(v: model::SurfaceVarying) -> HullFragment {
     let s = model::surface_fragment(v);
     let grad = uv_gradients(s.uv);
-    let f = model::march_frame(s);
-    let curvature = surface_curvature(f.normal, f.position);
-    return HullFragment(s, grad, f, march_ray(f, curvature));
+    var f = model::march_frame(s);
+    f.curvature = surface_curvature(f.normal, f.position);
+    return HullFragment(s, grad, f, march_ray(f, f.curvature));
 }

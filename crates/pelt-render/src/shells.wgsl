@@ -19,10 +19,11 @@ fn fs_main(v: model::SurfaceVarying) -> @location(0) vec4<f32> {
     let s = model::surface_fragment(v);
     let texels = layer_texels(s.uv, s.layer, s.coarse);
     let grad = uv_gradients(s.uv);
+    let wrap = model::surface_wrap(s);
     // Bald faces (length 0 at every corner) draw nothing; the alpha test keeps empty texels from
     // writing depth over the layers still to come, and spares them the lighting.
     if (s.length <= 0.0 || blended(texels).a * s.color.a < frame.fur.w) {
         discard;
     }
-    return model::shade_surface(s, texels, s.color.a, grad);
+    return model::shade_surface(s, texels, s.color.a, grad, wrap);
 }

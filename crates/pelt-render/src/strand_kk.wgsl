@@ -8,5 +8,6 @@
 // Banks-darkened by the height it stands at, as the shell texel there would be.
 
 fn shade_strand(v: StrandOut, tangent: vec3<f32>, height: f32) -> vec4<f32> {
-    return shade(v.color.rgb, v.color.a, tangent, v.normal, view_vector(v.position), height);
+    return shade(v.color.rgb, v.color.a, tangent, v.normal, view_vector(v.position), height,
+                 v.wrap);
 }

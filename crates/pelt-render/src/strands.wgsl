@@ -8,7 +8,10 @@
 // between its heights, so each band lands among the shells where it stands. The lighting model
 // (`strand_kk.wgsl`, `strand_prt.wgsl`, `light_model.wgsl` states its interface) shades.
 
-#import pelt::common::{frame, shell_layers, CULLED, clip_position, view_vector, unit_or}
+#import pelt::common::{
+    frame, shell_layers, CULLED, clip_position, view_vector, unit_or, skin_vec3, edge_curvature,
+}
+#import pelt::lighting::terminator_wrap
 #import pelt::light_model::StrandOut
 #ifdef PRT
 #import pelt::strand_prt as model
@@ -99,6 +102,20 @@ fn pixels_across(p: vec3<f32>, side: vec3<f32>, radius: f32) -> f32 {
     return length(d);
 }
 
+// The terminator band's width at a strand's root: its triangle's curvature (the largest of its
+// edges') under the fur there.
+fn root_wrap(s: GuardStrand) -> f32 {
+    var p: array<vec3<f32>, 3>;
+    var n: array<vec3<f32>, 3>;
+    for (var i = 0u; i < 3u; i++) {
+        p[i] = skin_vec3(s.corners[i], 0u);
+        n[i] = skin_vec3(s.corners[i], 3u);
+    }
+    let k = max(edge_curvature(p[0], n[0], p[1], n[1]),
+                max(edge_curvature(p[1], n[1], p[2], n[2]), edge_curvature(p[2], n[2], p[0], n[0])));
+    return terminator_wrap(k, frame.fur.x * s.shape.w);
+}
+
 // Point index of drawn point `j` of `drawn` segments over a strand of `count` points: every
 // k-th point, the root and the tip always.
 fn drawn_point(j: u32, drawn: u32, count: u32) -> u32 {
@@ -173,6 +190,7 @@ fn vs_main(@builtin(vertex_index) vertex: u32, @builtin(instance_index) band: u3
     out.corners = s.corners.xyz;
     out.weights = s.shape.xyz;
     out.strand = strand;
+    out.wrap = root_wrap(s);
     return out;
 }
 

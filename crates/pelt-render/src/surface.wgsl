@@ -76,4 +76,6 @@ struct MarchFrame {
     dpdu: vec3<f32>,
     dpdv: vec3<f32>,
     up: vec3<f32>,
+    // The surface's curvature there (`surface_curvature`; the models leave it 0, the hull sets it).
+    curvature: f32,
 };

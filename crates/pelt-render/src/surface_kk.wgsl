@@ -2,9 +2,9 @@
 
 #import pelt::common::{
     frame, tangent_texture, tile_sampler, Layers, skin_layers, shading_height, HairLight,
-    clip_position, view_vector, unit_or,
+    clip_position, view_vector, unit_or, surface_curvature,
 }
-#import pelt::lighting::{banks_strengths, hair_parts, shade, shade_skin}
+#import pelt::lighting::{banks_strengths, hair_parts, shade, shade_skin, terminator_wrap}
 #import pelt::surface::{SurfaceData, lift, Texels, layer_texels, blended, MarchFrame}
 
 // The skin and shells under Kajiya-Kay lighting (Lengyel et al. 2001, §2.4): vertices come from
@@ -89,14 +89,22 @@ fn skin_fragment(s: SkinVarying) -> vec3<f32> {
     let layers = skin_layers();
     let uv = vec2<f32>(s.normal_u.w, s.position_v.w);
     let texel = blended(layer_texels(uv, layers.fine, layers.coarse));
-    return shade_skin(texel.rgb * s.color, unit_or(s.normal_u.xyz, vec3<f32>(0.0, 0.0, 1.0)),
-                      view_vector(s.position_v.xyz));
+    let n = unit_or(s.normal_u.xyz, vec3<f32>(0.0, 0.0, 1.0));
+    let wrap = terminator_wrap(surface_curvature(n, s.position_v.xyz), frame.fur.x);
+    return shade_skin(texel.rgb * s.color, n, view_vector(s.position_v.xyz), wrap);
+}
+
+// The terminator band's width under the shell's hair (its painted length × the fur depth).
+fn surface_wrap(s: SurfaceOut) -> f32 {
+    let n = unit_or(s.normal, vec3<f32>(0.0, 0.0, 1.0));
+    return terminator_wrap(surface_curvature(n, s.position), frame.fur.x * s.length);
 }
 
 // A shell's cross-faded texel × vertex color, lit as hair (the model is linear in the texel, so
 // one shading of the blend is the blend of two; the skin has `skin_fragment`); premultiplied,
 // opacity × texel alpha. `grad` is unused here (the tangent map has one level).
-fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>) -> vec4<f32> {
+fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>,
+                 wrap: f32) -> vec4<f32> {
     let texel = blended(texels);
     let n = unit_or(s.normal, vec3<f32>(0.0, 0.0, 1.0));
     // Lit, and its hair direction read, at its group's middle: the tangent at the group's top
@@ -105,7 +113,7 @@ fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>) -
     let t = tangent_between(s.uv, lit, s.dpdu, s.dpdv, s.up, n);
     let albedo = texel.rgb * s.color.rgb * opacity;
     let height = lit * frame.fur.y;
-    return shade(albedo, texel.a * opacity, t, n, view_vector(s.position), height);
+    return shade(albedo, texel.a * opacity, t, n, view_vector(s.position), height, wrap);
 }
 
 // The hair tangent of the tangent map carried from the tile frame (x along u, y along v, z up)
@@ -131,7 +139,7 @@ fn tangent_between(uv: vec2<f32>, at: f32, dpdu: vec3<f32>, dpdv: vec3<f32>, up:
 
 // The hull fragment's point and tile frame for the marched shells (`marched.wgsl`).
 fn march_frame(s: SurfaceOut) -> MarchFrame {
-    return MarchFrame(s.position, s.normal, s.dpdu, s.dpdv, s.up);
+    return MarchFrame(s.position, s.normal, s.dpdu, s.dpdv, s.up, 0.0);
 }
 
 // The hair lighting at the marched layer `layers` read at `uv`, before Banks darkening (at the
@@ -141,7 +149,8 @@ fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alph
                grad: vec4<f32>, mean: f32) -> HairLight {
     let n = unit_or(f.normal, vec3<f32>(0.0, 0.0, 1.0));
     let t = hair_tangent(uv, layers.height, f.dpdu, f.dpdv, f.up, n);
-    let p = hair_parts(t, n, view_vector(f.position));
+    let wrap = terminator_wrap(f.curvature, frame.fur.x * s.length);
+    let p = hair_parts(t, n, view_vector(f.position), wrap);
     return HairLight(p.ambient, p.direct, frame.light_color.rgb * p.shine);
 }
 

@@ -89,14 +89,16 @@ fn skin_vertex(v: SurfaceIn) -> SurfaceVarying {
 
 fn skin_fragment(v: SurfaceVarying) -> vec3<f32> {
     let s = surface_fragment(v);
-    return shade_surface(s, layer_texels(s.uv, s.layer, s.coarse), 1.0, uv_gradients(s.uv)).rgb;
+    let texels = layer_texels(s.uv, s.layer, s.coarse);
+    return shade_surface(s, texels, 1.0, uv_gradients(s.uv), 0.0).rgb;
 }
 
 // Each level's texel × vertex color, lit by the transfer of its own layer (the two levels'
 // layers are lit differently), cross-faded; premultiplied, opacity × texel alpha. A layer with
 // no coarser twin fades its color with its alpha (its coarse texel is zero). The hot spot raises
 // both alike, by the factor at the height the layers are lit at.
-fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>) -> vec4<f32> {
+fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>,
+                 wrap: f32) -> vec4<f32> {
     let height = shading_height(Layers(s.height, s.layer, s.coarse)) * frame.fur.y;
     let tint = s.color.rgb * opacity;
     let fine = texels.fine.rgb
@@ -114,6 +116,12 @@ fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>) -
     return vec4<f32>(rgb * tint, blended(texels).a * opacity);
 }
 
+// PRT fades its directional light past each vertex's terminator in `prt_rotate.wgsl`: no band
+// here (`wrap` is unused).
+fn surface_wrap(s: SurfaceOut) -> f32 {
+    return 0.0;
+}
+
 // The hull fragment's point and tile frame for the marched shells (`marched.wgsl`), interpolated
 // from the geometry of the triangle's three surface vertices (pulled, as the vertex shader does;
 // the fragment stage reads no color or length buffer, within the storage buffer limit).
@@ -128,7 +136,7 @@ fn march_frame(s: SurfaceOut) -> MarchFrame {
     }
     let up = frame.fur.x * s.length * growth(at[1], at[4]);
     let height = f32(shell_layers(frame.counts.x - 1u).height) * frame.fur.y;
-    return MarchFrame(at[0] + height * up, at[1], at[2], at[3], up);
+    return MarchFrame(at[0] + height * up, at[1], at[2], at[3], up, 0.0);
 }
 
 // The transfer of the marched layer `layers` read at `uv` (`alpha` its texel's opacity, which

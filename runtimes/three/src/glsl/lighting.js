@@ -19,6 +19,19 @@ const float PELT_TERMINATOR_WRAP = 0.3;
 const float PELT_MIN_SLANT_COS = 0.1;
 const float PELT_HOT_SPOT_WIDTH = 0.35;
 
+// lighting.wgsl terminator_wrap(): the band past the terminator where hair height above a surface
+// of curvature κ still sees the light, √(2 h κ), at most PELT_TERMINATOR_WRAP.
+float peltTerminatorWrap( float curvature, float height ) {
+	return min( sqrt( 2.0 * max( height, 0.0 ) * curvature ), PELT_TERMINATOR_WRAP );
+}
+
+// common.wgsl edge_curvature(): how fast the normal turns along the edge p0 → p1; 0 if flat or
+// concave.
+float peltEdgeCurvature( vec3 p0, vec3 n0, vec3 p1, vec3 n1 ) {
+	vec3 edge = p1 - p0;
+	return max( dot( n1 - n0, edge ) / max( dot( edge, edge ), 1e-30 ), 0.0 );
+}
+
 // lighting.wgsl shared_path(): how much of the light's path is the view ray's own (the hot spot).
 float peltSharedPath( vec3 light, vec3 view ) {
 	float apart = acos( clamp( dot( light, view ), -1.0, 1.0 ) );
@@ -47,7 +60,7 @@ vec3 peltAmbientAt( vec3 normal ) {
 
 // lighting.wgsl hair_parts(), as its HairParts: ambient, direct (rgb) and the highlight's
 // multiple of the light color (shine).
-void peltHairParts( vec3 tangent, vec3 normal, vec3 view, out vec3 ambient, out vec3 direct, out float shine ) {
+void peltHairParts( vec3 tangent, vec3 normal, vec3 view, float wrap, out vec3 ambient, out vec3 direct, out float shine ) {
 	vec3 l = peltLightDirection;
 	vec3 h = peltUnitOr( l + view, normal );
 	float u = dot( tangent, l );
@@ -56,7 +69,7 @@ void peltHairParts( vec3 tangent, vec3 normal, vec3 view, out vec3 ambient, out 
 	float diffuse = pow( max( 1.0 - u * u, 1e-8 ), 0.5 * peltKajiyaKay.z );
 	float specular = pow( max( 1.0 - v * v, 1e-8 ), 0.5 * peltKajiyaKay.w );
 	// The body's shadow, wrapped over the terminator, fading at the hot spot.
-	float body = clamp( ( dot( normal, l ) + PELT_TERMINATOR_WRAP ) / ( 1.0 + PELT_TERMINATOR_WRAP ), 0.0, 1.0 );
+	float body = clamp( ( dot( normal, l ) + wrap ) / ( 1.0 + wrap ), 0.0, 1.0 );
 	float lit = mix( body, 1.0, peltSharedPath( l, view ) );
 	ambient = peltAmbientAt( normal );
 	direct = peltLightColor * lit * ( peltKajiyaKay.x * diffuse );
@@ -65,11 +78,11 @@ void peltHairParts( vec3 tangent, vec3 normal, vec3 view, out vec3 ambient, out 
 
 // lighting.wgsl hair_terms(): the lighting's scale (rgb, multiplies the albedo) and shine (w,
 // times the light color) at height (share of the fur depth).
-vec4 peltHairTerms( vec3 tangent, vec3 normal, vec3 view, float height ) {
+vec4 peltHairTerms( vec3 tangent, vec3 normal, vec3 view, float height, float wrap ) {
 	vec3 ambient;
 	vec3 direct;
 	float shine;
-	peltHairParts( tangent, normal, view, ambient, direct, shine );
+	peltHairParts( tangent, normal, view, wrap, ambient, direct, shine );
 	vec2 b = peltBanksStrengths( normal, peltLightDirection, view );
 	float darkened = peltBanksAt( b.y, height );
 	return vec4( ambient * peltBanksAt( b.x, height ) + direct * darkened, shine * darkened );
@@ -78,16 +91,16 @@ vec4 peltHairTerms( vec3 tangent, vec3 normal, vec3 view, float height ) {
 // lighting.wgsl shade() in straight alpha: the lit color of hair of straight albedo (the texel's
 // rgb × vertex color), albedo × scale + light color × shine. Premultiplying by the fragment's
 // alpha gives the WGSL's albedo × scale + alpha × add.
-vec3 peltShade( vec3 albedo, vec3 tangent, vec3 normal, vec3 view, float height ) {
-	vec4 k = peltHairTerms( tangent, normal, view, height );
+vec3 peltShade( vec3 albedo, vec3 tangent, vec3 normal, vec3 view, float height, float wrap ) {
+	vec4 k = peltHairTerms( tangent, normal, view, height, wrap );
 	return albedo * k.rgb + peltLightColor * k.w;
 }
 
 // lighting.wgsl shade_skin(): the skin under the roots, wrapped N·L instead of the hair terms,
 // Banks-darkened like the roots above it.
-vec3 peltShadeSkin( vec3 albedo, vec3 normal, vec3 view ) {
+vec3 peltShadeSkin( vec3 albedo, vec3 normal, vec3 view, float wrap ) {
 	vec3 l = peltLightDirection;
-	float lit = clamp( ( dot( normal, l ) + PELT_TERMINATOR_WRAP ) / ( 1.0 + PELT_TERMINATOR_WRAP ), 0.0, 1.0 );
+	float lit = clamp( ( dot( normal, l ) + wrap ) / ( 1.0 + wrap ), 0.0, 1.0 );
 	vec3 light = peltLightColor * ( lit * peltKajiyaKay.x );
 	vec2 b = peltBanksStrengths( normal, l, view );
 	return albedo * ( peltAmbientAt( normal ) * ( 1.0 - b.x ) + light * ( 1.0 - b.y ) );

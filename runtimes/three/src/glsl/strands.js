@@ -102,7 +102,8 @@ void main() {
 	vec3 n = peltUnitOr( vNormal, vec3( 0.0, 0.0, 1.0 ) );
 	vec3 t = peltUnitOr( vTangent, n );
 	// strand_kk.wgsl shade_strand(), straight alpha.
-	gl_FragColor = vec4( peltShade( vColor.rgb, t, n, peltViewVector( vPosition ), vHeight ), vColor.a * vCoverage );
+	// The root triangle's curvature is not in the file: the widest band (strands.wgsl root_wrap).
+	gl_FragColor = vec4( peltShade( vColor.rgb, t, n, peltViewVector( vPosition ), vHeight, PELT_TERMINATOR_WRAP ), vColor.a * vCoverage );
 	#include <tonemapping_fragment>
 	#include <colorspace_fragment>
 }
