@@ -60,18 +60,21 @@ fn mean_transfer(k: u32, height: f32) -> f32 {
     return mix(layer_means[below * n + k], layer_means[above * n + k], at - f32(below));
 }
 
-// Σ_k L'_k t̄_k with the hair's mean transfer at `height`, and at the top layer.
+// Σ_k L'_k t̄_k with the hair's mean transfer at `height`, and at the top layer where the hot spot
+// `hot` needs it (else 0: the fins' and strands' frames away from it skip the reads).
 struct MeanRadiances {
     here: vec3<f32>,
     top: vec3<f32>,
 };
 
-fn mean_radiances(ids: vec3<u32>, w: vec3<f32>, height: f32) -> MeanRadiances {
+fn mean_radiances(ids: vec3<u32>, w: vec3<f32>, height: f32, hot: f32) -> MeanRadiances {
     var m = MeanRadiances(vec3<f32>(0.0), vec3<f32>(0.0));
     for (var k = 0u; k < frame.prt.x; k++) {
         let l = light_at(ids, w, k);
         m.here += l * mean_transfer(k, height);
-        m.top += l * top_transfer(k);
+        if (hot > 0.0) {
+            m.top += l * top_transfer(k);
+        }
     }
     return m;
 }
@@ -115,13 +118,13 @@ fn hot_spot_gain(ids: vec3<u32>, w: vec3<f32>, height: f32, hot: f32) -> vec3<f3
     if (hot <= 0.0) {
         return vec3<f32>(1.0);
     }
-    return hot_spot_factor(mean_radiances(ids, w, height), hot);
+    return hot_spot_factor(mean_radiances(ids, w, height, hot), hot);
 }
 
 // Σ_k L'_k t̄_k with the hair's mean transfer at `height` for the fins, which have no transfer of
 // their own, raised by the hot spot `hot`.
 fn mean_radiance(ids: vec3<u32>, w: vec3<f32>, height: f32, hot: f32) -> vec3<f32> {
-    let m = mean_radiances(ids, w, height);
+    let m = mean_radiances(ids, w, height, hot);
     return max(m.here, vec3<f32>(0.0)) * hot_spot_factor(m, hot);
 }
 

@@ -206,12 +206,13 @@ fn render_with<S: Sampler>(
     }
     let inv = 1.0 / f64::from(samples);
     let out: Vec<[f32; 4]> = sums.iter().map(|s| (*s * inv).as_vec4().to_array()).collect();
-    let pixel_error = pixel_error(&out, &lum_sum, &lum_squares, pass_means.len());
-    let pixel_variance = lum_sum
+    let variances: Vec<f64> = lum_sum
         .iter()
         .zip(&lum_squares)
-        .map(|(&s, &q)| mean_variance(s, q, pass_means.len()) as f32)
+        .map(|(&s, &q)| mean_variance(s, q, pass_means.len()))
         .collect();
+    let pixel_error = pixel_error(&out, &lum_sum, &variances, pass_means.len());
+    let pixel_variance = variances.iter().map(|&v| v as f32).collect();
     Ok(ReferenceImage {
         width: camera.width,
         height: camera.height,
@@ -249,15 +250,16 @@ fn mean_variance(sum: f64, squares: f64, passes: usize) -> f64 {
     ((squares / k - mean * mean) * k / (k - 1.0)).max(0.0) / k
 }
 
-fn pixel_error(pixels: &[[f32; 4]], sums: &[f64], squares: &[f64], passes: usize) -> f64 {
+/// `variances`: each pixel's [`mean_variance`].
+fn pixel_error(pixels: &[[f32; 4]], sums: &[f64], variances: &[f64], passes: usize) -> f64 {
     if passes < 2 {
         return f64::INFINITY;
     }
     let k = passes as f64;
     let (mut var_total, mut lum_total, mut covered) = (0.0, 0.0, 0usize);
-    for ((p, &s), &q) in pixels.iter().zip(sums).zip(squares) {
+    for ((p, &s), &v) in pixels.iter().zip(sums).zip(variances) {
         if p[3] > 0.0 {
-            var_total += mean_variance(s, q, passes);
+            var_total += v;
             lum_total += s / k;
             covered += 1;
         }
