@@ -11,7 +11,8 @@
 @group(1) @binding(0) var transfer_texture: texture_2d_array<f32>;
 // Per surface vertex, n² rotated coefficients (RGB).
 @group(1) @binding(1) var<storage, read> rotated: array<vec4<f32>>;
-// Per volume layer, the opacity-weighted mean of each coefficient: the fins' transfer.
+// Per array layer (level 0's, then the LOD composites'), the opacity-weighted mean of each
+// coefficient: the fins' transfer and the hot spot's measure of a layer's.
 @group(1) @binding(2) var<storage, read> layer_means: array<f32>;
 
 // The rotated lighting at a point between surface vertices `ids` with weights `w`.
@@ -23,10 +24,11 @@ fn light_at(ids: vec3<u32>, w: vec3<f32>, k: u32) -> vec3<f32> {
 
 // Σ_k L'_k t_k with the transfer sampled at `uv` in layer `layer` of every transfer texture;
 // `alpha` is the shell texel's opacity sampled alike, which the premultiplied transfer divides
-// out. Raised by the hot spot `hot` (`hot_spot`) at `height` (share of the fur depth), whose mean
-// radiances (`hot_spot_factor`) are summed in the same loop, so the lighting is read once.
+// out. Raised by the hot spot `hot` (`hot_spot`) by the layer's own mean transfer (an LOD
+// composite's leans to its outer shells), whose mean radiances (`hot_spot_factor`) are summed in
+// the same loop, so the lighting is read once.
 fn transfer_radiance(ids: vec3<u32>, w: vec3<f32>, uv: vec2<f32>, layer: u32, grad: vec4<f32>,
-                     alpha: f32, height: f32, hot: f32) -> vec3<f32> {
+                     alpha: f32, hot: f32) -> vec3<f32> {
     let n = frame.prt.x;
     let clears = hot > 0.0;
     var sum = vec3<f32>(0.0);
@@ -39,7 +41,7 @@ fn transfer_radiance(ids: vec3<u32>, w: vec3<f32>, uv: vec2<f32>, layer: u32, gr
             let l = light_at(ids, w, k);
             sum += l * c[ch];
             if (clears) {
-                m.here += l * mean_transfer(k, height);
+                m.here += l * layer_means[layer * n + k];
                 m.top += l * top_transfer(k);
             }
         }

@@ -466,10 +466,13 @@ impl FurScene {
             ));
         }
         let (means, per_texture) = pool().install(|| {
-            (
-                transfer::layer_means(transfer, &self.alpha, order),
-                transfer::premultiplied_levels(transfer, &self.alpha, &self.levels),
-            )
+            let texels = self.resolution * self.resolution;
+            let alphas = transfer::level_alphas(&self.alpha, &self.levels, texels);
+            let per_texture = transfer::premultiplied_levels(transfer, &alphas, &self.levels);
+            let mut means = transfer::layer_means(transfer, &self.alpha, order);
+            let composites = transfer::composite_means(&means, &alphas, &self.levels, texels);
+            means.extend(composites);
+            (means, per_texture)
         });
         let layouts = renderer.fur_layouts()?;
         let prt = layouts.prt(device)?;

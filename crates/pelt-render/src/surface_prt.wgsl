@@ -2,7 +2,7 @@
 
 #import pelt::common::{
     frame, skin_vertices, SKIN_FLOATS, skin_vec3, NO_LAYER, Layers, skin_layers, shell_layers,
-    shading_height, HairLight, growth,
+    HairLight, growth,
 }
 #import pelt::prt::{
     transfer_radiance, mean_radiance, mean_radiance_change, hot_spot, hot_spot_gain,
@@ -96,20 +96,18 @@ fn skin_fragment(v: SurfaceVarying) -> vec3<f32> {
 // Each level's texel × vertex color, lit by the transfer of its own layer (the two levels'
 // layers are lit differently), cross-faded; premultiplied, opacity × texel alpha. A layer with
 // no coarser twin fades its color with its alpha (its coarse texel is zero). The hot spot raises
-// both alike, by the factor at the height the layers are lit at.
+// each by its own layer's factor.
 fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>,
                  wrap: f32) -> vec4<f32> {
-    let height = shading_height(Layers(s.height, s.layer, s.coarse)) * frame.fur.y;
     let tint = s.color.rgb * opacity;
     let fine = texels.fine.rgb
-        * transfer_radiance(s.ids, s.bary, s.uv, s.layer, grad, texels.fine.a, height, s.hot);
+        * transfer_radiance(s.ids, s.bary, s.uv, s.layer, grad, texels.fine.a, s.hot);
     var rgb = fine;
     if (frame.fin.y > 0.0) {
         var coarse = vec3<f32>(0.0);
         if (s.coarse != NO_LAYER) {
             coarse = texels.coarse.rgb
-                * transfer_radiance(s.ids, s.bary, s.uv, s.coarse, grad, texels.coarse.a, height,
-                                    s.hot);
+                * transfer_radiance(s.ids, s.bary, s.uv, s.coarse, grad, texels.coarse.a, s.hot);
         }
         rgb = mix(fine, coarse, frame.fin.y);
     }
@@ -146,7 +144,7 @@ fn march_frame(s: SurfaceOut) -> MarchFrame {
 // holds, and deeper hair is more shadowed. The texel's own transfer keeps the strands' detail.
 fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alpha: f32,
                grad: vec4<f32>, mean: f32) -> HairLight {
-    let texel = transfer_radiance(s.ids, s.bary, uv, layers.fine, grad, alpha, 0.0, 0.0);
+    let texel = transfer_radiance(s.ids, s.bary, uv, layers.fine, grad, alpha, 0.0);
     let shift = mean_radiance_change(s.ids, s.bary, f32(layers.height) * frame.fur.y, mean);
     let hot = hot_spot_gain(s.ids, s.bary, mean, hot_spot(f.position));
     return HairLight(vec3<f32>(0.0), max(texel + shift, vec3<f32>(0.0)) * hot, vec3<f32>(0.0));

@@ -448,7 +448,7 @@ fn lod_follows_the_projected_fur_depth_between_the_levels() {
 #[test]
 fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
     use super::lod::Levels;
-    use super::transfer::premultiplied_levels;
+    use super::transfer::{composite_means, level_alphas, premultiplied_levels};
     use half::f16;
     use pelt_core::prt::pack::PackedF16;
     let (layers, resolution) = (5usize, 2usize);
@@ -467,15 +467,25 @@ fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
         texels: texel_values,
     };
     let levels = Levels::new(layers as u32);
+    // Level 0's mean transfer, one value per layer and channel.
+    let layer_mean: Vec<f32> = (0..layers * 4)
+        .map(|i| ((i * 7) % 13) as f32 / 5.0 - 1.0)
+        .collect();
     let run = |threads| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap();
-        pool.install(|| premultiplied_levels(&packed, &alpha, &levels))
+        pool.install(|| {
+            let alphas = level_alphas(&alpha, &levels, texels);
+            let out = premultiplied_levels(&packed, &alphas, &levels);
+            let means = composite_means(&layer_mean, &alphas, &levels, texels);
+            (out, means)
+        })
     };
-    let out = run(1);
-    assert!(out == run(2));
+    let (out, means) = run(1);
+    assert!((out.clone(), means.clone()) == run(2));
+    assert_eq!(means.len(), (levels.total() as usize - layers) * 4);
     assert_eq!(out.len(), 1);
     assert_eq!(out[0].len(), levels.total() as usize * texels * 4);
     for (k, (&count, &base)) in levels.counts.iter().zip(&levels.bases).enumerate() {
@@ -488,6 +498,8 @@ fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
                 (_, 0) => 0..1,
                 _ => ((j - 1) << k) + 1..((j << k) + 1).min(layers),
             };
+            // Each level-0 layer's weight in the composite, summed over the tile.
+            let mut shown = vec![0.0f64; layers];
             for x in 0..texels {
                 for c in 0..4 {
                     let (mut sum, mut weights, mut clear) = (0.0f64, 0.0f64, 1.0f64);
@@ -495,6 +507,9 @@ fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
                         let a = f64::from(alpha[i * texels + x]) / 255.0;
                         sum += a * clear * f64::from(value(i * texels + x, c));
                         weights += a * clear;
+                        if c == 0 {
+                            shown[i] += a * clear;
+                        }
                         clear *= 1.0 - a;
                     }
                     // Stored premultiplied by the composite's opacity, 1 − clear.
@@ -503,6 +518,22 @@ fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
                     assert!(
                         (got - want).abs() < 2e-3,
                         "level {k} layer {j} texel {x} channel {c}: {got} vs {want}"
+                    );
+                }
+            }
+            if k > 0 {
+                // The hot spot's measure of the composite: level 0's means weighted by `shown`.
+                let total: f64 = shown.iter().sum();
+                for c in 0..4 {
+                    let got = f64::from(means[(base as usize - layers + j) * 4 + c]);
+                    let want = group
+                        .clone()
+                        .map(|i| shown[i] * f64::from(layer_mean[i * 4 + c]))
+                        .sum::<f64>()
+                        / total;
+                    assert!(
+                        (got - want).abs() < 2e-3,
+                        "level {k} layer {j} mean {c}: {got} vs {want}"
                     );
                 }
             }

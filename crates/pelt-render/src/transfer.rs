@@ -19,6 +19,8 @@
 //! A transfer belongs to one bake: its layers and resolution must be the volume's, which is what
 //! [`check`] holds it to.
 
+use std::ops::Range;
+
 use half::f16;
 use rayon::prelude::*;
 
@@ -217,16 +219,10 @@ pub(super) fn upload(
     Ok(TransferTextures { view, bytes })
 }
 
-/// Every texture's coefficients for all LOD levels (`levels`), premultiplied by the opacity of
-/// their shell texel, level 0 being `packed`: level `k` layer `j` composites the layers of level
-/// `k − 1` that its shells do ([`sources`]: inner, and outer over it) with weights
-/// `a_i (1 − a_o)` and `a_o` from the shells' opacity (`alpha`, level 0's `[L][R²]` bytes, carried in f32 through the levels), or the plain
-/// mean where both are empty. Runs in the current rayon pool; every value is computed on its
-/// own, so the result does not depend on the thread count.
-pub(super) fn premultiplied_levels(packed: &PackedF16, alpha: &[u8], levels: &Levels) -> Vec<Vec<f16>> {
-    let texels = packed.resolution * packed.resolution;
-    let voxels = packed.layers * texels;
-    // Opacity of every level's layers, level by level.
+/// The opacity of every LOD level's layers, level by level, level 0 being `alpha` (its `[L][R²]`
+/// bytes): level `k` layer `j` composites the layers of level `k − 1` that its shells do
+/// ([`sources`]: inner, and outer over it). Runs in the current rayon pool.
+pub(super) fn level_alphas(alpha: &[u8], levels: &Levels, texels: usize) -> Vec<Vec<f32>> {
     let mut alphas: Vec<Vec<f32>> = vec![alpha.iter().map(|&a| f32::from(a) / 255.0).collect()];
     for k in 1..levels.counts.len() {
         let prev = &alphas[k - 1];
@@ -247,6 +243,84 @@ pub(super) fn premultiplied_levels(packed: &PackedF16, alpha: &[u8], levels: &Le
             .collect();
         alphas.push(next);
     }
+    alphas
+}
+
+/// The mean transfer coefficients of each LOD layer past level 0, `[layer][n²]` in the array's
+/// order: level 0's layer means (`means`, [`layer_means`]) weighted by how much of each layer
+/// the composite shows ("over", summed over the tile), which the hot spot (`prt.wgsl`) weighs
+/// against the top layer's. All shells raise layer `i` by `top / m_i`; a composite of radiance
+/// `Σ R_i` raised by `top / m` gives their sum when `m = Σ W_i m_i / Σ W_i`, `W_i` layer `i`'s
+/// weight (taken with `R_i ≈ W_i m_i`). Raised by the level-0 mean at its middle height, the
+/// far levels were up to twice the all-shells image. `alphas` are every level's opacities
+/// ([`level_alphas`]); 0 for an empty layer, which draws nothing. Runs in the current rayon pool;
+/// sums in f64 in texel order, so the result does not depend on the thread count.
+pub(super) fn composite_means(
+    means: &[f32],
+    alphas: &[Vec<f32>],
+    levels: &Levels,
+    texels: usize,
+) -> Vec<f32> {
+    let layers = levels.counts[0] as usize;
+    let n = means.len() / layers;
+    // Level-0 layer i's share of its group's color per texel; its group's level-0 layers.
+    let mut weight = alphas[0].clone();
+    let mut groups: Vec<Range<usize>> = (0..layers).map(|i| i..i + 1).collect();
+    let mut out = Vec::new();
+    for k in 1..levels.counts.len() {
+        let count = levels.counts[k - 1] as usize;
+        let mut under: Vec<Option<usize>> = vec![None; layers];
+        let next: Vec<Range<usize>> = (0..levels.counts[k] as usize)
+            .map(|j| match sources(count, j) {
+                (inner, Some(outer)) => {
+                    groups[inner].clone().for_each(|i| under[i] = Some(outer));
+                    groups[inner].start..groups[outer].end
+                }
+                (inner, None) => groups[inner].clone(),
+            })
+            .collect();
+        let above = &alphas[k - 1];
+        weight
+            .par_chunks_exact_mut(texels)
+            .zip(&under)
+            .for_each(|(w, outer)| {
+                if let Some(outer) = outer {
+                    let clear = &above[outer * texels..(outer + 1) * texels];
+                    w.iter_mut().zip(clear).for_each(|(w, a)| *w *= 1.0 - a);
+                }
+            });
+        let totals: Vec<f64> = weight
+            .par_chunks_exact(texels)
+            .map(|w| w.iter().map(|&v| f64::from(v)).sum())
+            .collect();
+        for group in &next {
+            let total: f64 = totals[group.clone()].iter().sum();
+            out.extend((0..n).map(|c| {
+                let sum: f64 = group
+                    .clone()
+                    .map(|i| totals[i] * f64::from(means[i * n + c]))
+                    .sum();
+                if total > 0.0 { (sum / total) as f32 } else { 0.0 }
+            }));
+        }
+        groups = next;
+    }
+    out
+}
+
+/// Every texture's coefficients for all LOD levels (`levels`), premultiplied by the opacity of
+/// their shell texel, level 0 being `packed`: level `k` layer `j` composites the layers of level
+/// `k − 1` that its shells do ([`sources`]: inner, and outer over it) with weights
+/// `a_i (1 − a_o)` and `a_o` from the shells' opacity (`alphas`, every level's, [`level_alphas`]), or the plain
+/// mean where both are empty. Runs in the current rayon pool; every value is computed on its
+/// own, so the result does not depend on the thread count.
+pub(super) fn premultiplied_levels(
+    packed: &PackedF16,
+    alphas: &[Vec<f32>],
+    levels: &Levels,
+) -> Vec<Vec<f16>> {
+    let texels = packed.resolution * packed.resolution;
+    let voxels = packed.layers * texels;
     let premultiply = |values: &[f32], alpha: &[f32]| -> Vec<f16> {
         values
             .par_iter()
