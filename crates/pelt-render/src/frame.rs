@@ -292,6 +292,7 @@ impl Renderer {
                 scene.surface_vertex_count() as u32,
                 t.order,
                 &world_coefficients(&checked.light, t.order)?,
+                scene.fur_depth,
             )),
             None => None,
         };

@@ -30,7 +30,7 @@ pub(super) struct RotationUniforms {
 impl RotationUniforms {
     /// The uniforms for `vertices` surface vertices and the world lighting `light` (`n²` rows
     /// each for the environment and the directional light).
-    pub fn new(vertices: u32, order: usize, light: &WorldLighting) -> Self {
+    pub fn new(vertices: u32, order: usize, light: &WorldLighting, fur_depth: f32) -> Self {
         let rows = |c: &[[f32; 4]]| {
             let mut rows = [[0.0; 4]; MAX_COEFFS];
             rows[..c.len()].copy_from_slice(c);
@@ -39,7 +39,7 @@ impl RotationUniforms {
         let [x, y, z] = light.sun_direction;
         RotationUniforms {
             counts: [vertices, order as u32, (order * order) as u32, 0],
-            sun_direction: [x, y, z, 0.0],
+            sun_direction: [x, y, z, fur_depth],
             light: rows(&light.environment),
             sun: rows(&light.sun),
         }
@@ -98,6 +98,8 @@ impl RotatePipeline {
                 storage_entry(1, true),
                 storage_entry(2, true),
                 storage_entry(3, false),
+                storage_entry(4, true),
+                storage_entry(5, true),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -136,6 +138,8 @@ impl RotatePipeline {
         uniforms: &wgpu::Buffer,
         geometry: &wgpu::Buffer,
         rotated: &wgpu::Buffer,
+        curvature: &wgpu::Buffer,
+        lengths: &wgpu::Buffer,
     ) -> wgpu::BindGroup {
         fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
             wgpu::BindGroupEntry {
@@ -151,6 +155,8 @@ impl RotatePipeline {
                 entry(1, geometry),
                 entry(2, &self.x90),
                 entry(3, rotated),
+                entry(4, curvature),
+                entry(5, lengths),
             ],
         })
     }

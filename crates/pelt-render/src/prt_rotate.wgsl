@@ -12,15 +12,19 @@
 // The directional light is rotated apart and faded out past the vertex's terminator: the body
 // shadows it there, but its few bands spread it some 40° around its direction, which lit the
 // fur a back light cannot reach (5× the reference's light). The fade is the Kajiya–Kay
-// preview's wrapped terminator band.
+// preview's terminator band (`lighting.wgsl` `terminator_wrap`): hair h tall on a surface
+// curving at κ sees √(2hκ) past the terminator in N·L, at most TERMINATOR_WRAP, with κ the
+// vertex's from the mesh (pelt-core `scene::curvature`). The light fades over TERMINATOR_WRAP in
+// N·L down to that band's edge: on a flat surface it is gone at the horizon, where the fixed
+// band had lit the flat patch's fur 10× the reference's under a grazing sun.
 
-// Width of the band past the terminator (in N·L) over which the directional light fades out.
+// Widest band past the terminator (in N·L), and the width over which the light fades out.
 const TERMINATOR_WRAP: f32 = 0.3;
 
 struct Rotation {
     // x: surface vertices, y: order n, z: coefficients n².
     counts: vec4<u32>,
-    // xyz: unit direction toward the directional light (object space).
+    // xyz: unit direction toward the directional light (object space); w: the fur depth.
     sun_direction: vec4<f32>,
     // The world lighting without the directional light, 1/π folded in; rgb per coefficient.
     light: array<vec4<f32>, 64>,
@@ -34,6 +38,9 @@ struct Rotation {
 // D(Rx(90°)), bands 0.. one after the other, each (2l+1)² row-major.
 @group(0) @binding(2) var<storage, read> x90: array<f32>;
 @group(0) @binding(3) var<storage, read_write> rotated: array<vec4<f32>>;
+// Per surface vertex, the surface's curvature and the painted length multiplier.
+@group(0) @binding(4) var<storage, read> curvature: array<f32>;
+@group(0) @binding(5) var<storage, read> lengths: array<f32>;
 
 const WORKGROUP: u32 = 64u;
 const GEOMETRY_FLOATS: u32 = 17u;
@@ -132,7 +139,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>,
     }
     rotate_into_frame(&c, angles, order, mirrored);
     let facing = dot(z, params.sun_direction.xyz);
-    let shown = clamp(facing / TERMINATOR_WRAP + 1.0, 0.0, 1.0);
+    let height = params.sun_direction.w * max(lengths[v], 0.0);
+    let band = min(sqrt(2.0 * height * curvature[v]), TERMINATOR_WRAP);
+    let shown = clamp((facing + band) / TERMINATOR_WRAP, 0.0, 1.0);
     if (shown > 0.0) {
         rotate_into_frame(&sun, angles, order, mirrored);
         for (var k = 0u; k < n; k++) {

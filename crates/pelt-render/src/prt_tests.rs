@@ -72,10 +72,15 @@ fn frame_of(v: &SurfaceVertex) -> ([[f64; 3]; 3], bool) {
     ([x, y, z].map(|v| v.to_array()), y.dot(wide(v.dpdv)) < 0.0)
 }
 
-/// The pass's output for `vertices` under `light`: `n²` rows per vertex.
+/// Fur depth of the rotation tests, whose vertices have length 1.
+const FUR_DEPTH: f32 = 0.2;
+
+/// The pass's output for `vertices` (surface curving at `curvature[i]`) under `light`: `n²`
+/// rows per vertex.
 fn run_pass(
     renderer: &Renderer,
     vertices: &[SurfaceVertex],
+    curvature: &[f32],
     order: usize,
     light: &WorldLighting,
 ) -> Vec<[f32; 4]> {
@@ -90,16 +95,29 @@ fn run_pass(
     });
     let uniforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: None,
-        contents: bytemuck::bytes_of(&RotationUniforms::new(vertices.len() as u32, order, light)),
+        contents: bytemuck::bytes_of(&RotationUniforms::new(
+            vertices.len() as u32,
+            order,
+            light,
+            FUR_DEPTH,
+        )),
         usage: wgpu::BufferUsages::UNIFORM,
     });
+    let storage = |values: &[f32]| {
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: None,
+            contents: bytemuck::cast_slice(values),
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+    };
+    let (curvature, lengths) = (storage(curvature), storage(&vec![1.0; vertices.len()]));
     let rotated = device.create_buffer(&wgpu::BufferDescriptor {
         label: None,
         size: (vertices.len() * n * 16) as u64,
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     });
-    let group = rotate.bind_group(device, &uniforms, &geometry, &rotated);
+    let group = rotate.bind_group(device, &uniforms, &geometry, &rotated, &curvature, &lengths);
     let mut encoder = device.create_command_encoder(&Default::default());
     rotate
         .dispatch(&mut encoder, &group, vertices.len() as u32, 65535)
@@ -146,7 +164,7 @@ fn rotation_pass_matches_the_sh_rotation_for_every_order() {
             sun: vec![[0.0; 4]; n],
             sun_direction: [0.0, 0.0, 1.0],
         };
-        let got = run_pass(&renderer, &vertices, order, &world);
+        let got = run_pass(&renderer, &vertices, &vec![0.0; vertices.len()], order, &world);
         for (i, v) in vertices.iter().enumerate() {
             for c in 0..3 {
                 let want = expected_in_frame(v, order, &light, c);
@@ -168,8 +186,9 @@ fn rotation_pass_matches_the_sh_rotation_for_every_order() {
 #[test]
 fn the_directional_light_fades_out_past_each_vertex_terminator() {
     // The body shadows a sun behind the terminator; its few bands must not light the fur there.
-    // Facing the sun (N·L ≥ 0) the vertex gets the sun's rotated coefficients whole, beyond the
-    // wrap band (N·L ≤ −0.3) nothing, and in between a linear share.
+    // Hair h tall on a surface curving at κ sees a band of √(2hκ) in N·L past it, at most 0.3:
+    // at N·L ≥ 0.3 − band the vertex gets the sun's rotated coefficients whole, at N·L ≤ −band
+    // nothing, and in between a linear share. A flat surface has no band.
     let renderer = Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe)");
     let vertices = vertices();
     let order = 4;
@@ -182,14 +201,20 @@ fn the_directional_light_fades_out_past_each_vertex_terminator() {
         sun: sun.clone(),
         sun_direction,
     };
-    let got = run_pass(&renderer, &vertices, order, &world);
+    // Flat, bands of 0.2 and 0.14, and one that the cap holds at 0.3.
+    let curvatures = [0.0f32, 0.1, 0.05, 1e6];
+    let curvature: Vec<f32> = (0..vertices.len()).map(|i| curvatures[i % 4]).collect();
+    let got = run_pass(&renderer, &vertices, &curvature, order, &world);
     let (mut lit, mut dark) = (0, 0);
     for (i, v) in vertices.iter().enumerate() {
         let facing = Vec3::from(v.normal)
             .as_dvec3()
             .normalize()
             .dot(Vec3::from(sun_direction).as_dvec3());
-        let share = (facing / 0.3 + 1.0).clamp(0.0, 1.0);
+        let band = (2.0 * f64::from(FUR_DEPTH) * f64::from(curvature[i]))
+            .sqrt()
+            .min(0.3);
+        let share = ((facing + band) / 0.3).clamp(0.0, 1.0);
         lit += usize::from(share == 1.0);
         dark += usize::from(share == 0.0);
         let want = expected_in_frame(v, order, &sun, 0);

@@ -18,6 +18,7 @@ use pelt_core::FurMesh;
 use pelt_core::error::{PeltError, Result};
 use pelt_core::mesh::{MAX_LENGTH, bounding_sphere};
 use pelt_core::prt::pack::PackedF16;
+use pelt_core::scene::curvature::vertex_curvature;
 use pelt_core::scene::deform::Deformer;
 use pelt_core::scene::fin_cull::FinPlanes;
 use pelt_core::scene::fin_mesh::FinMesh;
@@ -465,14 +466,14 @@ impl FurScene {
                 ),
             ));
         }
-        let (means, per_texture) = pool().install(|| {
+        let (means, per_texture, curvature) = pool().install(|| {
             let texels = self.resolution * self.resolution;
             let alphas = transfer::level_alphas(&self.alpha, &self.levels, texels);
             let per_texture = transfer::premultiplied_levels(transfer, &alphas, &self.levels);
             let mut means = transfer::layer_means(transfer, &self.alpha, order);
             let composites = transfer::composite_means(&means, &alphas, &self.levels, texels);
             means.extend(composites);
-            (means, per_texture)
+            (means, per_texture, vertex_curvature(&self.rest_surface))
         });
         let layouts = renderer.fur_layouts()?;
         let prt = layouts.prt(device)?;
@@ -498,9 +499,23 @@ impl FurScene {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
-            let rotate_group = prt
-                .rotate
-                .bind_group(device, &uniforms, &self.surface.geometry, &rotated);
+            // A binding is never empty (a scene may have no surface vertices).
+            let curvature = storage(
+                "prt surface curvature",
+                bytemuck::cast_slice(if curvature.is_empty() {
+                    &[0.0f32][..]
+                } else {
+                    &curvature
+                }),
+            );
+            let rotate_group = prt.rotate.bind_group(
+                device,
+                &uniforms,
+                &self.surface.geometry,
+                &rotated,
+                &curvature,
+                &self.surface.length,
+            );
             fn buffer(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
                 wgpu::BindGroupEntry {
                     binding,
@@ -532,7 +547,7 @@ impl FurScene {
             };
             Ok::<_, PeltError>((
                 scene_transfer,
-                textures.bytes + size_of_val(means.as_slice()) as u64,
+                textures.bytes + size_of_val(means.as_slice()) as u64 + curvature.size(),
             ))
         })??;
         self.transfer = Some(scene_transfer);

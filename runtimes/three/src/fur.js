@@ -7,7 +7,7 @@
 
 import { Mesh, SkinnedMesh, Sphere, Vector2, Vector3 } from 'three';
 
-import { aliasFurAttributes, finGeometry, furAttributes, shellGeometry } from './geometry.js';
+import { aliasFurAttributes, finGeometry, furAttributes, shellGeometry, skinCurvature } from './geometry.js';
 import { finMaterial, strandMaterial, surfaceMaterial } from './materials.js';
 import { keptIndices, ribbonGeometry } from './strands.js';
 import { lodShells, pixelsPerUnit } from './stack.js';
@@ -69,7 +69,8 @@ export class PeltFur {
 		}
 
 		this.fins = null;
-		const finsGeometry = options.fins === false ? null : finGeometry( skin.geometry, attributes, stack );
+		const curvature = skinCurvature( skin.geometry );
+		const finsGeometry = options.fins === false ? null : finGeometry( skin.geometry, attributes, stack, curvature );
 		if ( finsGeometry ) {
 
 			const material = finMaterial( { ...common, finOpacity: options.finOpacity ?? 1 } );
@@ -78,7 +79,9 @@ export class PeltFur {
 		}
 
 		const shellMaterial = surfaceMaterial( { ...common, alphaTest: options.alphaTest ?? 1 / 255 } );
-		this.shells = make( shellGeometry( skin.geometry, attributes, stack.shells ), shellMaterial, 'shells' );
+		this.shells = make( shellGeometry( skin.geometry, attributes, stack.shells, curvature ), shellMaterial, 'shells' );
+		// Held by the skin's geometry too, which frees it with its own buffers (and reads it when shaded).
+		skin.geometry.setAttribute( 'peltCurvature', this.shells.geometry.getAttribute( 'peltCurvature' ) );
 		this.shells.onBeforeRender = ( renderer, scene, camera ) => this.updateLod( renderer, camera );
 		this.drawnShells = stack.shells;
 
@@ -181,7 +184,7 @@ export class PeltFur {
 
 		}
 
-		// The shells' geometry owns no buffers (disposing it would free the skin's).
+		// The shells' geometry owns no buffers (disposing it would free the skin's, its curvature's too).
 		if ( this.fins ) this.fins.geometry.dispose();
 		if ( this.strands ) this.strands.geometry.dispose();
 

@@ -11,6 +11,7 @@ import {
 	Uint32BufferAttribute,
 } from 'three';
 
+import { vertexCurvature } from './curvature.js';
 import { threeAttributeName } from './extension.js';
 import { finQuads, meshEdges, weldVertices } from './edges.js';
 
@@ -48,8 +49,8 @@ export function aliasFurAttributes( geometry, attributes ) {
 
 }
 
-/** Every shell in one instanced draw over the skin's buffers. */
-export function shellGeometry( skin, attributes, shells ) {
+/** Every shell in one instanced draw over the skin's buffers; `curvature` as skinCurvature gives. */
+export function shellGeometry( skin, attributes, shells, curvature = skinCurvature( skin ) ) {
 
 	const g = new InstancedBufferGeometry();
 	g.setIndex( skin.index );
@@ -60,10 +61,20 @@ export function shellGeometry( skin, attributes, shells ) {
 	}
 
 	aliasFurAttributes( g, attributes );
+	g.setAttribute( 'peltCurvature', new Float32BufferAttribute( curvature, 1 ) );
 	g.instanceCount = shells;
 	if ( skin.boundingSphere ) g.boundingSphere = skin.boundingSphere.clone();
 	if ( skin.boundingBox ) g.boundingBox = skin.boundingBox.clone();
 	return g;
+
+}
+
+/** The skin's curvature per vertex at rest (src/curvature.js), for the PRT light's terminator band. */
+export function skinCurvature( skin ) {
+
+	const position = flat( skin.getAttribute( 'position' ), 3 );
+	const index = skin.index ? skin.index.array : Uint32Array.from( { length: position.length / 3 }, ( _, i ) => i );
+	return vertexCurvature( position, flat( skin.getAttribute( 'normal' ), 3 ), index );
 
 }
 
@@ -87,7 +98,7 @@ function flat( attribute, size ) {
 }
 
 /** The fins' geometry (null when no edge has a fin), from the skin's vertices at rest. */
-export function finGeometry( skin, attributes, stack ) {
+export function finGeometry( skin, attributes, stack, curvature = skinCurvature( skin ) ) {
 
 	const position = flat( skin.getAttribute( 'position' ), 3 );
 	const normal = flat( skin.getAttribute( 'normal' ), 3 );
@@ -106,6 +117,7 @@ export function finGeometry( skin, attributes, stack ) {
 		peltColor: [ flat( attributes.color, 4 ), 4 ],
 		peltDpdu: [ flat( attributes.dpdu, 3 ), 3 ],
 		peltDpdv: [ flat( attributes.dpdv, 3 ), 3 ],
+		peltCurvature: [ curvature, 1 ],
 	};
 	const other = { peltOther: [ position, 3 ], peltOtherNormal: [ normal, 3 ] };
 	let joints = null;

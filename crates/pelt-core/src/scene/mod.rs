@@ -6,6 +6,7 @@
 //! (`pelt-render`) uploads and draws what this module computes; the vertex types are `Pod`, laid
 //! out as its shaders read them.
 
+pub mod curvature;
 pub mod deform;
 pub mod fin_cull;
 pub mod fin_mesh;

@@ -29,6 +29,8 @@ attribute vec4 peltColor;
 attribute vec3 peltFin;
 attribute vec3 peltDpdu;
 attribute vec3 peltDpdv;
+// The skin's curvature at the end (src/curvature.js): the PRT light's terminator band.
+attribute float peltCurvature;
 
 uniform float peltFinOpacity;
 
@@ -93,7 +95,8 @@ void main() {
 	// fin_prt.wgsl fin_vertex(): lit per fragment from the ends' lighting.
 	vScaleU = vec4( peltColor.rgb, peltFin.x );
 	vShineVOpacity = vec3( peltHotSpot( world.xyz ), peltFin.y, opacity );
-	peltTileLighting( wn0, toWorld * dpdu, toWorld * dpdv );
+	peltTileLighting( wn0, toWorld * dpdu, toWorld * dpdv,
+		peltTerminatorWrap( peltCurvature, peltFurDepth * peltFin.z ) );
 #else
 	// fin_kk.wgsl fin_vertex(): the hair runs along the growth direction; lit at the corner.
 	vec3 t = peltUnitOr( toWorld * g, n );

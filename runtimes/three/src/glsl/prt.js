@@ -39,7 +39,8 @@ export const prtVertex = /* glsl */`
 uniform float peltCapWeights[ PELT_ORDER ];
 varying vec4 vPeltLight[ PELT_TRANSFER_TEXTURES ];
 
-// prt_rotate.wgsl TERMINATOR_WRAP: the band past the terminator over which the light fades.
+// prt_rotate.wgsl TERMINATOR_WRAP: the widest band past the terminator, and the width over which
+// the light fades out down to the band's edge.
 const float PELT_PRT_TERMINATOR_WRAP = 0.3;
 
 // crates/pelt-core/src/prt/sh.rs eval_unit(): every basis function at the unit direction d (index l² + l + m,
@@ -81,10 +82,11 @@ void peltShEval( vec3 d, out float y[ PELT_COEFFS ] ) {
 
 // prt_rotate.wgsl main(): the vertex's orthonormal tile frame (z the normal, x the tangential
 // part of dP/du, y = z × x, mirrored where dP/dv points the other way) turns the direction
-// toward the light into tile coordinates; the light fades out past the vertex's terminator. Its
+// toward the light into tile coordinates; the light fades out past the vertex's terminator,
+// band (peltTerminatorWrap of the vertex's curvature) beyond it in N·L. Its
 // cap's coefficients there are √(4π / (2l + 1)) z_l Y_l^m (sh.rs zonal_to_direction), the band
 // weights precomputed (peltCapWeights). Writes vPeltLight.
-void peltTileLighting( vec3 normal, vec3 dpdu, vec3 dpdv ) {
+void peltTileLighting( vec3 normal, vec3 dpdu, vec3 dpdv, float band ) {
 	vec3 z = dot( normal, normal ) > 1e-24 ? normalize( normal ) : vec3( 0.0, 0.0, 1.0 );
 	vec3 x = dpdu - z * dot( z, dpdu );
 	if ( dot( x, x ) <= 1e-8 * dot( dpdu, dpdu ) ) {
@@ -96,7 +98,7 @@ void peltTileLighting( vec3 normal, vec3 dpdu, vec3 dpdv ) {
 	vec3 y = cross( z, x );
 	float mirror = dot( y, dpdv ) < 0.0 ? -1.0 : 1.0;
 	vec3 l = peltLightDirection;
-	float shown = clamp( dot( z, l ) / PELT_PRT_TERMINATOR_WRAP + 1.0, 0.0, 1.0 );
+	float shown = clamp( ( dot( z, l ) + band ) / PELT_PRT_TERMINATOR_WRAP, 0.0, 1.0 );
 	float basis[ PELT_COEFFS ];
 	peltShEval( normalize( vec3( dot( x, l ), mirror * dot( y, l ), dot( z, l ) ) ), basis );
 	float light[ 4 * PELT_TRANSFER_TEXTURES ];

@@ -38,6 +38,8 @@ attribute float peltLength;
 attribute vec3 peltComb;
 attribute vec3 peltDpdu;
 attribute vec3 peltDpdv;
+// The skin's curvature at the vertex (src/curvature.js): the PRT light's terminator band.
+attribute float peltCurvature;
 
 #ifndef PELT_SKIN
 // Layers of the volume, and the shells drawn now (the LOD's instance count).
@@ -95,7 +97,8 @@ void main() {
 	vNormalU = vec4( worldNormal, peltUv.x );
 	vDpduV = vec4( toWorld * dpdu, peltUv.y );
 #ifdef PELT_PRT
-	peltTileLighting( worldNormal, vDpduV.xyz, toWorld * dpdv );
+	peltTileLighting( worldNormal, vDpduV.xyz, toWorld * dpdv,
+		peltTerminatorWrap( peltCurvature, peltFurDepth * peltLength ) );
 #else
 	vDpdv = toWorld * dpdv;
 	vUp = toWorld * up;
