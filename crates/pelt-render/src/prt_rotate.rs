@@ -99,7 +99,6 @@ impl RotatePipeline {
                 storage_entry(2, true),
                 storage_entry(3, false),
                 storage_entry(4, true),
-                storage_entry(5, true),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -139,7 +138,6 @@ impl RotatePipeline {
         geometry: &wgpu::Buffer,
         rotated: &wgpu::Buffer,
         curvature: &wgpu::Buffer,
-        lengths: &wgpu::Buffer,
     ) -> wgpu::BindGroup {
         fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
             wgpu::BindGroupEntry {
@@ -156,7 +154,6 @@ impl RotatePipeline {
                 entry(2, &self.x90),
                 entry(3, rotated),
                 entry(4, curvature),
-                entry(5, lengths),
             ],
         })
     }

@@ -14,7 +14,9 @@
 // fur a back light cannot reach (5× the reference's light). The fade is the Kajiya–Kay
 // preview's terminator band (`lighting.wgsl` `terminator_wrap`): hair h tall on a surface
 // curving at κ sees √(2hκ) past the terminator in N·L, at most TERMINATOR_WRAP, with κ the
-// vertex's from the mesh (pelt-core `scene::curvature`). The light fades over TERMINATOR_WRAP in
+// vertex's from the mesh (pelt-core `scene::curvature`) and h the fur depth (the skin, which reads
+// this lighting too, is lit as under fur of length 1, whatever is painted, as under Kajiya–Kay;
+// so a bald coat renders the skin). The light fades over TERMINATOR_WRAP in
 // N·L down to that band's edge: on a flat surface it is gone at the horizon, where the fixed
 // band had lit the flat patch's fur 10× the reference's under a grazing sun.
 
@@ -38,9 +40,8 @@ struct Rotation {
 // D(Rx(90°)), bands 0.. one after the other, each (2l+1)² row-major.
 @group(0) @binding(2) var<storage, read> x90: array<f32>;
 @group(0) @binding(3) var<storage, read_write> rotated: array<vec4<f32>>;
-// Per surface vertex, the surface's curvature and the painted length multiplier.
+// Per surface vertex, the surface's curvature.
 @group(0) @binding(4) var<storage, read> curvature: array<f32>;
-@group(0) @binding(5) var<storage, read> lengths: array<f32>;
 
 const WORKGROUP: u32 = 64u;
 const GEOMETRY_FLOATS: u32 = 17u;
@@ -139,8 +140,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>,
     }
     rotate_into_frame(&c, angles, order, mirrored);
     let facing = dot(z, params.sun_direction.xyz);
-    let height = params.sun_direction.w * max(lengths[v], 0.0);
-    let band = min(sqrt(2.0 * height * curvature[v]), TERMINATOR_WRAP);
+    let band = min(sqrt(2.0 * params.sun_direction.w * curvature[v]), TERMINATOR_WRAP);
     let shown = clamp((facing + band) / TERMINATOR_WRAP, 0.0, 1.0);
     if (shown > 0.0) {
         rotate_into_frame(&sun, angles, order, mirrored);

@@ -72,7 +72,7 @@ fn frame_of(v: &SurfaceVertex) -> ([[f64; 3]; 3], bool) {
     ([x, y, z].map(|v| v.to_array()), y.dot(wide(v.dpdv)) < 0.0)
 }
 
-/// Fur depth of the rotation tests, whose vertices have length 1.
+/// Fur depth of the rotation tests.
 const FUR_DEPTH: f32 = 0.2;
 
 /// The pass's output for `vertices` (surface curving at `curvature[i]`) under `light`: `n²`
@@ -110,14 +110,14 @@ fn run_pass(
             usage: wgpu::BufferUsages::STORAGE,
         })
     };
-    let (curvature, lengths) = (storage(curvature), storage(&vec![1.0; vertices.len()]));
+    let curvature = storage(curvature);
     let rotated = device.create_buffer(&wgpu::BufferDescriptor {
         label: None,
         size: (vertices.len() * n * 16) as u64,
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     });
-    let group = rotate.bind_group(device, &uniforms, &geometry, &rotated, &curvature, &lengths);
+    let group = rotate.bind_group(device, &uniforms, &geometry, &rotated, &curvature);
     let mut encoder = device.create_command_encoder(&Default::default());
     rotate
         .dispatch(&mut encoder, &group, vertices.len() as u32, 65535)

@@ -508,14 +508,9 @@ impl FurScene {
                     &curvature
                 }),
             );
-            let rotate_group = prt.rotate.bind_group(
-                device,
-                &uniforms,
-                &self.surface.geometry,
-                &rotated,
-                &curvature,
-                &self.surface.length,
-            );
+            let rotate_group =
+                prt.rotate
+                    .bind_group(device, &uniforms, &self.surface.geometry, &rotated, &curvature);
             fn buffer(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
                 wgpu::BindGroupEntry {
                     binding,

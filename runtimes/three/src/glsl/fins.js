@@ -96,7 +96,7 @@ void main() {
 	vScaleU = vec4( peltColor.rgb, peltFin.x );
 	vShineVOpacity = vec3( peltHotSpot( world.xyz ), peltFin.y, opacity );
 	peltTileLighting( wn0, toWorld * dpdu, toWorld * dpdv,
-		peltTerminatorWrap( peltCurvature, peltFurDepth * peltFin.z ) );
+		peltTerminatorWrap( peltCurvature, peltFurDepth ) );
 #else
 	// fin_kk.wgsl fin_vertex(): the hair runs along the growth direction; lit at the corner.
 	vec3 t = peltUnitOr( toWorld * g, n );

@@ -98,7 +98,7 @@ void main() {
 	vDpduV = vec4( toWorld * dpdu, peltUv.y );
 #ifdef PELT_PRT
 	peltTileLighting( worldNormal, vDpduV.xyz, toWorld * dpdv,
-		peltTerminatorWrap( peltCurvature, peltFurDepth * peltLength ) );
+		peltTerminatorWrap( peltCurvature, peltFurDepth ) );
 #else
 	vDpdv = toWorld * dpdv;
 	vUp = toWorld * up;
