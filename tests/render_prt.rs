@@ -372,22 +372,23 @@ fn sun_alone(direction: [f32; 3]) -> Lighting {
     }
 }
 
-#[test]
-fn a_light_behind_the_skin_lights_nothing_and_one_above_lights_the_fur() {
-    let f = fixture();
+/// The red summed over the flat grid's image under a sun from each of `directions`.
+fn grid_lit_by<const N: usize>(directions: [[f32; 3]; N]) -> [f64; N] {
     let (mesh, uvs) = grid(8, |p| p);
     let scene = scene(&mesh, &uvs);
     let camera = looking_at_the_grid_from([0.0, -1.5, 3.0]);
-    let lit_by = |direction: [f32; 3]| {
+    directions.map(|direction| {
         let image = render_all(&scene, &camera, &sun_alone(direction));
         image.pixels.chunks_exact(4).map(|p| f64::from(p[0])).sum::<f64>()
-    };
-    let above = lit_by([0.0, 0.0, 1.0]);
-    let below = lit_by([0.0, 0.0, -1.0]);
+    })
+}
+
+#[test]
+fn a_light_behind_the_skin_lights_nothing_and_one_above_lights_the_fur() {
+    let [above, below] = grid_lit_by([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]]);
     assert!(above > 100.0, "lit from above: {above}");
     // Transfer is zero below the horizon; only the ringing of the order-3 cap is left, clamped.
     assert!(below < 0.02 * above, "lit from below: {below} vs {above}");
-    let _ = f;
 }
 
 /// The fixture's volume baked without extinction: its transfer shadows nothing.
@@ -674,15 +675,7 @@ fn a_light_from_the_eye_lights_the_fur_it_sees_as_if_unshadowed_at_every_lod_lev
 fn a_sun_along_a_flat_surface_lights_none_of_its_fur() {
     // The terminator band follows the surface's curvature (none on a flat grid): the sun's few
     // bands spread it up to 40° above the horizon, which lit the fur that its own hair shadows.
-    let (mesh, uvs) = grid(8, |p| p);
-    let scene = scene(&mesh, &uvs);
-    let camera = looking_at_the_grid_from([0.0, -1.5, 3.0]);
-    let lit_by = |direction: [f32; 3]| {
-        let image = render_all(&scene, &camera, &sun_alone(direction));
-        image.pixels.chunks_exact(4).map(|p| f64::from(p[0])).sum::<f64>()
-    };
-    let grazing = lit_by([1.0, 0.0, 0.0]);
-    let slanted = lit_by([0.6, 0.0, 0.8]);
+    let [grazing, slanted] = grid_lit_by([[1.0, 0.0, 0.0], [0.6, 0.0, 0.8]]);
     // Measured: 0; with the fixed band of 0.3, 0.24.
     assert!(
         grazing < 0.02 * slanted,
