@@ -293,6 +293,8 @@ impl Renderer {
                 t.order,
                 &world_coefficients(&checked.light, t.order)?,
                 scene.fur_depth,
+                (scene.layers, t.stride - scene.layers),
+                checked.light.hot_spot_share() > 0.0,
             )),
             None => None,
         };

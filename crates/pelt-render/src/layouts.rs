@@ -185,6 +185,7 @@ impl FurLayouts {
                     storage_entry(1, fragment),
                     storage_entry(2, fragment),
                     storage_entry(3, vertex),
+                    storage_entry(4, fragment),
                     storage_entry(5, vertex),
                     storage_entry(6, vertex),
                 ],

@@ -1,6 +1,7 @@
 #define_import_path pelt::prt
 
 #import pelt::common::{frame, tile_sampler, shared_path, view_vector}
+#import pelt::hot_spot::{hot_spot_ratio, unpack_gain}
 
 // Precomputed radiance transfer (prt-shell-fur §2.4): the lighting, already rotated into each
 // surface vertex's tile frame by the compute pass (`prt_rotate.wgsl`), dotted per fragment with
@@ -11,9 +12,11 @@
 @group(1) @binding(0) var transfer_texture: texture_2d_array<f32>;
 // Per surface vertex, n² rotated coefficients (RGB).
 @group(1) @binding(1) var<storage, read> rotated: array<vec4<f32>>;
-// Per array layer (level 0's, then the LOD composites'), the opacity-weighted mean of each
-// coefficient: the fins' transfer and the hot spot's measure of a layer's.
+// Per level-0 layer, the opacity-weighted mean of each coefficient: the fins' transfer and the
+// hot spot's measure of a layer's (the rotation pass reads the rows after them).
 @group(1) @binding(2) var<storage, read> layer_means: array<f32>;
+// Per surface vertex and LOD composite, the hot spot's gain (`prt_rotate.wgsl`, `pack_gain`).
+@group(1) @binding(4) var<storage, read> composite_gains: array<vec2<u32>>;
 
 // The rotated lighting at a point between surface vertices `ids` with weights `w`.
 fn light_at(ids: vec3<u32>, w: vec3<f32>, k: u32) -> vec3<f32> {
@@ -24,13 +27,14 @@ fn light_at(ids: vec3<u32>, w: vec3<f32>, k: u32) -> vec3<f32> {
 
 // Σ_k L'_k t_k with the transfer sampled at `uv` in layer `layer` of every transfer texture;
 // `alpha` is the shell texel's opacity sampled alike, which the premultiplied transfer divides
-// out. Raised by the hot spot `hot` (`hot_spot`) by the layer's own mean transfer (an LOD
-// composite's leans to its outer shells), whose mean radiances (`hot_spot_factor`) are summed in
-// the same loop, so the lighting is read once.
+// out. Raised by the hot spot `hot` (`hot_spot`): a level-0 layer by its own mean transfer,
+// whose mean radiances (`hot_spot_factor`) are summed in the same loop, so the lighting is read
+// once; an LOD composite by its members' factors weighed per vertex (`composite_gain`).
 fn transfer_radiance(ids: vec3<u32>, w: vec3<f32>, uv: vec2<f32>, layer: u32, grad: vec4<f32>,
                      alpha: f32, hot: f32) -> vec3<f32> {
     let n = frame.prt.x;
-    let clears = hot > 0.0;
+    let composite = layer >= frame.prt.w;
+    let clears = hot > 0.0 && !composite;
     var sum = vec3<f32>(0.0);
     var m = MeanRadiances(vec3<f32>(0.0), vec3<f32>(0.0));
     for (var t = 0u; t < frame.prt.y; t++) {
@@ -48,7 +52,24 @@ fn transfer_radiance(ids: vec3<u32>, w: vec3<f32>, uv: vec2<f32>, layer: u32, gr
     }
     // A band-limited light rings slightly negative past the terminator.
     let radiance = max(sum / max(alpha, 1e-4), vec3<f32>(0.0));
-    return select(radiance, radiance * hot_spot_factor(m, hot), clears);
+    if (clears) {
+        return radiance * hot_spot_factor(m, hot);
+    }
+    if (hot > 0.0) {
+        return radiance * (1.0 + hot * (composite_gain(ids, w, layer - frame.prt.w) - 1.0));
+    }
+    return radiance;
+}
+
+// The hot spot's gain of LOD composite `j` (past level 0) between surface vertices `ids` with
+// weights `w`: what all shells' own factors make of its members' light over that light.
+fn composite_gain(ids: vec3<u32>, w: vec3<f32>, j: u32) -> vec3<f32> {
+    let count = frame.prt.z - frame.prt.w;
+    var gain = vec3<f32>(0.0);
+    for (var c = 0u; c < 3u; c++) {
+        gain += w[c] * unpack_gain(composite_gains[ids[c] * count + j]);
+    }
+    return gain;
 }
 
 // The hair's mean transfer coefficient k at `height` (share of the fur depth): linear between
@@ -102,16 +123,10 @@ fn hot_spot(position: vec3<f32>) -> f32 {
 // See `hot_spot`: e^(−60° / HOT_SPOT_WIDTH) ≈ 0.05.
 const HOT_SPOT_MIN: f32 = 0.05;
 
-// The top layer's mean radiance over a depth's is taken at most 1 / HOT_SPOT_FLOOR: deep in the
-// fur, where the transfer holds little light, its small values are the least exact.
-const HOT_SPOT_FLOOR: f32 = 0.05;
-
-// The factor the hot spot `hot` raises radiance at a height by: unshadowed over shadowed, taken as
-// the hair's mean radiance at the top layer (whose hair nothing shadows) over its mean there.
+// The factor the hot spot `hot` raises radiance at a height by: unshadowed over shadowed,
+// `hot_spot_ratio` of the hair's mean radiances at the top layer and at the height.
 fn hot_spot_factor(m: MeanRadiances, hot: f32) -> vec3<f32> {
-    let top = max(m.top, vec3<f32>(0.0));
-    let ratio = top / max(m.here, max(HOT_SPOT_FLOOR * top, vec3<f32>(1e-6)));
-    return 1.0 + hot * (max(ratio, vec3<f32>(1.0)) - 1.0);
+    return 1.0 + hot * (hot_spot_ratio(m.top, m.here) - 1.0);
 }
 
 // `hot_spot_factor` at `height` (share of the fur depth); 1 away from the hot spot, where it

@@ -5,14 +5,23 @@
 //! 40k-vertex mesh), which the fragments read from a storage buffer. Computing it on the CPU
 //! would cost a rotation per vertex in f64 plus that upload every frame; the compute pass costs
 //! one small uniform write. `pelt bench` measures both (`render.prt.rotate`).
+//!
+//! While the light may come from the eye the pass also weighs each LOD composite's hot-spot gain
+//! per vertex (`transfer::composite_members`): `levels × layers × n²` products a vertex, cheap
+//! beside the fragments' loop over every member that the same factor would cost.
 
 use std::num::NonZeroU64;
 
 use bytemuck::{Pod, Zeroable};
 
+use super::pass::Model;
 use super::prt_light::WorldLighting;
+use super::shaders::PassShader;
 use pelt_core::error::{PeltError, Result};
 use pelt_core::prt::sh::{MAX_COEFFS, MAX_ORDER, ShRotation};
+
+/// The pass's shader, composed with the hot spot's ratio it shares with the fragments.
+static SHADER: PassShader = PassShader::new("prt_rotate.wgsl", include_str!("prt_rotate.wgsl"));
 
 /// Threads per workgroup (`WORKGROUP` in the shader).
 const WORKGROUP: u32 = 64;
@@ -23,14 +32,25 @@ const WORKGROUP: u32 = 64;
 pub(super) struct RotationUniforms {
     counts: [u32; 4],
     sun_direction: [f32; 4],
+    layers: [u32; 4],
     light: [[f32; 4]; MAX_COEFFS],
     sun: [[f32; 4]; MAX_COEFFS],
 }
 
 impl RotationUniforms {
     /// The uniforms for `vertices` surface vertices and the world lighting `light` (`n²` rows
-    /// each for the environment and the directional light).
-    pub fn new(vertices: u32, order: usize, light: &WorldLighting, fur_depth: f32) -> Self {
+    /// each for the environment and the directional light), hair `fur_depth` deep, with
+    /// `layers` level-0 layers and `composites` LOD layers past them; `hot_spot` when the light
+    /// may come from the eye (its share, `LightingFrame::hot_spot_share`, is not 0), which
+    /// needs the composites' hot-spot gains.
+    pub fn new(
+        vertices: u32,
+        order: usize,
+        light: &WorldLighting,
+        fur_depth: f32,
+        (layers, composites): (u32, u32),
+        hot_spot: bool,
+    ) -> Self {
         let rows = |c: &[[f32; 4]]| {
             let mut rows = [[0.0; 4]; MAX_COEFFS];
             rows[..c.len()].copy_from_slice(c);
@@ -40,10 +60,25 @@ impl RotationUniforms {
         RotationUniforms {
             counts: [vertices, order as u32, (order * order) as u32, 0],
             sun_direction: [x, y, z, fur_depth],
+            layers: [layers, composites, u32::from(hot_spot), 0],
             light: rows(&light.environment),
             sun: rows(&light.sun),
         }
     }
+}
+
+/// What the rotation pass writes and reads per scene besides its uniforms and the geometry.
+pub(super) struct RotateOutputs<'a> {
+    /// The rotated lighting, per surface vertex `n²` RGBA rows.
+    pub rotated: &'a wgpu::Buffer,
+    /// Per surface vertex, the surface's curvature.
+    pub curvature: &'a wgpu::Buffer,
+    /// Level 0's layer means, then the composites' member rows (`transfer::composite_members`).
+    pub means: &'a wgpu::Buffer,
+    /// Per composite, its members (`CompositeMembers::ranges`).
+    pub composites: &'a wgpu::Buffer,
+    /// Per surface vertex and composite, the hot spot's gain.
+    pub gains: &'a wgpu::Buffer,
 }
 
 /// The band matrices of a rotation by 90° about +x, bands `0..MAX_ORDER` one after the other,
@@ -99,6 +134,9 @@ impl RotatePipeline {
                 storage_entry(2, true),
                 storage_entry(3, false),
                 storage_entry(4, true),
+                storage_entry(5, true),
+                storage_entry(6, true),
+                storage_entry(7, false),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -108,7 +146,7 @@ impl RotatePipeline {
         });
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("prt rotation"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("prt_rotate.wgsl").into()),
+            source: wgpu::ShaderSource::Naga(std::borrow::Cow::Borrowed(SHADER.module(Model::Prt)?)),
         });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("prt rotation"),
@@ -130,14 +168,13 @@ impl RotatePipeline {
         })
     }
 
-    /// The bind group of one scene: its uniforms, surface geometry and output.
+    /// The bind group of one scene: its uniforms, surface geometry and `outputs`.
     pub fn bind_group(
         &self,
         device: &wgpu::Device,
         uniforms: &wgpu::Buffer,
         geometry: &wgpu::Buffer,
-        rotated: &wgpu::Buffer,
-        curvature: &wgpu::Buffer,
+        outputs: &RotateOutputs<'_>,
     ) -> wgpu::BindGroup {
         fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
             wgpu::BindGroupEntry {
@@ -152,8 +189,11 @@ impl RotatePipeline {
                 entry(0, uniforms),
                 entry(1, geometry),
                 entry(2, &self.x90),
-                entry(3, rotated),
-                entry(4, curvature),
+                entry(3, outputs.rotated),
+                entry(4, outputs.curvature),
+                entry(5, outputs.means),
+                entry(6, outputs.composites),
+                entry(7, outputs.gains),
             ],
         })
     }

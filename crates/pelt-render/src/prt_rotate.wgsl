@@ -19,6 +19,11 @@
 // so a bald coat renders the skin). The light fades over TERMINATOR_WRAP in
 // N·L down to that band's edge: on a flat surface it is gone at the horizon, where the fixed
 // band had lit the flat patch's fur 10× the reference's under a grazing sun.
+//
+// Where the light may come from the eye, the pass also weighs the hot spot's gain of every LOD
+// composite (`write_gains`), which the fragments interpolate (`prt.wgsl` `composite_gain`).
+
+#import pelt::hot_spot::{hot_spot_ratio, pack_gain}
 
 // Widest band past the terminator (in N·L), and the width over which the light fades out.
 const TERMINATOR_WRAP: f32 = 0.3;
@@ -28,6 +33,8 @@ struct Rotation {
     counts: vec4<u32>,
     // xyz: unit direction toward the directional light (object space); w: the fur depth.
     sun_direction: vec4<f32>,
+    // x: level-0 layers, y: LOD composites past them, z: 1 when the hot spot may light.
+    layers: vec4<u32>,
     // The world lighting without the directional light, 1/π folded in; rgb per coefficient.
     light: array<vec4<f32>, 64>,
     // The directional light's cap, alike.
@@ -42,6 +49,14 @@ struct Rotation {
 @group(0) @binding(3) var<storage, read_write> rotated: array<vec4<f32>>;
 // Per surface vertex, the surface's curvature.
 @group(0) @binding(4) var<storage, read> curvature: array<f32>;
+// Rows of n² transfer coefficients: level 0's layer means (row = layer), then per composite
+// member its transfer weighted by what the composite shows of it (`transfer::composite_members`).
+@group(0) @binding(5) var<storage, read> means: array<f32>;
+// Per composite: its level-0 layers first..end (x, y) and the row of the first's weighted
+// transfer (z).
+@group(0) @binding(6) var<storage, read> composites: array<vec4<u32>>;
+// Per surface vertex and composite, the hot spot's gain (`pack_gain`).
+@group(0) @binding(7) var<storage, read_write> gains: array<vec2<u32>>;
 
 const WORKGROUP: u32 = 64u;
 const GEOMETRY_FLOATS: u32 = 17u;
@@ -150,6 +165,38 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>,
     }
     for (var k = 0u; k < n; k++) {
         rotated[v * n + k] = c[k];
+    }
+    if (params.layers.z != 0u) {
+        write_gains(v, &c, n);
+    }
+}
+
+// The lighting `c` dotted with the transfer in row `row` of `means`.
+fn radiance(c: ptr<function, Coefficients>, row: u32, n: u32) -> vec3<f32> {
+    var sum = vec3<f32>(0.0);
+    for (var k = 0u; k < n; k++) {
+        sum += (*c)[k].rgb * means[row * n + k];
+    }
+    return sum;
+}
+
+// The hot spot's gain of every composite at vertex `v` lit by `c`: all shells raise level-0
+// layer i by its own ratio g_i (`hot_spot_ratio`), so a composite showing light R_i of each
+// member gets Σ R_i g_i / Σ R_i (1 where it shows none).
+fn write_gains(v: u32, c: ptr<function, Coefficients>, n: u32) {
+    let count = params.layers.y;
+    let top = radiance(c, params.layers.x - 1u, n);
+    for (var j = 0u; j < count; j++) {
+        let members = composites[j];
+        var lifted = vec3<f32>(0.0);
+        var shown = vec3<f32>(0.0);
+        for (var i = members.x; i < members.y; i++) {
+            let r = max(radiance(c, members.z + i - members.x, n), vec3<f32>(0.0));
+            lifted += r * hot_spot_ratio(top, radiance(c, i, n));
+            shown += r;
+        }
+        let gain = select(vec3<f32>(1.0), lifted / shown, shown > vec3<f32>(0.0));
+        gains[v * count + j] = pack_gain(gain);
     }
 }
 

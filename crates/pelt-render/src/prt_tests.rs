@@ -3,7 +3,7 @@
 //! (Euler angles and a fixed 90° matrix), so agreement checks both.
 
 use super::prt_light::WorldLighting;
-use super::prt_rotate::{RotatePipeline, RotationUniforms};
+use super::prt_rotate::{RotateOutputs, RotatePipeline, RotationUniforms};
 use super::readback::read_buffer;
 use super::{AdapterChoice, Renderer};
 use glam::{DVec3, Vec3};
@@ -75,19 +75,40 @@ fn frame_of(v: &SurfaceVertex) -> ([[f64; 3]; 3], bool) {
 /// Fur depth of the rotation tests.
 const FUR_DEPTH: f32 = 0.2;
 
+/// LOD composites for the pass's hot-spot gains: `layers` level-0 layers, the transfer rows
+/// (level 0's layer means, then the members' weighted transfer) and each composite's members.
+struct Composites {
+    layers: u32,
+    means: Vec<f32>,
+    ranges: Vec<[u32; 4]>,
+}
+
+impl Composites {
+    /// None: one layer, no composite.
+    fn none(n: usize) -> Self {
+        Composites {
+            layers: 1,
+            means: vec![0.0; n],
+            ranges: Vec::new(),
+        }
+    }
+}
+
 /// The pass's output for `vertices` (surface curving at `curvature[i]`) under `light`: `n²`
-/// rows per vertex.
+/// rows per vertex, and with `hot_spot` the gains of `composites` per vertex (RGB).
 fn run_pass(
     renderer: &Renderer,
     vertices: &[SurfaceVertex],
     curvature: &[f32],
     order: usize,
     light: &WorldLighting,
-) -> Vec<[f32; 4]> {
+    (composites, hot_spot): (&Composites, bool),
+) -> (Vec<[f32; 4]>, Vec<[f32; 3]>) {
     use wgpu::util::DeviceExt;
     let device = &renderer.device;
     let rotate = RotatePipeline::new(device).unwrap();
     let n = sh::coeff_count(order);
+    let count = composites.ranges.len();
     let geometry = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: None,
         contents: bytemuck::cast_slice(vertices),
@@ -100,31 +121,61 @@ fn run_pass(
             order,
             light,
             FUR_DEPTH,
+            (composites.layers, count as u32),
+            hot_spot,
         )),
         usage: wgpu::BufferUsages::UNIFORM,
     });
-    let storage = |values: &[f32]| {
+    let storage = |values: &[u8]| {
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: None,
-            contents: bytemuck::cast_slice(values),
+            contents: values,
             usage: wgpu::BufferUsages::STORAGE,
         })
     };
-    let curvature = storage(curvature);
-    let rotated = device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size: (vertices.len() * n * 16) as u64,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let group = rotate.bind_group(device, &uniforms, &geometry, &rotated, &curvature);
+    let output = |size: usize| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size: size.max(16) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        })
+    };
+    let curvature = storage(bytemuck::cast_slice(curvature));
+    let means = storage(bytemuck::cast_slice(&composites.means));
+    let ranges = storage(bytemuck::cast_slice(if count == 0 {
+        &[[0u32; 4]][..]
+    } else {
+        &composites.ranges
+    }));
+    let rotated = output(vertices.len() * n * 16);
+    let gains = output(vertices.len() * count * 8);
+    let group = rotate.bind_group(
+        device,
+        &uniforms,
+        &geometry,
+        &RotateOutputs {
+            rotated: &rotated,
+            curvature: &curvature,
+            means: &means,
+            composites: &ranges,
+            gains: &gains,
+        },
+    );
     let mut encoder = device.create_command_encoder(&Default::default());
     rotate
         .dispatch(&mut encoder, &group, vertices.len() as u32, 65535)
         .unwrap();
     renderer.queue.submit([encoder.finish()]);
     let bytes = read_buffer(device, &renderer.queue, &rotated).unwrap();
-    bytemuck::cast_slice(&bytes).to_vec()
+    let gain_bytes = read_buffer(device, &renderer.queue, &gains).unwrap();
+    // 16-bit fixed point over [1, 20] (`hot_spot.wgsl` `pack_gain`).
+    let gains = bytemuck::cast_slice::<u8, [u16; 4]>(&gain_bytes)
+        .iter()
+        .take(vertices.len() * count)
+        .map(|g| [g[0], g[1], g[2]].map(|v| 1.0 + f32::from(v) / 65535.0 * 19.0))
+        .collect();
+    (bytemuck::cast_slice(&bytes).to_vec(), gains)
 }
 
 /// `n` random RGB coefficients.
@@ -164,7 +215,9 @@ fn rotation_pass_matches_the_sh_rotation_for_every_order() {
             sun: vec![[0.0; 4]; n],
             sun_direction: [0.0, 0.0, 1.0],
         };
-        let got = run_pass(&renderer, &vertices, &vec![0.0; vertices.len()], order, &world);
+        let none = Composites::none(n);
+        let curvature = vec![0.0; vertices.len()];
+        let (got, _) = run_pass(&renderer, &vertices, &curvature, order, &world, (&none, false));
         for (i, v) in vertices.iter().enumerate() {
             for c in 0..3 {
                 let want = expected_in_frame(v, order, &light, c);
@@ -204,7 +257,8 @@ fn the_directional_light_fades_out_past_each_vertex_terminator() {
     // Flat, bands of 0.2 and 0.14, and one that the cap holds at 0.3.
     let curvatures = [0.0f32, 0.1, 0.05, 1e6];
     let curvature: Vec<f32> = (0..vertices.len()).map(|i| curvatures[i % 4]).collect();
-    let got = run_pass(&renderer, &vertices, &curvature, order, &world);
+    let none = Composites::none(n);
+    let (got, _) = run_pass(&renderer, &vertices, &curvature, order, &world, (&none, false));
     let (mut lit, mut dark) = (0, 0);
     for (i, v) in vertices.iter().enumerate() {
         let facing = Vec3::from(v.normal)
@@ -231,4 +285,73 @@ fn the_directional_light_fades_out_past_each_vertex_terminator() {
         lit > 5 && dark > 5,
         "{lit} vertices facing the sun, {dark} past its terminator"
     );
+}
+
+#[test]
+fn the_hot_spot_gain_of_a_composite_weighs_its_members_own_factors() {
+    // All shells raise level-0 layer i by g_i = max(top / max(m_i, 0.05·top), 1), its mean
+    // radiance m_i against the top layer's; a composite showing light R_i of member i gets
+    // Σ R_i g_i / Σ R_i (R_i clamped at 0, 1 where it shows none), per vertex and channel.
+    let renderer = Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe)");
+    let vertices = vertices();
+    let order = 3;
+    let n = sh::coeff_count(order);
+    let mut rng = Rng::new(17);
+    let world = WorldLighting {
+        environment: random_coefficients(&mut rng, n),
+        sun: vec![[0.0; 4]; n],
+        sun_direction: [0.0, 0.0, 1.0],
+    };
+    // Four level-0 layers, brighter outward, then the rows of three composites' members: two
+    // pairs and all four.
+    let layers = 4usize;
+    let mut means: Vec<f32> = (0..layers * n)
+        .map(|i| (i / n + 1) as f32 * (0.2 + rng.next_f64() as f32))
+        .collect();
+    means.extend((0..8 * n).map(|_| 2.0 * rng.next_f64() as f32 - 0.5));
+    let ranges = vec![[0, 2, 4, 0], [2, 4, 6, 0], [0, 4, 8, 0]];
+    let composites = Composites {
+        layers: layers as u32,
+        means,
+        ranges,
+    };
+    let curvature = vec![0.0; vertices.len()];
+    let (lighting, gains) = run_pass(
+        &renderer,
+        &vertices,
+        &curvature,
+        order,
+        &world,
+        (&composites, true),
+    );
+    let dot = |v: usize, row: usize, c: usize| -> f64 {
+        (0..n)
+            .map(|k| f64::from(lighting[v * n + k][c]) * f64::from(composites.means[row * n + k]))
+            .sum()
+    };
+    let (mut raised, mut unlit) = (0, 0);
+    for v in 0..vertices.len() {
+        for (j, &[first, end, row, _]) in composites.ranges.iter().enumerate() {
+            for (c, &got) in gains[v * 3 + j].iter().enumerate() {
+                let top = dot(v, layers - 1, c).max(0.0);
+                let (mut lifted, mut shown) = (0.0, 0.0);
+                for i in first as usize..end as usize {
+                    let r = dot(v, row as usize + i - first as usize, c).max(0.0);
+                    let g = (top / dot(v, i, c).max(0.05 * top).max(1e-6)).max(1.0);
+                    lifted += r * g;
+                    shown += r;
+                }
+                let want = if shown > 0.0 { lifted / shown } else { 1.0 };
+                let got = f64::from(got);
+                // Stored in steps of 19 / 65535.
+                assert!(
+                    (got - want).abs() <= 1e-3 * want,
+                    "vertex {v}, composite {j}, channel {c}: {got} vs {want}"
+                );
+                raised += usize::from(want > 1.01);
+                unlit += usize::from(shown == 0.0);
+            }
+        }
+    }
+    assert!(raised > 20 && unlit > 5, "{raised} gains above 1, {unlit} unlit");
 }

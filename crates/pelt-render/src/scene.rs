@@ -11,7 +11,7 @@ use super::layouts::FurLayouts;
 use super::lod::{Extent, Levels};
 use super::pass::Model;
 use super::planes::ScenePlanes;
-use super::prt_rotate::RotationUniforms;
+use super::prt_rotate::{RotateOutputs, RotationUniforms};
 use super::textures::VolumeTextures;
 use super::{Renderer, scoped, textures, transfer};
 use pelt_core::FurMesh;
@@ -454,26 +454,42 @@ impl FurScene {
                 )
             },
         )?;
-        let n = order * order;
-        let rotated_bytes = (self.rest_surface.source.len() * n * 16) as u64;
-        if rotated_bytes > limits.max_storage_buffer_binding_size {
-            return Err(PeltError::parameter(
-                "transfer",
-                format!(
-                    "order {order} on {} surface vertices needs a {rotated_bytes}-byte lighting buffer, the device allows {}",
-                    self.rest_surface.source.len(),
-                    limits.max_storage_buffer_binding_size
-                ),
-            ));
+        let vertices = self.rest_surface.source.len();
+        // Per surface vertex: the rotated lighting (n² RGBA rows) and the hot spot's gain per
+        // LOD composite (`prt_rotate.wgsl`, 8 bytes each).
+        let composites = stride - self.layers as usize;
+        let (rotated_bytes, gains_bytes) = (
+            (vertices * order * order * 16) as u64,
+            (vertices * composites * 8) as u64,
+        );
+        for (bytes, what) in [
+            (rotated_bytes, format!("order {order}")),
+            (gains_bytes, format!("{composites} LOD layers")),
+        ] {
+            if bytes > limits.max_storage_buffer_binding_size {
+                return Err(PeltError::parameter(
+                    "transfer",
+                    format!(
+                        "{what} on {vertices} surface vertices needs a {bytes}-byte buffer, the device allows {}",
+                        limits.max_storage_buffer_binding_size
+                    ),
+                ));
+            }
         }
-        let (means, per_texture, curvature) = pool().install(|| {
+        let (means, composite_ranges, per_texture, curvature) = pool().install(|| {
             let texels = self.resolution * self.resolution;
             let alphas = transfer::level_alphas(&self.alpha, &self.levels, texels);
             let per_texture = transfer::premultiplied_levels(transfer, &alphas, &self.levels);
             let mut means = transfer::layer_means(transfer, &self.alpha, order);
-            let composites = transfer::composite_means(&means, &alphas, &self.levels, texels);
-            means.extend(composites);
-            (means, per_texture, vertex_curvature(&self.rest_surface))
+            let members =
+                transfer::composite_members(transfer, &alphas, &self.levels, order, self.layers as usize);
+            means.extend_from_slice(&members.rows);
+            (
+                means,
+                members.ranges,
+                per_texture,
+                vertex_curvature(&self.rest_surface),
+            )
         });
         let layouts = renderer.fur_layouts()?;
         let prt = layouts.prt(device)?;
@@ -508,9 +524,33 @@ impl FurScene {
                     &curvature
                 }),
             );
-            let rotate_group =
-                prt.rotate
-                    .bind_group(device, &uniforms, &self.surface.geometry, &rotated, &curvature);
+            // Never empty: a scene may have no surface vertices, a volume no composite.
+            let ranges = storage(
+                "prt composite members",
+                bytemuck::cast_slice(if composite_ranges.is_empty() {
+                    &[[0u32; 4]][..]
+                } else {
+                    &composite_ranges
+                }),
+            );
+            let gains = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("prt hot-spot gains"),
+                size: gains_bytes.max(16),
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            });
+            let rotate_group = prt.rotate.bind_group(
+                device,
+                &uniforms,
+                &self.surface.geometry,
+                &RotateOutputs {
+                    rotated: &rotated,
+                    curvature: &curvature,
+                    means: &means_buffer,
+                    composites: &ranges,
+                    gains: &gains,
+                },
+            );
             fn buffer(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
                 wgpu::BindGroupEntry {
                     binding,
@@ -528,6 +568,7 @@ impl FurScene {
                     buffer(1, &rotated),
                     buffer(2, &means_buffer),
                     buffer(3, &self.surface.index),
+                    buffer(4, &gains),
                     buffer(5, &self.surface.color),
                     buffer(6, &self.surface.length),
                 ],
@@ -542,7 +583,7 @@ impl FurScene {
             };
             Ok::<_, PeltError>((
                 scene_transfer,
-                textures.bytes + size_of_val(means.as_slice()) as u64 + curvature.size(),
+                textures.bytes + size_of_val(means.as_slice()) as u64 + curvature.size() + ranges.size(),
             ))
         })??;
         self.transfer = Some(scene_transfer);

@@ -17,10 +17,11 @@ use wgpu::naga::Module;
 use super::pass::Model;
 
 /// The shared modules, each after the modules it imports (naga_oil's order of adding them).
-const MODULES: [(&str, &str); 12] = [
+const MODULES: [(&str, &str); 13] = [
     ("common.wgsl", include_str!("common.wgsl")),
     ("light_model.wgsl", include_str!("light_model.wgsl")),
     ("lighting.wgsl", include_str!("lighting.wgsl")),
+    ("hot_spot.wgsl", include_str!("hot_spot.wgsl")),
     ("prt.wgsl", include_str!("prt.wgsl")),
     ("surface.wgsl", include_str!("surface.wgsl")),
     ("surface_kk.wgsl", include_str!("surface_kk.wgsl")),

@@ -448,7 +448,7 @@ fn lod_follows_the_projected_fur_depth_between_the_levels() {
 #[test]
 fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
     use super::lod::Levels;
-    use super::transfer::{composite_means, level_alphas, premultiplied_levels};
+    use super::transfer::{composite_members, level_alphas, premultiplied_levels};
     use half::f16;
     use pelt_core::prt::pack::PackedF16;
     let (layers, resolution) = (5usize, 2usize);
@@ -467,10 +467,8 @@ fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
         texels: texel_values,
     };
     let levels = Levels::new(layers as u32);
-    // Level 0's mean transfer, one value per layer and channel.
-    let layer_mean: Vec<f32> = (0..layers * 4)
-        .map(|i| ((i * 7) % 13) as f32 / 5.0 - 1.0)
-        .collect();
+    // Order 2: four coefficients, the texture's four channels; member rows after 3 others.
+    let (order, first_row) = (2usize, 3usize);
     let run = |threads| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -479,13 +477,14 @@ fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
         pool.install(|| {
             let alphas = level_alphas(&alpha, &levels, texels);
             let out = premultiplied_levels(&packed, &alphas, &levels);
-            let means = composite_means(&layer_mean, &alphas, &levels, texels);
-            (out, means)
+            let members = composite_members(&packed, &alphas, &levels, order, first_row);
+            (out, members.ranges, members.rows)
         })
     };
-    let (out, means) = run(1);
-    assert!((out.clone(), means.clone()) == run(2));
-    assert_eq!(means.len(), (levels.total() as usize - layers) * 4);
+    let (out, ranges, rows) = run(1);
+    assert!((out.clone(), ranges.clone(), rows.clone()) == run(2));
+    assert_eq!(ranges.len(), levels.total() as usize - layers);
+    assert_eq!(rows.len(), (levels.counts.len() - 1) * layers * 4);
     assert_eq!(out.len(), 1);
     assert_eq!(out[0].len(), levels.total() as usize * texels * 4);
     for (k, (&count, &base)) in levels.counts.iter().zip(&levels.bases).enumerate() {
@@ -498,8 +497,9 @@ fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
                 (_, 0) => 0..1,
                 _ => ((j - 1) << k) + 1..((j << k) + 1).min(layers),
             };
-            // Each level-0 layer's weight in the composite, summed over the tile.
-            let mut shown = vec![0.0f64; layers];
+            // Each level-0 layer's transfer weighted by what the composite shows of it, meaned
+            // over the tile.
+            let mut shown = vec![[0.0f64; 4]; layers];
             for x in 0..texels {
                 for c in 0..4 {
                     let (mut sum, mut weights, mut clear) = (0.0f64, 0.0f64, 1.0f64);
@@ -507,9 +507,7 @@ fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
                         let a = f64::from(alpha[i * texels + x]) / 255.0;
                         sum += a * clear * f64::from(value(i * texels + x, c));
                         weights += a * clear;
-                        if c == 0 {
-                            shown[i] += a * clear;
-                        }
+                        shown[i][c] += a * clear * f64::from(value(i * texels + x, c)) / texels as f64;
                         clear *= 1.0 - a;
                     }
                     // Stored premultiplied by the composite's opacity, 1 − clear.
@@ -522,19 +520,18 @@ fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
                 }
             }
             if k > 0 {
-                // The hot spot's measure of the composite: level 0's means weighted by `shown`.
-                let total: f64 = shown.iter().sum();
-                for c in 0..4 {
-                    let got = f64::from(means[(base as usize - layers + j) * 4 + c]);
-                    let want = group
-                        .clone()
-                        .map(|i| shown[i] * f64::from(layer_mean[i * 4 + c]))
-                        .sum::<f64>()
-                        / total;
-                    assert!(
-                        (got - want).abs() < 2e-3,
-                        "level {k} layer {j} mean {c}: {got} vs {want}"
-                    );
+                // The composite's layers, and the row of the first's weighted transfer.
+                let [first, end, row, _] = ranges[base as usize - layers + j].map(|v| v as usize);
+                assert_eq!(first..end, group);
+                for i in group.clone() {
+                    for c in 0..4 {
+                        let got = f64::from(rows[(row + i - first - first_row) * 4 + c]);
+                        let want = shown[i][c];
+                        assert!(
+                            (got - want).abs() < 2e-3,
+                            "level {k} layer {j} member {i} coefficient {c}: {got} vs {want}"
+                        );
+                    }
                 }
             }
         }

@@ -246,27 +246,46 @@ pub(super) fn level_alphas(alpha: &[u8], levels: &Levels, texels: usize) -> Vec<
     alphas
 }
 
-/// The mean transfer coefficients of each LOD layer past level 0, `[layer][n²]` in the array's
-/// order: level 0's layer means (`means`, [`layer_means`]) weighted by how much of each layer
-/// the composite shows ("over", summed over the tile), which the hot spot (`prt.wgsl`) weighs
-/// against the top layer's. All shells raise layer `i` by `top / m_i`; a composite of radiance
-/// `Σ R_i` raised by `top / m` gives their sum when `m = Σ W_i m_i / Σ W_i`, `W_i` layer `i`'s
-/// weight (taken with `R_i ≈ W_i m_i`). Raised by the level-0 mean at its middle height, the
-/// far levels were up to twice the all-shells image. `alphas` are every level's opacities
-/// ([`level_alphas`]); 0 for an empty layer, which draws nothing. Runs in the current rayon pool;
-/// sums in f64 in texel order, so the result does not depend on the thread count.
-pub(super) fn composite_means(
-    means: &[f32],
+/// What each LOD composite shows of the level-0 layers it holds, for the hot spot's factor
+/// (`prt_rotate.wgsl`). All shells raise layer `i` by its own factor `f_i` (`prt.wgsl`
+/// `hot_spot_factor`); a composite shows `Σ R_i`, `R_i` the light of layer `i`'s hair it shows,
+/// and all shells give `Σ R_i f_i` of it. `R_i` is the lighting dotted with layer `i`'s transfer
+/// weighted by how much of it the composite shows ("over": its opacity times the clearness of
+/// the composite's layers above it), which is linear and baked here; the ratio is taken per
+/// vertex. (Raised by one mean for the composite, taking `R_i ∝` the layer's opacity, the dolly
+/// had drifted 13%; by the level-0 mean at its middle height, up to twice the all-shells image.)
+pub(super) struct CompositeMembers {
+    /// Per composite (every LOD layer past level 0, in the array's order): the level-0 layers
+    /// `first..end` it holds and the row of layer `first`'s weighted transfer in `rows`
+    /// (row `r` = values `r·n² ..`), `[first, end, row, 0]`.
+    pub ranges: Vec<[u32; 4]>,
+    /// Per level past 0, per level-0 layer, its `n²` weighted transfer coefficients, meaned
+    /// over the tile.
+    pub rows: Vec<f32>,
+}
+
+/// [`CompositeMembers`] of `packed` (level 0's transfer), `alphas` every level's opacities
+/// ([`level_alphas`]), rows numbered from `first_row` (they follow level 0's layer means in one
+/// buffer). Runs in the current rayon pool; sums in f64 in texel order, so the result does not
+/// depend on the thread count.
+pub(super) fn composite_members(
+    packed: &PackedF16,
     alphas: &[Vec<f32>],
     levels: &Levels,
-    texels: usize,
-) -> Vec<f32> {
+    order: usize,
+    first_row: usize,
+) -> CompositeMembers {
     let layers = levels.counts[0] as usize;
-    let n = means.len() / layers;
+    let n = order * order;
+    let texels = packed.resolution * packed.resolution;
+    let voxels = layers * texels;
     // Level-0 layer i's share of its group's color per texel; its group's level-0 layers.
     let mut weight = alphas[0].clone();
     let mut groups: Vec<Range<usize>> = (0..layers).map(|i| i..i + 1).collect();
-    let mut out = Vec::new();
+    let mut members = CompositeMembers {
+        ranges: Vec::new(),
+        rows: Vec::new(),
+    };
     for k in 1..levels.counts.len() {
         let count = levels.counts[k - 1] as usize;
         let mut under: Vec<Option<usize>> = vec![None; layers];
@@ -289,23 +308,29 @@ pub(super) fn composite_means(
                     w.iter_mut().zip(clear).for_each(|(w, a)| *w *= 1.0 - a);
                 }
             });
-        let totals: Vec<f64> = weight
-            .par_chunks_exact(texels)
-            .map(|w| w.iter().map(|&v| f64::from(v)).sum())
-            .collect();
-        for group in &next {
-            let total: f64 = totals[group.clone()].iter().sum();
-            out.extend((0..n).map(|c| {
-                let sum: f64 = group
-                    .clone()
-                    .map(|i| totals[i] * f64::from(means[i * n + c]))
+        let row = first_row + (k - 1) * layers;
+        members.ranges.extend(
+            next.iter()
+                .map(|g| [g.start as u32, g.end as u32, (row + g.start) as u32, 0]),
+        );
+        let level_rows: Vec<f32> = (0..layers * n)
+            .into_par_iter()
+            .map(|r| {
+                let (i, c) = (r / n, r % n);
+                let start = ((c / CHANNELS) * voxels + i * texels) * CHANNELS + c % CHANNELS;
+                let values = packed.texels[start..].iter().step_by(CHANNELS).take(texels);
+                let shown = &weight[i * texels..(i + 1) * texels];
+                let sum: f64 = values
+                    .zip(shown)
+                    .map(|(v, &w)| f64::from(v.to_f32()) * f64::from(w))
                     .sum();
-                if total > 0.0 { (sum / total) as f32 } else { 0.0 }
-            }));
-        }
+                (sum / texels as f64) as f32
+            })
+            .collect();
+        members.rows.extend(level_rows);
         groups = next;
     }
-    out
+    members
 }
 
 /// Every texture's coefficients for all LOD levels (`levels`), premultiplied by the opacity of
