@@ -287,17 +287,6 @@ impl Renderer {
             .fur_pipelines()?
             .passes(&self.device, checked.model, target)?;
         let transfer = scene.transfer.as_ref().filter(|_| checked.model == Model::Prt);
-        let rotation = match transfer {
-            Some(t) => Some(RotationUniforms::new(
-                scene.surface_vertex_count() as u32,
-                t.order,
-                &world_coefficients(&checked.light, t.order)?,
-                scene.fur_depth,
-                (scene.layers, t.stride - scene.layers),
-                checked.light.hot_spot_share() > 0.0,
-            )),
-            None => None,
-        };
         let rotate = match transfer {
             Some(_) => Some(&self.fur_layouts()?.prt(&self.device)?.rotate),
             None => None,
@@ -308,6 +297,22 @@ impl Renderer {
             .ok_or_else(|| PeltError::Render("the geometric level drawn is missing".into()))?;
         let method = self.shell_method(settings.shell_method);
         let settings = &settings.as_drawn(method);
+        let rotation = match transfer {
+            Some(t) => Some(RotationUniforms::new(
+                scene.surface_vertex_count() as u32,
+                t.order,
+                &world_coefficients(&checked.light, t.order)?,
+                scene.fur_depth,
+                (scene.layers, t.stride - scene.layers),
+                // Only the instanced shells read the composites' gains.
+                if checked.light.hot_spot_share() > 0.0 && method == ShellMethod::Instanced {
+                    scene.levels.composites_drawn(&checked.info)
+                } else {
+                    0..0
+                },
+            )),
+            None => None,
+        };
         let strand_scene = scene.strands.as_ref().filter(|_| settings.guard_hairs);
         let bands = Bands::new(settings, checked.info.shells, method, strand_scene.is_some());
         let ppu = lod::nearest_pixels_per_unit(camera, scene.extent.center, scene.extent.radius);

@@ -70,6 +70,23 @@ impl Levels {
     pub fn total(&self) -> u32 {
         self.counts.iter().sum()
     }
+
+    /// The LOD composites (array layers past level 0, counted from the first) that a frame
+    /// drawing `info` reads: its level's, and the next coarser one's while it cross-fades.
+    pub fn composites_drawn(&self, info: &FrameInfo) -> std::ops::Range<u32> {
+        let k = info.level as usize;
+        let Some(&start) = self.bases.get(k) else {
+            return 0..0;
+        };
+        let coarser = if info.blend > 0.0 {
+            self.counts.get(k + 1).copied().unwrap_or(0)
+        } else {
+            0
+        };
+        let end = start + self.counts[k] + coarser;
+        let first = self.counts[0];
+        start.max(first) - first..end.max(first) - first
+    }
 }
 
 /// The mesh's bounding sphere and painted lengths, what the schedule reads from the scene.

@@ -6,11 +6,13 @@
 //! would cost a rotation per vertex in f64 plus that upload every frame; the compute pass costs
 //! one small uniform write. `pelt bench` measures both (`render.prt.rotate`).
 //!
-//! While the light may come from the eye the pass also weighs each LOD composite's hot-spot gain
-//! per vertex (`transfer::composite_members`): `levels × layers × n²` products a vertex, cheap
-//! beside the fragments' loop over every member that the same factor would cost.
+//! While the light may come from the eye the pass also weighs the hot-spot gain of each LOD
+//! composite the frame draws, per vertex (`transfer::composite_members`): two products of `n²`
+//! per member, far fewer than the fragments' loop over every member that the same factor would
+//! cost (computed for every level, it had tripled a 44k-vertex frame on the CPU adapter).
 
 use std::num::NonZeroU64;
+use std::ops::Range;
 
 use bytemuck::{Pod, Zeroable};
 
@@ -40,16 +42,16 @@ pub(super) struct RotationUniforms {
 impl RotationUniforms {
     /// The uniforms for `vertices` surface vertices and the world lighting `light` (`n²` rows
     /// each for the environment and the directional light), hair `fur_depth` deep, with
-    /// `layers` level-0 layers and `composites` LOD layers past them; `hot_spot` when the light
-    /// may come from the eye (its share, `LightingFrame::hot_spot_share`, is not 0), which
-    /// needs the composites' hot-spot gains.
+    /// `layers` level-0 layers and `composites` LOD layers past them, of which `gains` (counted
+    /// from the first) get the hot spot's gain: those the frame draws where the light may come
+    /// from the eye (its share, `LightingFrame::hot_spot_share`, is not 0), else none.
     pub fn new(
         vertices: u32,
         order: usize,
         light: &WorldLighting,
         fur_depth: f32,
         (layers, composites): (u32, u32),
-        hot_spot: bool,
+        gains: Range<u32>,
     ) -> Self {
         let rows = |c: &[[f32; 4]]| {
             let mut rows = [[0.0; 4]; MAX_COEFFS];
@@ -60,7 +62,7 @@ impl RotationUniforms {
         RotationUniforms {
             counts: [vertices, order as u32, (order * order) as u32, 0],
             sun_direction: [x, y, z, fur_depth],
-            layers: [layers, composites, u32::from(hot_spot), 0],
+            layers: [layers, composites, gains.start, gains.end.min(composites)],
             light: rows(&light.environment),
             sun: rows(&light.sun),
         }

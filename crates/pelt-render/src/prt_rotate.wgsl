@@ -20,8 +20,9 @@
 // N·L down to that band's edge: on a flat surface it is gone at the horizon, where the fixed
 // band had lit the flat patch's fur 10× the reference's under a grazing sun.
 //
-// Where the light may come from the eye, the pass also weighs the hot spot's gain of every LOD
-// composite (`write_gains`), which the fragments interpolate (`prt.wgsl` `composite_gain`).
+// Where the light may come from the eye, the pass also weighs the hot spot's gain of the LOD
+// composites the frame draws (`write_gains`), which the fragments interpolate (`prt.wgsl`
+// `composite_gain`).
 
 #import pelt::hot_spot::{hot_spot_ratio, pack_gain}
 
@@ -33,7 +34,8 @@ struct Rotation {
     counts: vec4<u32>,
     // xyz: unit direction toward the directional light (object space); w: the fur depth.
     sun_direction: vec4<f32>,
-    // x: level-0 layers, y: LOD composites past them, z: 1 when the hot spot may light.
+    // x: level-0 layers, y: LOD composites past them, z..w: the composites whose hot-spot gain
+    // the frame needs (none while the light cannot come from the eye).
     layers: vec4<u32>,
     // The world lighting without the directional light, 1/π folded in; rgb per coefficient.
     light: array<vec4<f32>, 64>,
@@ -166,7 +168,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>,
     for (var k = 0u; k < n; k++) {
         rotated[v * n + k] = c[k];
     }
-    if (params.layers.z != 0u) {
+    if (params.layers.z < params.layers.w) {
         write_gains(v, &c, n);
     }
 }
@@ -180,13 +182,14 @@ fn radiance(c: ptr<function, Coefficients>, row: u32, n: u32) -> vec3<f32> {
     return sum;
 }
 
-// The hot spot's gain of every composite at vertex `v` lit by `c`: all shells raise level-0
+// The hot spot's gain of the composites the frame draws at vertex `v` lit by `c`: all shells
+// raise level-0
 // layer i by its own ratio g_i (`hot_spot_ratio`), so a composite showing light R_i of each
 // member gets Σ R_i g_i / Σ R_i (1 where it shows none).
 fn write_gains(v: u32, c: ptr<function, Coefficients>, n: u32) {
     let count = params.layers.y;
     let top = radiance(c, params.layers.x - 1u, n);
-    for (var j = 0u; j < count; j++) {
+    for (var j = params.layers.z; j < params.layers.w; j++) {
         let members = composites[j];
         var lifted = vec3<f32>(0.0);
         var shown = vec3<f32>(0.0);

@@ -2,6 +2,8 @@
 //! Ivanic–Ruedenberg recurrence in f64, `prt::sh::ShRotation`): the pass takes another route
 //! (Euler angles and a fixed 90° matrix), so agreement checks both.
 
+use std::ops::Range;
+
 use super::prt_light::WorldLighting;
 use super::prt_rotate::{RotateOutputs, RotatePipeline, RotationUniforms};
 use super::readback::read_buffer;
@@ -95,14 +97,15 @@ impl Composites {
 }
 
 /// The pass's output for `vertices` (surface curving at `curvature[i]`) under `light`: `n²`
-/// rows per vertex, and with `hot_spot` the gains of `composites` per vertex (RGB).
+/// rows per vertex, and the gains of `composites` per vertex (RGB; 1 where not written), those
+/// in `gains` written.
 fn run_pass(
     renderer: &Renderer,
     vertices: &[SurfaceVertex],
     curvature: &[f32],
     order: usize,
     light: &WorldLighting,
-    (composites, hot_spot): (&Composites, bool),
+    (composites, gains): (&Composites, Range<u32>),
 ) -> (Vec<[f32; 4]>, Vec<[f32; 3]>) {
     use wgpu::util::DeviceExt;
     let device = &renderer.device;
@@ -122,7 +125,7 @@ fn run_pass(
             light,
             FUR_DEPTH,
             (composites.layers, count as u32),
-            hot_spot,
+            gains,
         )),
         usage: wgpu::BufferUsages::UNIFORM,
     });
@@ -217,7 +220,7 @@ fn rotation_pass_matches_the_sh_rotation_for_every_order() {
         };
         let none = Composites::none(n);
         let curvature = vec![0.0; vertices.len()];
-        let (got, _) = run_pass(&renderer, &vertices, &curvature, order, &world, (&none, false));
+        let (got, _) = run_pass(&renderer, &vertices, &curvature, order, &world, (&none, 0..0));
         for (i, v) in vertices.iter().enumerate() {
             for c in 0..3 {
                 let want = expected_in_frame(v, order, &light, c);
@@ -258,7 +261,7 @@ fn the_directional_light_fades_out_past_each_vertex_terminator() {
     let curvatures = [0.0f32, 0.1, 0.05, 1e6];
     let curvature: Vec<f32> = (0..vertices.len()).map(|i| curvatures[i % 4]).collect();
     let none = Composites::none(n);
-    let (got, _) = run_pass(&renderer, &vertices, &curvature, order, &world, (&none, false));
+    let (got, _) = run_pass(&renderer, &vertices, &curvature, order, &world, (&none, 0..0));
     let (mut lit, mut dark) = (0, 0);
     for (i, v) in vertices.iter().enumerate() {
         let facing = Vec3::from(v.normal)
@@ -322,7 +325,7 @@ fn the_hot_spot_gain_of_a_composite_weighs_its_members_own_factors() {
         &curvature,
         order,
         &world,
-        (&composites, true),
+        (&composites, 0..3),
     );
     let dot = |v: usize, row: usize, c: usize| -> f64 {
         (0..n)
@@ -354,4 +357,17 @@ fn the_hot_spot_gain_of_a_composite_weighs_its_members_own_factors() {
         }
     }
     assert!(raised > 20 && unlit > 5, "{raised} gains above 1, {unlit} unlit");
+    // A frame drawing only the second composite weighs only its gain (the others stay 1).
+    let (_, some) = run_pass(
+        &renderer,
+        &vertices,
+        &curvature,
+        order,
+        &world,
+        (&composites, 1..2),
+    );
+    for (i, (got, all)) in some.iter().zip(&gains).enumerate() {
+        let want = if i % 3 == 1 { *all } else { [1.0; 3] };
+        assert_eq!(*got, want, "vertex {}, composite {}", i / 3, i % 3);
+    }
 }

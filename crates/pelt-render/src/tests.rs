@@ -584,3 +584,33 @@ fn opengl_projections_map_near_and_far_to_wgpu_depth() {
     // Eye found as for any wgpu camera.
     assert!((frame.eye.z - 3.0).abs() < 1e-6 && frame.eye.w == 1.0);
 }
+
+#[test]
+fn a_frame_weighs_the_hot_spot_gains_of_the_composites_it_draws_only() {
+    use super::lod::{FrameInfo, Levels};
+    // 32 layers and the LOD levels composited from them.
+    let levels = Levels::new(32);
+    let first = levels.counts[0];
+    let at = |level: u32, blend: f32| {
+        levels.composites_drawn(&FrameInfo {
+            shells: 0,
+            level,
+            blend,
+            target_shells: 0.0,
+            radius_pixels: None,
+            fur_pixels: None,
+            mesh_level: 0,
+            triangles: 0,
+        })
+    };
+    let layers_of = |k: usize| levels.bases[k] - first..levels.bases[k] + levels.counts[k] - first;
+    // All shells read no composite; fading toward level 1, its layers.
+    assert!(at(0, 0.0).is_empty());
+    assert_eq!(at(0, 0.5), layers_of(1));
+    // Level 2 alone, then with level 3 fading in; the last level has nothing coarser.
+    assert_eq!(at(2, 0.0), layers_of(2));
+    assert_eq!(at(2, 0.3), layers_of(2).start..layers_of(3).end);
+    let last = levels.counts.len() - 1;
+    assert_eq!(at(last as u32, 0.5), layers_of(last));
+    assert_eq!(layers_of(last).end, levels.total() - first);
+}
