@@ -183,9 +183,8 @@ fn radiance(c: ptr<function, Coefficients>, row: u32, n: u32) -> vec3<f32> {
 }
 
 // The hot spot's gain of the composites the frame draws at vertex `v` lit by `c`: all shells
-// raise level-0
-// layer i by its own ratio g_i (`hot_spot_ratio`), so a composite showing light R_i of each
-// member gets Σ R_i g_i / Σ R_i (1 where it shows none).
+// raise level-0 layer i by its own ratio g_i (`hot_spot_ratio`), so a composite showing light
+// R_i of each member gets Σ R_i g_i / Σ R_i (1 where it shows none).
 fn write_gains(v: u32, c: ptr<function, Coefficients>, n: u32) {
     let count = params.layers.y;
     let top = radiance(c, params.layers.x - 1u, n);
