@@ -97,6 +97,8 @@ def generated(report, pictures):
         if case.get("dolly_jump") is not None:
             figures["dolly_jump"].append(case["dolly_jump"])
             figures["dolly_drift"].append(case["dolly_drift"])
+            if case.get("dolly_view_change") is not None:
+                figures["dolly_view_change"].append(case["dolly_view_change"])
         scenes[(scene, light)][config] = case
     if not per_config:
         lines += ["", "No `image.*` case ran.", "", END]
@@ -116,11 +118,14 @@ def generated(report, pictures):
         "",
         "`detail`: the preview's fine detail (luminance energy above a 5 × 5 box mean) over the "
         "reference's, with the reference's Monte Carlo noise taken out of its own (from each "
-        "pixel's variance).",
+        "pixel's variance). Along the LOD's dolly (24 steps, each 16% farther, out to 30×): `dolly "
+        "jump`, the largest step-to-step change of the LOD image's mean luminance over the "
+        "all-shells image's; `dolly drift`, the largest difference between the two; `view step`, "
+        "the all-shells image's own largest change between steps.",
         "",
         "| config | frame ms | relative MSE | ꟻLIP | ꟻLIP 4× down | luminance ratio | alpha profile "
-        "| detail | dolly jump | dolly drift |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+        "| detail | dolly jump | dolly drift | view step |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for config, v in per_config.items():
         med = {k: statistics.median(x) if x else None for k, x in v.items()}
@@ -128,7 +133,8 @@ def generated(report, pictures):
             f"| `{config}` | {med['seconds'] * 1e3:.1f} | {med['error']:.3f} | {med['flip']:.3f} | "
             f"{med['flip_down4']:.3f} | {med['luminance_ratio']:.2f} | {med['alpha_profile_error']:.2f} | "
             f"{fmt(med.get('detail_ratio'), '.2f')} | "
-            f"{fmt(med.get('dolly_jump'), '.3f')} | {fmt(med.get('dolly_drift'), '.3f')} |"
+            f"{fmt(med.get('dolly_jump'), '.3f')} | {fmt(med.get('dolly_drift'), '.3f')} | "
+            f"{fmt(med.get('dolly_view_change'), '.3f')} |"
         )
     lines += [
         "",

@@ -21,7 +21,8 @@ struct Frame {
     // x: fin opacity, y: LOD cross-fade toward the coarser level (0 without LOD), z: the
     // geometric level's fin spacing over the full mesh's (1 for the full mesh).
     fin: vec4<f32>,
-    // x: shells drawn, y: layers of the volume (level 0), z: 1 when LOD picks the layers.
+    // x: shells drawn, y: layers of the volume (level 0), z: 1 when LOD picks the layers, w: the
+    // coarser level's first entry in `stand`.
     counts: vec4<u32>,
     // LOD: x first array layer of the level drawn, y of the next coarser level, z level-0
     // layers per group of the level drawn (2^k), w layers of the next coarser level (0: none).
@@ -42,6 +43,10 @@ struct Frame {
     goldman: vec4<f32>,
     // Kajiya-Kay: the ambient's change per unit of the normal's x, y and z (rgb).
     ambient_gradient: array<vec4<f32>, 3>,
+    // LOD: the level-0 height (in layers) each layer of the drawn level stands at (none at level
+    // 0, whose layers stand at their own), then from `counts.w` on the next coarser level's
+    // (`stand_heights.rs`).
+    stand: array<vec4<f32>, 64>,
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -81,13 +86,14 @@ fn skin_layers() -> Layers {
 }
 
 // Shell `instance + 1`. With LOD, group j of the level drawn (level-0 layers (j - 1) 2^k + 1 ..=
-// j 2^k) stands at its top, height min(j 2^k, L - 1), and fades into group j / 2 of the next
-// level, which stands there too: nothing for odd j but the last, whose twin is itself, nor into
-// a last level of one layer (the skin with everything over it). Without, shell i (1-based) of
-// s shows layer round(i (L - 1) / s), so fewer shells keep the full fur depth. The quotient is
-// estimated in f32 (an integer division runs lane by lane on a CPU adapter, and the marched
-// shells call this per layer and pixel), which lands within one of it, and settled exactly by
-// two integer multiplications (a float division need not round correctly).
+// j 2^k) has its top as height, min(j 2^k, L - 1) (where it stands is `shell_stand`'s), and
+// fades into group j / 2 of the next level, whose top is the same: nothing for odd j but the
+// last, whose twin is itself, nor into a last level of one layer (the skin with everything over
+// it). Without, shell i (1-based) of s shows layer round(i (L - 1) / s), so fewer shells keep
+// the full fur depth. The quotient is estimated in f32 (an integer division runs lane by lane
+// on a CPU adapter, and the marched shells call this per layer and pixel), which lands within
+// one of it, and settled exactly by two integer multiplications (a float division need not
+// round correctly).
 fn shell_layers(instance: u32) -> Layers {
     let j = instance + 1u;
     if (frame.counts.z == 1u) {
@@ -120,6 +126,28 @@ fn shading_height(layers: Layers) -> f32 {
         return middle;
     }
     return mix(middle, group_middle(top, 2u * frame.lod.z), frame.fin.y);
+}
+
+// The level-0 height, in layers, at which a shell of `layers` stands: a level-0 layer at its own,
+// an LOD composite where its hair covers the silhouette as the layers it holds would
+// (`stand_heights.rs`), moved toward its coarser twin's as the cross-fade runs.
+fn shell_stand(layers: Layers) -> f32 {
+    if (frame.counts.z != 1u || layers.height == 0u) {
+        return f32(layers.height);
+    }
+    var fine = f32(layers.height);
+    if (frame.lod.x > 0u) {
+        fine = stand_entry(layers.fine - frame.lod.x);
+    }
+    if (layers.coarse == NO_LAYER || frame.fin.y <= 0.0) {
+        return fine;
+    }
+    return mix(fine, stand_entry(frame.counts.w + layers.coarse - frame.lod.y), frame.fin.y);
+}
+
+// Entry `i` of `frame.stand`.
+fn stand_entry(i: u32) -> f32 {
+    return frame.stand[i / 4u][i % 4u];
 }
 
 // The middle height of the group of `step` level-0 layers whose top is layer `top > 0`.

@@ -332,6 +332,7 @@ impl Renderer {
             &SceneFrame {
                 info: &checked.info,
                 levels: &scene.levels,
+                stand_heights: &scene.stand_heights,
                 layers: scene.layers,
                 fur_depth: scene.fur_depth,
                 layer_spacing: scene.layer_spacing,

@@ -29,7 +29,12 @@ pub(super) struct FrameUniforms {
     planes: [f32; 4],
     goldman: [f32; 4],
     ambient_gradient: [[f32; 4]; 3],
+    stand: [[f32; 4]; STAND_ROWS],
 }
+
+/// Rows of `Frame::stand`: four heights each, enough for level 1 and level 2 of the most layers
+/// a volume may have (`1 + 255 / 2` and `1 + 255 / 4`, 194 in all).
+pub(super) const STAND_ROWS: usize = 64;
 
 /// The scene's side of the frame.
 pub(super) struct SceneFrame<'a> {
@@ -37,6 +42,8 @@ pub(super) struct SceneFrame<'a> {
     pub info: &'a FrameInfo,
     /// The shell array's levels.
     pub levels: &'a Levels,
+    /// Per array layer of every level, the level-0 height it stands at.
+    pub stand_heights: &'a [f32],
     /// Layers of the shell texture.
     pub layers: u32,
     /// Fur depth in object units ([`super::FurScene::fur_depth`]).
@@ -64,6 +71,7 @@ impl FrameUniforms {
         let k = info.level as usize;
         let coarse = levels.bases.get(k + 1).copied().unwrap_or(levels.bases[k]);
         let v3 = |v: [f32; 3]| [v[0], v[1], v[2], 0.0];
+        let (stand, coarse_stand) = stand_rows(scene, settings.lod);
         FrameUniforms {
             view_proj: camera.view_proj.to_cols_array(),
             eye: camera.eye.to_array(),
@@ -81,7 +89,7 @@ impl FrameUniforms {
                 settings.alpha_test,
             ],
             fin: [settings.fin_opacity, info.blend, scene.fin_spacing, 0.0],
-            counts: [info.shells, scene.layers, u32::from(settings.lod), 0],
+            counts: [info.shells, scene.layers, u32::from(settings.lod), coarse_stand],
             lod: [
                 levels.bases[k],
                 coarse,
@@ -99,6 +107,31 @@ impl FrameUniforms {
             ],
             goldman: [light.goldman[0], light.goldman[1], 0.0, 0.0],
             ambient_gradient: light.ambient_gradient.map(v3),
+            stand,
         }
     }
+}
+
+/// `Frame::stand` and where the coarser level's heights start in it: under LOD, the heights of
+/// the drawn level's layers (none at level 0, whose layers stand at their own height), then the
+/// next coarser level's.
+fn stand_rows(scene: &SceneFrame<'_>, lod: bool) -> ([[f32; 4]; STAND_ROWS], u32) {
+    let mut heights = Vec::new();
+    let (levels, k) = (scene.levels, scene.info.level as usize);
+    let level = |k: usize| {
+        let base = levels.bases[k] as usize;
+        &scene.stand_heights[base..base + levels.counts[k] as usize]
+    };
+    if lod && k > 0 {
+        heights.extend_from_slice(level(k));
+    }
+    let coarse_start = heights.len() as u32;
+    if lod && k + 1 < levels.counts.len() {
+        heights.extend_from_slice(level(k + 1));
+    }
+    let mut rows = [[0.0; 4]; STAND_ROWS];
+    for (i, &h) in heights.iter().take(4 * STAND_ROWS).enumerate() {
+        rows[i / 4][i % 4] = h;
+    }
+    (rows, coarse_start)
 }

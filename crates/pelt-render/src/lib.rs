@@ -58,6 +58,7 @@ mod shaders;
 mod shells;
 mod skin;
 mod smoke;
+mod stand_heights;
 mod strands;
 mod texture_target;
 mod textures;

@@ -10,8 +10,9 @@
 //   struct SurfaceVarying: what crosses from vertex to fragment, packed.
 //   struct SurfaceOut: what the fragment reads; at least `uv`, `color`, `length`, `layer` and
 //     `coarse` (the array layers of the level drawn and of the next coarser one).
-//   fn surface_vertex(v: SurfaceIn, layers: Layers, painted: bool) -> SurfaceVarying
-//     The vertex lifted to the height of `layers`, with its painted length or the multiplier 1.
+//   fn surface_vertex(v: SurfaceIn, layers: Layers, stand: f32, painted: bool) -> SurfaceVarying
+//     The vertex of `layers` lifted to level-0 height `stand` (in layers: `shell_stand` for a
+//     shell, the hull's own layer for a march), with its painted length or the multiplier 1.
 //   fn surface_fragment(v: SurfaceVarying) -> SurfaceOut
 //   fn surface_wrap(s: SurfaceOut) -> f32
 //     The terminator band's width there (Kajiya–Kay's `terminator_wrap`; PRT fades its light in

@@ -1,11 +1,12 @@
 //! Level of detail of the shells (Lengyel et al. 2001, §2.4): far away fewer shells suffice, so
 //! the volume's LOD levels composite successive pairs of shells (level `k` keeps the skin and has
-//! `⌈(L − 1) / 2^k⌉` groups, group `j` holding level-0 layers `(j − 1) 2^k + 1 ..= j 2^k` and
-//! standing at its top, height `min(j 2^k, L − 1)`, lit at its middle), and the renderer
-//! cross-fades between two neighbouring levels as the object recedes: at blend `τ` shell `j` of
-//! level `k` shows `(1 − τ)` of its own texture plus `τ` of level `k + 1`'s group `j / 2`, which
-//! stands at the same height (nothing for odd `j` but the last, whose twin is itself), so `τ = 1`
-//! is exactly level `k + 1` and nothing pops.
+//! `⌈(L − 1) / 2^k⌉` groups, group `j` holding level-0 layers `(j − 1) 2^k + 1 ..= j 2^k`,
+//! standing where its hair covers the silhouette as those layers would (`stand_heights.rs`,
+//! between the group's middle and its top), lit at its middle), and the renderer cross-fades
+//! between two neighbouring levels as the object recedes: at blend `τ` shell `j` of level `k`
+//! shows `(1 − τ)` of its own texture plus `τ` of level `k + 1`'s group `j / 2` and moves `τ` of
+//! the way to where that group stands (nothing for odd `j` but the last, whose twin is itself),
+//! so `τ = 1` is exactly level `k + 1` and nothing pops.
 //!
 //! The schedule follows the projected size: the fur depth in pixels (fur depth × the longest
 //! painted length × pixels per object unit at the bounding sphere's centre) times

@@ -47,7 +47,8 @@ fn march_texels(uv: vec2<f32>, layers: Layers, lod: f32, fade: bool) -> Texels {
 
 @vertex
 fn vs_main(v: model::SurfaceIn) -> model::SurfaceVarying {
-    return model::surface_vertex(v, shell_layers(frame.counts.x - 1u), true);
+    let hull = shell_layers(frame.counts.x - 1u);
+    return model::surface_vertex(v, hull, f32(hull.height), true);
 }
 
 fn march(s: model::SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {

@@ -36,7 +36,8 @@ const MAX_SLICE_ALPHA: f32 = 254.0 / 255.0;
 
 @vertex
 fn vs_main(v: model::SurfaceIn) -> model::SurfaceVarying {
-    return model::surface_vertex(v, shell_layers(frame.counts.x - 1u), true);
+    let hull = shell_layers(frame.counts.x - 1u);
+    return model::surface_vertex(v, hull, f32(hull.height), true);
 }
 
 // Height above the skin, level-0 layers, after ray length `t` from the hull at height `top`.

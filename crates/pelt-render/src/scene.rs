@@ -12,6 +12,7 @@ use super::lod::{Extent, Levels};
 use super::pass::Model;
 use super::planes::ScenePlanes;
 use super::prt_rotate::{RotateOutputs, RotationUniforms};
+use super::stand_heights::stand_heights;
 use super::textures::VolumeTextures;
 use super::{Renderer, scoped, textures, transfer};
 use pelt_core::FurMesh;
@@ -167,6 +168,8 @@ pub struct FurScene {
     pub(super) levels: Levels,
     /// Level 0's opacity `[L][R²]`, which weighs the transfer of the LOD composites.
     alpha: Vec<u8>,
+    /// Per array layer of every level, the level-0 height it stands at (`stand_heights.rs`).
+    pub(super) stand_heights: Vec<f32>,
     /// Bounding sphere and longest painted length, for the LOD schedule.
     pub(super) extent: Extent,
     pub(super) transfer: Option<SceneTransfer>,
@@ -291,6 +294,7 @@ impl FurScene {
         })?;
         textures::validate(volume, &device.limits())?;
         let levels = Levels::new(volume.layers as u32);
+        let alpha: Vec<u8> = volume.shells.chunks_exact(4).map(|px| px[3]).collect();
         let surface = surface_mesh::build(mesh, corner_uvs)?;
         let layouts = renderer.fur_layouts()?;
         let colors = mesh
@@ -382,7 +386,8 @@ impl FurScene {
             fur_depth,
             resolution: volume.resolution,
             levels,
-            alpha: volume.shells.chunks_exact(4).map(|px| px[3]).collect(),
+            stand_heights: stand_heights(&alpha, volume.layers, volume.resolution * volume.resolution),
+            alpha,
             extent,
             transfer: None,
             uploads,

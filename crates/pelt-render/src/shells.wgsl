@@ -1,7 +1,7 @@
 // Pass (c), the shells (Lengyel et al. 2001, §2.3): every shell in one instanced draw, instance
 // order = inner to outer, each lifted in this vertex shader (§2.4, "Programmable vertex shaders").
 
-#import pelt::common::{frame, shell_layers}
+#import pelt::common::{frame, shell_layers, shell_stand}
 #import pelt::surface::{layer_texels, blended, uv_gradients}
 #ifdef PRT
 #import pelt::surface_prt as model
@@ -11,7 +11,8 @@
 
 @vertex
 fn vs_main(v: model::SurfaceIn, @builtin(instance_index) instance: u32) -> model::SurfaceVarying {
-    return model::surface_vertex(v, shell_layers(instance), true);
+    let layers = shell_layers(instance);
+    return model::surface_vertex(v, layers, shell_stand(layers), true);
 }
 
 @fragment

@@ -28,11 +28,11 @@ struct Lifted {
     up: vec3<f32>,
 };
 
-// Level-0 layer `height` sits at `height × spacing` of the fur depth × `length` along the growth
-// direction.
-fn lift(d: SurfaceData, height: u32, length: f32) -> Lifted {
+// Level-0 height `height` (in layers) sits at `height × spacing` of the fur depth × `length`
+// along the growth direction.
+fn lift(d: SurfaceData, height: f32, length: f32) -> Lifted {
     let up = frame.fur.x * length * growth(d.normal, d.comb);
-    let p = d.position + f32(height) * frame.fur.y * up;
+    let p = d.position + height * frame.fur.y * up;
     return Lifted(clip_position(p), p, up);
 }
 

@@ -57,11 +57,11 @@ fn surface_fragment(v: SurfaceVarying) -> SurfaceOut {
                       v.layers.x, v.layers.y, v.layers.z);
 }
 
-// The vertex lifted to its layers' height, with its painted length (`painted`) or the length
-// multiplier 1.
-fn surface_vertex(v: SurfaceIn, layers: Layers, painted: bool) -> SurfaceVarying {
+// The vertex lifted to level-0 height `stand` (in layers), with its painted length (`painted`)
+// or the length multiplier 1.
+fn surface_vertex(v: SurfaceIn, layers: Layers, stand: f32, painted: bool) -> SurfaceVarying {
     let d = SurfaceData(v.position, v.normal, v.dpdu, v.dpdv, v.uv, v.comb, v.color, v.length);
-    let lifted = lift(d, layers.height, select(1.0, v.length, painted));
+    let lifted = lift(d, stand, select(1.0, v.length, painted));
     return SurfaceVarying(lifted.clip, vec4<f32>(lifted.position, v.length),
                           vec4<f32>(v.normal, v.uv.x), vec4<f32>(v.dpdu, v.uv.y), v.dpdv,
                           lifted.up, v.color,

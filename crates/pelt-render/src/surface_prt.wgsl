@@ -54,9 +54,14 @@ struct SurfaceVarying {
     @location(4) @interpolate(flat) layers: vec3<u32>,
 };
 
+// The barycentric weights are clamped to the triangle: a fragment of a triangle seen nearly edge
+// on interpolates them far outside it, and the lighting and hot-spot gains weighed by them blew
+// up (a pixel of -1200 in a dolly of the benchmark's long-furred sphere).
 fn surface_fragment(v: SurfaceVarying) -> SurfaceOut {
+    let w = max(v.bary, vec3<f32>(0.0));
+    let bary = w / max(w.x + w.y + w.z, 1e-6);
     return SurfaceOut(v.uv_length_hot.xy, v.color, v.uv_length_hot.z, v.layers.x, v.layers.y,
-                      v.layers.z, v.ids, v.bary, v.uv_length_hot.w);
+                      v.layers.z, v.ids, bary, v.uv_length_hot.w);
 }
 
 fn load_surface(v: u32) -> SurfaceData {
@@ -66,14 +71,14 @@ fn load_surface(v: u32) -> SurfaceData {
                        skin_vec3(v, 14u), surface_colors[v], surface_lengths[v]);
 }
 
-// The corner lifted to its layers' height, with its painted length (`painted`) or the length
-// multiplier 1.
-fn surface_vertex(v: SurfaceIn, layers: Layers, painted: bool) -> SurfaceVarying {
+// The corner lifted to level-0 height `stand` (in layers), with its painted length (`painted`)
+// or the length multiplier 1.
+fn surface_vertex(v: SurfaceIn, layers: Layers, stand: f32, painted: bool) -> SurfaceVarying {
     let first = v.corner - v.corner % 3u;
     let ids = vec3<u32>(surface_indices[first], surface_indices[first + 1u],
                         surface_indices[first + 2u]);
     let d = load_surface(surface_indices[v.corner]);
-    let lifted = lift(d, layers.height, select(1.0, d.length, painted));
+    let lifted = lift(d, stand, select(1.0, d.length, painted));
     var bary = vec3<f32>(0.0);
     bary[v.corner % 3u] = 1.0;
     return SurfaceVarying(lifted.clip, vec4<f32>(d.uv, d.length, hot_spot(lifted.position)),
@@ -84,7 +89,7 @@ fn surface_vertex(v: SurfaceIn, layers: Layers, painted: bool) -> SurfaceVarying
 // The skin is a surface at height 0, lit by the transfer of its own layer; its `SkinVarying` is
 // `SurfaceVarying` (an alias would not cross into the pass: `skin.wgsl` imports it renamed).
 fn skin_vertex(v: SurfaceIn) -> SurfaceVarying {
-    return surface_vertex(v, skin_layers(), false);
+    return surface_vertex(v, skin_layers(), 0.0, false);
 }
 
 fn skin_fragment(v: SurfaceVarying) -> vec3<f32> {

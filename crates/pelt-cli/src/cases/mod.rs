@@ -69,12 +69,17 @@ pub struct ImageFigures {
     pub detail_ratio: f64,
     /// The share of the reference's measured detail that was its Monte Carlo noise.
     pub detail_noise_share: f64,
-    /// LOD cases: the largest frame-to-frame change of mean luminance along a dolly out to 30×.
+    /// LOD cases: the largest frame-to-frame change of mean luminance along a dolly out to 30×,
+    /// over the all-shells image's at the same distance (the pop the LOD adds).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dolly_jump: Option<f64>,
     /// LOD cases: the largest difference from the all-shells image along the dolly.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dolly_drift: Option<f64>,
+    /// LOD cases: the largest frame-to-frame change of the all-shells image's mean luminance
+    /// along the dolly (the view's own, which the jump leaves out).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dolly_view_change: Option<f64>,
     /// Preview cases: the relative MSE against the reference's volume mode (the volume against
     /// the shells, where the `error` is the strands against the shells).
     #[serde(skip_serializing_if = "Option::is_none")]
