@@ -8,7 +8,7 @@
 //! the group's middle, dense ones its top, where the paper puts a pair's composite (at the top,
 //! the long-furred benchmark scenes' coarse levels reached the fur's full depth with all their
 //! hair at the silhouette and hid more of the fins drawn over them: 3% darker than all shells;
-//! at the middle, the small dense test volume's were 2% brighter).
+//! every group at its middle did less well than `H`, `docs/accuracy.md`, fifteenth step).
 
 use pelt_core::volume::lod::level_counts;
 
@@ -33,7 +33,7 @@ pub(super) fn stand_heights(alpha: &[u8], layers: usize, texels: usize) -> Vec<f
         heights.push(0.0);
         if count == 2 {
             // One group holds all the hair: it stays at the top (below `min_shells`' default; at
-            // `H`, the test torus's single shell was 3% brighter than all shells, at the top 1%
+            // `H`, the test torus's single shell was 3% brighter than all shells, at the top 0.6%
             // darker, and fading into it dipped 2% below both levels mid-fade).
             heights.push((layers - 1) as f32);
             continue;
