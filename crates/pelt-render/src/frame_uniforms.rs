@@ -116,22 +116,20 @@ impl FrameUniforms {
 /// the drawn level's layers (none at level 0, whose layers stand at their own height), then the
 /// next coarser level's.
 fn stand_rows(scene: &SceneFrame<'_>, lod: bool) -> ([[f32; 4]; STAND_ROWS], u32) {
-    let mut heights = Vec::new();
     let (levels, k) = (scene.levels, scene.info.level as usize);
     let level = |k: usize| {
         let base = levels.bases[k] as usize;
         &scene.stand_heights[base..base + levels.counts[k] as usize]
     };
-    if lod && k > 0 {
-        heights.extend_from_slice(level(k));
-    }
-    let coarse_start = heights.len() as u32;
-    if lod && k + 1 < levels.counts.len() {
-        heights.extend_from_slice(level(k + 1));
-    }
+    let drawn: &[f32] = if lod && k > 0 { level(k) } else { &[] };
+    let coarser: &[f32] = if lod && k + 1 < levels.counts.len() {
+        level(k + 1)
+    } else {
+        &[]
+    };
     let mut rows = [[0.0; 4]; STAND_ROWS];
-    for (i, &h) in heights.iter().take(4 * STAND_ROWS).enumerate() {
+    for (i, &h) in drawn.iter().chain(coarser).take(4 * STAND_ROWS).enumerate() {
         rows[i / 4][i % 4] = h;
     }
-    (rows, coarse_start)
+    (rows, drawn.len() as u32)
 }

@@ -10,13 +10,15 @@
 //! hair at the silhouette and hid more of the fins drawn over them: 3% darker than all shells;
 //! every group at its middle did less well than `H`, `docs/accuracy.md`, fifteenth step).
 
-use pelt_core::volume::lod::level_counts;
+use std::ops::Range;
+
+use pelt_core::volume::lod::{level_counts, sources};
 
 /// The level-0 height, in layers, at which each array layer of every LOD level stands, level 0
 /// first (each at its own layer), from the level-0 layers' opacity bytes `alpha`
-/// (`[L][texels]`). A level's layer 0 is the skin (height 0), as is the last level's single
-/// layer; group `j` of level `k` holds level-0 layers `(j − 1) 2^k + 1 ..= j 2^k`, the last cut
-/// at `L − 1` (`pelt_core::volume::lod`), and the level of one group stands it at the top.
+/// (`[L][texels]`). Each layer's level-0 layers follow the compositing's own pairing
+/// (`pelt_core::volume::lod::sources`); a layer holding the skin stands at 0 (each level's
+/// layer 0, and the last level's single layer), and the level of one group stands it at the top.
 /// Means are summed in f64 in texel order.
 pub(super) fn stand_heights(alpha: &[u8], layers: usize, texels: usize) -> Vec<f32> {
     let opacity: Vec<f64> = alpha
@@ -24,26 +26,28 @@ pub(super) fn stand_heights(alpha: &[u8], layers: usize, texels: usize) -> Vec<f
         .take(layers)
         .map(|layer| layer.iter().map(|&a| f64::from(a)).sum::<f64>() / (255.0 * texels as f64))
         .collect();
-    let mut heights = Vec::new();
-    for (k, &count) in level_counts(layers).iter().enumerate() {
-        if k == 0 {
-            heights.extend((0..count).map(|l| l as f32));
-            continue;
-        }
-        heights.push(0.0);
-        if count == 2 {
-            // One group holds all the hair: it stays at the top (below `min_shells`' default; at
-            // `H`, the test torus's single shell was 3% brighter than all shells, at the top 0.6%
-            // darker, and fading into it dipped 2% below both levels mid-fade).
-            heights.push((layers - 1) as f32);
-            continue;
-        }
-        let size = 1usize << k;
-        for j in 1..count {
-            let first = (j - 1) * size + 1;
-            let last = (j * size).min(layers - 1);
-            heights.push(group_stand(&opacity[first..=last], first) as f32);
-        }
+    let mut heights: Vec<f32> = (0..layers).map(|l| l as f32).collect();
+    // The level-0 layers each layer of the current level holds.
+    let mut groups: Vec<Range<usize>> = (0..layers).map(|l| l..l + 1).collect();
+    for count in level_counts(layers).into_iter().skip(1) {
+        groups = (0..count)
+            .map(|j| match sources(groups.len(), j) {
+                (inner, Some(outer)) => groups[inner].start..groups[outer].end,
+                (inner, None) => groups[inner].clone(),
+            })
+            .collect();
+        heights.extend(groups.iter().map(|g| {
+            if g.start == 0 {
+                0.0
+            } else if count == 2 {
+                // One group holds all the hair: it stays at the top (below `min_shells`' default;
+                // at `H`, the test torus's single shell was 3% brighter than all shells, at the
+                // top 0.6% darker, and fading into it dipped 2% below both levels mid-fade).
+                (g.end - 1) as f32
+            } else {
+                group_stand(&opacity[g.clone()], g.start) as f32
+            }
+        }));
     }
     heights
 }

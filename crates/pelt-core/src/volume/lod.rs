@@ -7,8 +7,9 @@
 //!
 //! Layer 0 (the opaque skin) stays apart at every level but the last: level `k` is the skin and
 //! `⌈(L − 1) / 2^k⌉` groups of hair, group `j` holding level-0 layers `(j − 1) 2^k + 1 ..= j 2^k`
-//! (the last cut at `L − 1`), so a group is shown above the skin and lit as hair, not as skin. The level with the skin and one group is followed by a last level of one layer,
-//! everything composited into the skin.
+//! (the last cut at `L − 1`), so a group is shown above the skin and lit as hair, not as skin.
+//! The level with the skin and one group is followed by a last level of one layer, everything
+//! composited into the skin.
 
 use rayon::prelude::*;
 
