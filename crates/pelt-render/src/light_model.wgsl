@@ -25,11 +25,13 @@
 //   fn skin_fragment(v: SkinVarying) -> vec3<f32>: the skin, opaque, at height 0.
 //   fn march_frame(s: SurfaceOut) -> MarchFrame: the hull fragment's point and tile frame.
 //   fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alpha: f32,
-//                  grad: vec4<f32>, mean: f32) -> HairLight
+//                  grad: vec4<f32>, heights: vec2<f32>) -> HairLight
 //     The lighting of the marched composite, shown by layer `layers` read at `uv` (`alpha` its
-//     texel's own opacity); `mean` the composite's mean height (share of the fur depth).
+//     texel's own opacity); `heights` the mean height of the layers it holds and their spread
+//     (`composite_heights`, shares of the fur depth).
 //   fn plane_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers,
-//                  grad: vec4<f32>, mean: f32) -> HairLight: the same for the virtual planes.
+//                  grad: vec4<f32>, heights: vec2<f32>) -> HairLight: the same for the virtual
+//     planes.
 //   fn march_banks(f: MarchFrame) -> vec2<f32>
 //     The Banks strengths the march darkens its composite by: x ambient, y direct (PRT: none).
 // The fins: `pelt::fin_kk` or `pelt::fin_prt`

@@ -70,6 +70,9 @@ struct Marched {
     // Σ of each layer's share of `color` × its height (share of the fur depth): Banks darkening,
     // (1 - b) + b × height, of every layer composited is (1 - b) color + b raised.
     raised: vec4<f32>,
+    // Σ of each layer's share of the opacity × its height²: with `raised.a`, the spread of the
+    // heights the composite holds (`composite_heights`).
+    squared: f32,
     shown: Layers,
     uv: vec2<f32>,
     // The shown layer's own texel opacity (level drawn).
@@ -89,8 +92,18 @@ fn composite(out: Marched, texel: vec4<f32>, layers: Layers, uv: vec2<f32>, alph
     }
     let share = (1.0 - out.color.a) * texel;
     next.color += share;
-    next.raised += share * (height * frame.fur.y);
+    let h = height * frame.fur.y;
+    next.raised += share * h;
+    next.squared += share.a * h * h;
     return next;
+}
+
+// The mean height (x) of the layers composited into `m`, weighed by what it shows of each, and
+// their spread about it (y, the standard deviation), shares of the fur depth.
+fn composite_heights(m: Marched) -> vec2<f32> {
+    let a = max(m.color.a, 1e-6);
+    let mean = m.raised.a / a;
+    return vec2<f32>(mean, sqrt(max(m.squared / a - mean * mean, 0.0)));
 }
 
 // The composite `m` lit by `k`: the Banks darkening, linear in height, applied to the composite

@@ -5,16 +5,19 @@
 // (the surface taken as flat under it), and composited front to back; the march stops once the
 // pixel is opaque. The geometry is one mesh instead of one per shell, and the layers cost a
 // texture read each instead of a rasterized triangle, which is what a CPU adapter pays for.
-// Lighting is evaluated once per pixel, at the layer where the composite passes half opacity,
-// which has hair where the ray crosses it; the Banks darkening, linear in height, is applied to
-// the composite exactly (the ambient's and the direct light's apart), and PRT moves its transfer to the composite's mean height (`raised`).
+// Lighting is evaluated once per pixel: Kajiya-Kay at the layer where the composite passes half
+// opacity, which has hair where the ray crosses it, with the Banks darkening, linear in height,
+// applied to the composite exactly (the ambient's and the direct light's apart); PRT by the
+// hair's mean transfer over the heights the composite holds (`composite_heights`).
 // The ray, the composite and its lighting are `march.wgsl`'s.
 
 #import pelt::common::{
     frame, shell_texture, tile_sampler, NO_LAYER, Layers, shell_layers, shading_height,
 }
 #import pelt::surface::{Texels, blended}
-#import pelt::march::{OPAQUE, Ray, ray_length, Marched, composite, lit, hull_fragment}
+#import pelt::march::{
+    OPAQUE, Ray, ray_length, Marched, composite, composite_heights, lit, hull_fragment,
+}
 #ifdef PRT
 #import pelt::surface_prt as model
 #else
@@ -25,6 +28,16 @@
 // layers of the LOD chain: while it stays within about a texel, the group's "over" composite
 // (Lengyel §2.4) is what the ray would gather from its layers one by one.
 const GROUP_SPREAD: f32 = 1.0;
+
+// Whether a pixel may march the LOD chain's groups (`march_levels`): not under PRT, whose
+// composite is lit by the mean transfer over the heights it holds (`composite_heights`), which
+// a group's middle misstates; where the pixels switched to the coarsest group (head-on) the hot
+// spot showed a bright disc.
+#ifdef PRT
+const MARCH_GROUPS: bool = false;
+#else
+const MARCH_GROUPS: bool = true;
+#endif
 
 // The mip level of the shell texture for the whole march: the hull's footprint, rounded to one
 // level (a single bilinear level costs half a trilinear read).
@@ -53,7 +66,8 @@ fn vs_main(v: model::SurfaceIn) -> model::SurfaceVarying {
 
 fn march(s: model::SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
     let hull = shell_layers(frame.counts.x - 1u);
-    var out = Marched(vec4<f32>(0.0), vec4<f32>(0.0), hull, s.uv, 1.0);
+    var out = Marched(vec4<f32>(0.0), vec4<f32>(0.0), 0.0, hull, s.uv, 1.0);
+    let group_spread = lod_group_spread();
     var i = frame.counts.x;
     loop {
         if (i == 0u || out.color.a >= OPAQUE) {
@@ -73,9 +87,19 @@ fn march(s: model::SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
         if (texel.a < frame.fur.w) {
             continue;
         }
+        let before = out.color.a;
         out = composite(out, texel, layers, uv, texels.fine.a, shading_height(layers));
+        out.squared += (out.color.a - before) * group_spread;
     }
     return out;
+}
+
+// The spread² of heights (shares of the fur depth) within a layer of the LOD level drawn, whose
+// group of 2^k level-0 layers (2^(k+1) for the coarser level it fades into) stands for them all
+// in `composite_heights`: taken as even over the group.
+fn lod_group_spread() -> f32 {
+    let group = f32(frame.lod.z) * (1.0 + frame.fin.y) * frame.fur.y;
+    return (group * group - frame.fur.y * frame.fur.y) / 12.0;
 }
 
 // The coarsest LOD level with two layers or more (the skin and one group of every hair layer):
@@ -119,7 +143,7 @@ fn march_levels(s: model::SurfaceOut, ray: Ray, lod: f32, k: u32) -> Marched {
     for (var i = 0u; i < k; i++) {
         base += level_count(i);
     }
-    var out = Marched(vec4<f32>(0.0), vec4<f32>(0.0), Layers(top, top, NO_LAYER), s.uv, 1.0);
+    var out = Marched(vec4<f32>(0.0), vec4<f32>(0.0), 0.0, Layers(top, top, NO_LAYER), s.uv, 1.0);
     let step = 1u << k;
     var j = level_count(k) - 1u;
     loop {
@@ -160,7 +184,7 @@ fn fs_main(v: model::SurfaceVarying) -> @location(0) vec4<f32> {
     var m: Marched;
     if (frame.fin.y > 0.0) {
         m = march(s, ray, lod, true);
-    } else if (frame.counts.z == 0u && frame.counts.x + 1u == frame.counts.y) {
+    } else if (frame.counts.z == 0u && frame.counts.x + 1u == frame.counts.y && MARCH_GROUPS) {
         // The whole stack, no frame-wide LOD: each pixel picks its own level.
         m = march_levels(s, ray, lod, march_level(ray, lod));
     } else {
@@ -169,6 +193,6 @@ fn fs_main(v: model::SurfaceVarying) -> @location(0) vec4<f32> {
     if (m.color.a <= 0.0) {
         discard;
     }
-    let mean = m.raised.a / max(m.color.a, 1e-6);
-    return lit(s, f, m, model::march_light(s, f, m.uv, m.shown, m.alpha, grad, mean));
+    let heights = composite_heights(m);
+    return lit(s, f, m, model::march_light(s, f, m.uv, m.shown, m.alpha, grad, heights));
 }

@@ -129,27 +129,9 @@ fn hot_spot_factor(m: MeanRadiances, hot: f32) -> vec3<f32> {
     return 1.0 + hot * (hot_spot_ratio(m.top, m.here) - 1.0);
 }
 
-// `hot_spot_factor` at `height` (share of the fur depth); 1 away from the hot spot, where it
-// costs nothing.
-fn hot_spot_gain(ids: vec3<u32>, w: vec3<f32>, height: f32, hot: f32) -> vec3<f32> {
-    if (hot <= 0.0) {
-        return vec3<f32>(1.0);
-    }
-    return hot_spot_factor(mean_radiances(ids, w, height, hot), hot);
-}
-
-// Σ_k L'_k t̄_k with the hair's mean transfer at `height` for the fins, which have no transfer of
-// their own, raised by the hot spot `hot`.
+// Σ_k L'_k t̄_k with the hair's mean transfer at `height`, raised by the hot spot `hot`: the
+// light of the fins, the guard strands and the marched composites, which read no texel's transfer.
 fn mean_radiance(ids: vec3<u32>, w: vec3<f32>, height: f32, hot: f32) -> vec3<f32> {
     let m = mean_radiances(ids, w, height, hot);
     return max(m.here, vec3<f32>(0.0)) * hot_spot_factor(m, hot);
-}
-
-// How much the mean radiance changes from height `start` to height `end`.
-fn mean_radiance_change(ids: vec3<u32>, w: vec3<f32>, start: f32, end: f32) -> vec3<f32> {
-    var sum = vec3<f32>(0.0);
-    for (var k = 0u; k < frame.prt.x; k++) {
-        sum += light_at(ids, w, k) * (mean_transfer(k, end) - mean_transfer(k, start));
-    }
-    return sum;
 }

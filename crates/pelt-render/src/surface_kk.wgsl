@@ -144,9 +144,9 @@ fn march_frame(s: SurfaceOut) -> MarchFrame {
 
 // The hair lighting at the marched layer `layers` read at `uv`, before Banks darkening (at the
 // top of the fur it is none), which the march applies layer by layer (`march_banks`), so the
-// composite's mean height (`mean`) is not needed.
+// composite's heights are not needed.
 fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alpha: f32,
-               grad: vec4<f32>, mean: f32) -> HairLight {
+               grad: vec4<f32>, heights: vec2<f32>) -> HairLight {
     let n = unit_or(f.normal, vec3<f32>(0.0, 0.0, 1.0));
     let t = hair_tangent(uv, layers.height, f.dpdu, f.dpdv, f.up, n);
     let wrap = terminator_wrap(f.curvature, frame.fur.x * s.length);
@@ -157,8 +157,8 @@ fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alph
 // The virtual planes' lighting: the marched layer's, at the height where their composite passes
 // half opacity (`planes.wgsl`).
 fn plane_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, grad: vec4<f32>,
-               mean: f32) -> HairLight {
-    return march_light(s, f, uv, layers, 1.0, grad, mean);
+               heights: vec2<f32>) -> HairLight {
+    return march_light(s, f, uv, layers, 1.0, grad, heights);
 }
 
 // The Banks strengths the march darkens its layers by: x the ambient's, y the direct light's.
