@@ -67,7 +67,6 @@ fn vs_main(v: model::SurfaceIn) -> model::SurfaceVarying {
 fn march(s: model::SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
     let hull = shell_layers(frame.counts.x - 1u);
     var out = Marched(vec4<f32>(0.0), vec4<f32>(0.0), 0.0, hull, s.uv, 1.0);
-    let group_spread = lod_group_spread();
     var i = frame.counts.x;
     loop {
         if (i == 0u || out.color.a >= OPAQUE) {
@@ -87,10 +86,10 @@ fn march(s: model::SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
         if (texel.a < frame.fur.w) {
             continue;
         }
-        let before = out.color.a;
         out = composite(out, texel, layers, uv, texels.fine.a, shading_height(layers));
-        out.squared += (out.color.a - before) * group_spread;
     }
+    // Every layer of the level drawn spreads alike about its own height.
+    out.squared += out.color.a * lod_group_spread();
     return out;
 }
 

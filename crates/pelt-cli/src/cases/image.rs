@@ -76,10 +76,10 @@ const DEFAULT: Config = Config {
 /// strands over an undercoat volume; also sorted and without the strand LOD) and the virtual
 /// planes (32 per axis, loop limit 16) in `--quick`; the hybrid marched and at the add-on's
 /// share of 0.1, every shell count, fins off, LOD (Kajiya–Kay and PRT, instanced and marched),
-/// PRT at order 4 (instanced, marched and through the planes) for every object; PRT at every order from 2 to 8
-/// and the planes at 16, 32 and 64 per axis with loop limits 8, 16 and 32 on the study object
-/// (the short-furred sphere) only, since each order is a transfer bake and PRT frames are the
-/// slowest on a CPU adapter.
+/// PRT at order 4 (instanced, marched and through the planes) for every object; PRT at every
+/// order from 2 to 8 and the planes at 16, 32 and 64 per axis with loop limits 8, 16 and 32 on
+/// the study object (the short-furred sphere) only, since each order is a transfer bake and PRT
+/// frames are the slowest on a CPU adapter.
 fn configs(quick: bool, study: bool) -> Vec<Config> {
     let mut list = vec![
         DEFAULT,
