@@ -16,9 +16,6 @@ use pelt::hair::HairParams;
 use pelt::lapped::{PatchParams, Patches, build_patches};
 use pelt::mesh::shapes::torus;
 use pelt::placement::PlacedStrands;
-use pelt::prt::pack::pack_f16;
-use pelt::prt::volume_input::VolumeInput;
-use pelt::prt::{TransferParams, bake_transfer};
 use pelt::render::{
     AdapterChoice, Camera, FurScene, LightModel, Lighting, Prt, RenderSettings, Renderer, RgbaImage,
     StrandOrder,
@@ -27,6 +24,7 @@ use pelt::volume::{HairVolume, VolumeParams, bake_volume};
 use pelt::{FurMesh, MeshInput, PeltError};
 
 use common::torus::{differing, oblique_view, perspective_camera};
+use common::volume::small_transfer;
 
 const SIZE: u32 = 128;
 const FUR_DEPTH: f32 = 0.08;
@@ -311,21 +309,9 @@ fn bad_guard_hairs_and_settings_are_refused_by_name() {
 fn prt_lights_the_strands_with_the_hair_around_them() {
     let f = fixture();
     // The transfer of this scene's volume: a tile is 0.4 object units.
-    let input = VolumeInput::new(&f.volume, f64::from(FUR_DEPTH) / 0.4);
-    let transfer = bake_transfer(
-        &input.transfer_volume(&f.volume),
-        &TransferParams {
-            order: 3,
-            directions: 64,
-            ..TransferParams::default()
-        },
-        None,
-    )
-    .unwrap();
+    let transfer = small_transfer(&f.volume, f64::from(FUR_DEPTH) / 0.4);
     let mut hybrid = scene(&f.mesh);
-    hybrid
-        .set_transfer(&f.renderer, &pack_f16(&transfer).unwrap())
-        .unwrap();
+    hybrid.set_transfer(&f.renderer, &transfer).unwrap();
     let prt = Lighting {
         model: LightModel::Prt(Prt::default()),
         ..Lighting::default()

@@ -593,6 +593,7 @@ class Preview:
         lighting: Literal["kajiya-kay", "prt"] | LightingDict | None = None,
         shells: int | None = None,
         fins: bool = True,
+        body_shadow: bool = True,
         lod: bool = False,
         linear: bool = False,
         texture: bool = False,
@@ -622,7 +623,9 @@ class Preview:
         asset has a transfer, else Kajiya-Kay; a dict sets fields over the model's defaults
         (``color``: the directional light's irradiance × color, Blender's sun strength, so a
         white surface facing it shows ``color / π``, default π; ``environment`` ``[n², 3]`` SH
-        radiance for PRT). ``shells``: how many of the volume's
+        radiance for PRT). ``body_shadow``: one part of the mesh shadows the directional light
+        on the fur of another (``False``: the fur's own lighting model alone, as a runtime that
+        casts no shadows draws it). ``shells``: how many of the volume's
         shells to draw (``None``: all); ``lod=True`` chooses the count from the projected fur
         depth (``shells_per_pixel`` per pixel, within ``min_shells``..``max_shells``) and
         cross-fades LOD levels (``shells`` must be ``None`` then). ``shell_method="marched"``

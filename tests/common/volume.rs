@@ -2,6 +2,9 @@
 //! quickly, with hairs twice the default width so they stay about a texel wide at 64².
 
 use pelt::hair::HairParams;
+use pelt::prt::pack::{PackedF16, pack_f16};
+use pelt::prt::volume_input::VolumeInput;
+use pelt::prt::{TransferParams, bake_transfer};
 use pelt::volume::{HairVolume, VolumeParams, bake_volume};
 
 /// The dense, doubly wide hair of [`small_volume`].
@@ -27,4 +30,20 @@ pub fn small_volume(layers: usize) -> HairVolume {
         ..VolumeParams::default()
     };
     bake_volume(&hair, &params, None).expect("the small test volume bakes")
+}
+
+/// A small order-3 PRT transfer of `volume` (64 directions), its fur `depth_in_tiles` tiles deep,
+/// packed as a scene takes it.
+pub fn small_transfer(volume: &HairVolume, depth_in_tiles: f64) -> PackedF16 {
+    let transfer = bake_transfer(
+        &VolumeInput::new(volume, depth_in_tiles).transfer_volume(volume),
+        &TransferParams {
+            order: 3,
+            directions: 64,
+            ..TransferParams::default()
+        },
+        None,
+    )
+    .expect("the small test transfer bakes");
+    pack_f16(&transfer).expect("the small test transfer packs")
 }

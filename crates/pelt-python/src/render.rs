@@ -265,7 +265,7 @@ impl PyPreview {
     /// 255) bottom row first. See the stub for the arguments.
     #[pyo3(signature = (
         view_matrix, projection_matrix, width, height, *, lighting=None, shells=None, fins=true,
-        lod=false, linear=false, texture=false, background=(0.0, 0.0, 0.0, 0.0), min_shells=2,
+        body_shadow=true, lod=false, linear=false, texture=false, background=(0.0, 0.0, 0.0, 0.0), min_shells=2,
         max_shells=64, shells_per_pixel=1.0, shell_method="instanced", mesh_error=1.0,
         guard_hairs=true, strand_order="stochastic", strand_bands=4, strand_pixels=1.0,
         plane_loop_limit=16, occluders=None, occluder_bias=None
@@ -281,6 +281,7 @@ impl PyPreview {
         lighting: Option<&Bound<'py, PyAny>>,
         shells: Option<i128>,
         fins: bool,
+        body_shadow: bool,
         lod: bool,
         linear: bool,
         texture: bool,
@@ -323,6 +324,7 @@ impl PyPreview {
             min_shells,
             max_shells,
             fins,
+            body_shadow,
             shell_method,
             mesh_error,
             background: [background.0, background.1, background.2, background.3],

@@ -4,6 +4,8 @@
 // and the fins' texture read.
 // All geometry and lighting are in object space (the mesh's own space).
 
+#import pelt::body_shadow::map_visibility
+
 struct Frame {
     view_proj: mat4x4<f32>,
     // The eye: w = 1 its position (perspective), w = 0 the unit direction toward it (orthographic).
@@ -43,6 +45,10 @@ struct Frame {
     goldman: vec4<f32>,
     // Kajiya-Kay: the ambient's change per unit of the normal's x, y and z (rgb).
     ambient_gradient: array<vec4<f32>, 3>,
+    // The body's shadow map (`body_shadow.wgsl`): object space to the light's clip space, and x 1
+    // when the map is drawn, y the normal offset (object units), z the depth bias.
+    light_view_proj: mat4x4<f32>,
+    shadow: vec4<f32>,
     // LOD: the level-0 height (in layers) each layer of the drawn level stands at (none at level
     // 0, whose layers stand at their own), then from `counts.w` on the next coarser level's
     // (`stand_heights.rs`).
@@ -59,6 +65,21 @@ struct Frame {
 // 6, dP/dv 9, uv 12, comb 14. The fins read their ends from them and PRT's passes pull their
 // corners from them, so that a pose, which rewrites them alone, moves everything drawn.
 @group(0) @binding(6) var<storage, read> skin_vertices: array<f32>;
+// Binding 7, the virtual planes' slices, is `planes.wgsl`'s. The body's shadow map and its
+// comparison sampler (`body_shadow.wgsl`).
+@group(0) @binding(8) var shadow_map: texture_depth_2d;
+@group(0) @binding(9) var shadow_sampler: sampler_comparison;
+
+// The share of the directional light that the body lets reach `position` (`map_visibility`).
+// A surface turned from the light past the widest terminator band (`lighting.wgsl`'s
+// TERMINATOR_WRAP) is the body's own shadow: no read (a CPU adapter pays for each).
+fn body_shadow(position: vec3<f32>, normal: vec3<f32>) -> f32 {
+    if (frame.shadow.x != 0.0 && dot(normal, frame.light_direction.xyz) <= -0.3) {
+        return 0.0;
+    }
+    return map_visibility(shadow_map, shadow_sampler, frame.light_view_proj, frame.shadow,
+                          position, normal);
+}
 
 const SKIN_FLOATS: u32 = 17u;
 

@@ -2,7 +2,8 @@
 //! guard strands among the shells (hybrid paper §3) and, when compositing, the occluders' depth
 //! first — in a single render pass into an offscreen target (8-bit sRGB or linear half floats), then read
 //! back, or into a caller's texture (`texture_target.rs`). Under PRT a compute pass first rotates
-//! the lighting into every vertex's tile frame.
+//! the lighting into every vertex's tile frame; under Kajiya–Kay a depth pass first draws the
+//! body's shadow map (`shadow_map.rs`).
 
 use super::camera::{Camera, CameraFrame};
 use super::frame_uniforms::{FrameUniforms, SceneFrame};
@@ -16,6 +17,7 @@ use super::prt_rotate::RotationUniforms;
 use super::readback::read_texels;
 use super::scene::FurScene;
 use super::settings::{RenderSettings, ShellMethod};
+use super::shadow_map::ShadowFrame;
 use super::strands::{self, Bands};
 use super::{Renderer, scoped};
 use pelt_core::error::{PeltError, Result};
@@ -286,6 +288,13 @@ impl Renderer {
         let pipelines = self
             .fur_pipelines()?
             .passes(&self.device, checked.model, target)?;
+        // The directional light is shadowed by the body: per fragment under Kajiya–Kay, per
+        // vertex in PRT's rotation pass (its transfer is the fur's alone).
+        let shadow_pass = if settings.body_shadow && checked.light.color != [0.0; 3] {
+            Some(self.fur_pipelines()?.shadow(&self.device)?)
+        } else {
+            None
+        };
         let transfer = scene.transfer.as_ref().filter(|_| checked.model == Model::Prt);
         let rotate = match transfer {
             Some(_) => Some(&self.fur_layouts()?.prt(&self.device)?.rotate),
@@ -297,6 +306,18 @@ impl Renderer {
             .ok_or_else(|| PeltError::Render("the geometric level drawn is missing".into()))?;
         let method = self.shell_method(settings.shell_method);
         let settings = &settings.as_drawn(method);
+        let shadow_frame = match shadow_pass {
+            // At least the fur of length 1: painting the fur shorter leaves the map as it was
+            // (a bald mesh draws exactly its skin).
+            Some(_) => ShadowFrame::new(
+                checked.light.direction,
+                &scene.extent,
+                f64::from(scene.fur_depth) * scene.extent.max_length.max(1.0),
+            ),
+            None => ShadowFrame::NONE,
+        };
+        // Drawn again only when what it shows changed (the skin's moves clear it).
+        let shadow_redraw = shadow_pass.filter(|_| scene.shadow.stale(&shadow_frame, &level.indices));
         let rotation = match transfer {
             Some(t) => Some(RotationUniforms::new(
                 scene.surface_vertex_count() as u32,
@@ -310,6 +331,7 @@ impl Renderer {
                 } else {
                     0..0
                 },
+                &shadow_frame,
             )),
             None => None,
         };
@@ -353,6 +375,7 @@ impl Renderer {
                     ],
                 ),
                 planes: scene.planes.as_ref().map_or((0, [0.0; 2]), |p| (p.count, p.tilt)),
+                shadow: shadow_frame,
             },
         );
         // A panic elsewhere cannot leave the cached targets half-made, so a poisoned lock is fine.
@@ -403,6 +426,21 @@ impl Renderer {
             let mut encoder = self
                 .device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("fur") });
+            if let Some(shadow) = shadow_redraw {
+                let skin = (
+                    &scene.surface.geometry,
+                    &scene.surface.index,
+                    level.indices.clone(),
+                );
+                shadow.draw(
+                    &self.device,
+                    &self.queue,
+                    &mut encoder,
+                    &scene.shadow,
+                    &shadow_frame,
+                    skin,
+                );
+            }
             if let (Some(t), Some(rotation), Some(rotate)) = (transfer, &rotation, rotate) {
                 self.queue
                     .write_buffer(&t.uniforms, 0, bytemuck::bytes_of(rotation));
@@ -464,6 +502,11 @@ impl Renderer {
             self.queue.submit([encoder.finish()]);
             Ok::<_, PeltError>(())
         })??;
+        if shadow_redraw.is_some() {
+            scene
+                .shadow
+                .set_drawn(Some((&shadow_frame, level.indices.clone())));
+        }
         let texels = match readback {
             Some(texture) => Some(read_texels(
                 &self.device,

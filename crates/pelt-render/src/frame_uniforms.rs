@@ -7,6 +7,7 @@ use super::camera::CameraFrame;
 use super::lighting::LightingFrame;
 use super::lod::{FrameInfo, Levels};
 use super::settings::RenderSettings;
+use super::shadow_map::ShadowFrame;
 
 /// Mirrors `Frame` in `common.wgsl`: a matrix and `vec4`s only, so the Rust and WGSL layouts
 /// agree without padding rules.
@@ -29,6 +30,8 @@ pub(super) struct FrameUniforms {
     planes: [f32; 4],
     goldman: [f32; 4],
     ambient_gradient: [[f32; 4]; 3],
+    light_view_proj: [f32; 16],
+    shadow: [f32; 4],
     stand: [[f32; 4]; STAND_ROWS],
 }
 
@@ -58,6 +61,8 @@ pub(super) struct SceneFrame<'a> {
     pub strand: ([f32; 4], [u32; 4]),
     /// The virtual planes' count and lean (zero without slices).
     pub planes: (u32, [f32; 2]),
+    /// Where the body's shadow map is looked up ([`ShadowFrame::NONE`] when it is not drawn).
+    pub shadow: ShadowFrame,
 }
 
 impl FrameUniforms {
@@ -107,6 +112,8 @@ impl FrameUniforms {
             ],
             goldman: [light.goldman[0], light.goldman[1], 0.0, 0.0],
             ambient_gradient: light.ambient_gradient.map(v3),
+            light_view_proj: scene.shadow.light_view_proj.to_cols_array(),
+            shadow: scene.shadow.params,
             stand,
         }
     }

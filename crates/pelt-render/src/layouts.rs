@@ -10,6 +10,7 @@ use std::sync::OnceLock;
 
 use super::frame_uniforms::FrameUniforms;
 use super::prt_rotate::RotatePipeline;
+use super::shadow_map;
 use pelt_core::error::{PeltError, Result};
 
 /// What PRT adds: its bind group layout (group 1), the pipeline layout with it, and the
@@ -36,6 +37,9 @@ pub(super) struct FurLayouts {
     pub fin_sampler: wgpu::Sampler,
     /// What a scene without the virtual planes' slices binds in their place.
     pub no_planes: wgpu::TextureView,
+    /// The body's shadow map's comparison sampler: 2 × 2 texels filtered, clamped at the edges
+    /// (the map holds the whole fur).
+    pub shadow_sampler: wgpu::Sampler,
     prt: OnceLock<PrtShared>,
 }
 
@@ -109,6 +113,7 @@ impl FurLayouts {
     /// [`PeltError::Render`] when the device rejects them.
     pub fn new(device: &wgpu::Device) -> Result<Self> {
         validated(device, "the fur layouts", || {
+            let shadow = shadow_map::layout_entries(8, wgpu::ShaderStages::VERTEX_FRAGMENT);
             let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("fur"),
                 entries: &[
@@ -132,6 +137,10 @@ impl FurLayouts {
                     storage_entry(6, wgpu::ShaderStages::VERTEX_FRAGMENT),
                     // The virtual planes' slices.
                     texture_entry(7, wgpu::TextureViewDimension::D2Array),
+                    // The body's shadow map and its comparison sampler: the fins light their
+                    // corners in the vertex stage.
+                    shadow[0],
+                    shadow[1],
                 ],
             });
             let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -160,6 +169,13 @@ impl FurLayouts {
                 tile_sampler: sampler(device, "tile", wgpu::AddressMode::Repeat),
                 fin_sampler: sampler(device, "fin", wgpu::AddressMode::ClampToEdge),
                 no_planes: empty_planes(device),
+                shadow_sampler: device.create_sampler(&wgpu::SamplerDescriptor {
+                    label: Some("body shadow"),
+                    mag_filter: wgpu::FilterMode::Linear,
+                    min_filter: wgpu::FilterMode::Linear,
+                    compare: Some(wgpu::CompareFunction::LessEqual),
+                    ..Default::default()
+                }),
                 prt: OnceLock::new(),
             })
         })

@@ -32,6 +32,7 @@
 //! `prt_light.rs` (world SH) and `prt_rotate.rs` (the rotation compute pass); `frame.rs` (one
 //! frame) with `frame_uniforms.rs`, `image.rs` (the images returned), `occluders.rs` (another
 //! picture's depth starting a frame's, for compositing into it: [`Renderer::render_over`]),
+//! `shadow_map.rs` (the body's shadow on its own fur),
 //! `readback.rs`, `texture_target.rs` (a caller's texture) and `window.rs` (a window's surface).
 
 mod camera;
@@ -55,6 +56,7 @@ mod remade_levels;
 mod scene;
 mod settings;
 mod shaders;
+mod shadow_map;
 mod shells;
 mod skin;
 mod smoke;

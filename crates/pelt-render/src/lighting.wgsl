@@ -75,8 +75,12 @@ fn ambient_at(normal: vec3<f32>) -> vec3<f32> {
     return max(a, vec3<f32>(0.0));
 }
 
-// `wrap`: the terminator band's width (`terminator_wrap`).
-fn hair_parts(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, wrap: f32) -> HairParts {
+// `wrap`: the terminator band's width (`terminator_wrap`); `shadow`: the share of the light past
+// the body (`body_shadow`). The hot spot does not clear it: a body's shadow is as wide as the
+// body, and the map already finds it where the eye sees it, whereas the hot spot's width is the
+// hair's.
+fn hair_parts(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, wrap: f32,
+              shadow: f32) -> HairParts {
     let l = frame.light_direction.xyz;
     let h = unit_or(l + view, normal);
     let u = dot(tangent, l);
@@ -85,7 +89,7 @@ fn hair_parts(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, wrap: f32)
     let diffuse = pow(max(1.0 - u * u, 1e-8), 0.5 * frame.kajiya_kay.z);
     let specular = pow(max(1.0 - v * v, 1e-8), 0.5 * frame.kajiya_kay.w);
     let body = clamp((dot(normal, l) + wrap) / (1.0 + wrap), 0.0, 1.0);
-    let lit = mix(body, 1.0, shared_path(l, view)) * directional_attenuation(tangent, l, view);
+    let lit = mix(body, 1.0, shared_path(l, view)) * shadow * directional_attenuation(tangent, l, view);
     return HairParts(ambient_at(normal), frame.light_color.rgb * lit * (frame.kajiya_kay.x * diffuse),
                      lit * (frame.kajiya_kay.y * specular));
 }
@@ -99,8 +103,8 @@ struct HairTerms {
 
 // `height` is the share of the fur depth (0 at the skin, 1 at the top of the volume).
 fn hair_terms(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f32,
-              wrap: f32) -> HairTerms {
-    let p = hair_parts(tangent, normal, view, wrap);
+              wrap: f32, shadow: f32) -> HairTerms {
+    let p = hair_parts(tangent, normal, view, wrap, shadow);
     let b = banks_strengths(normal, frame.light_direction.xyz, view);
     let direct = banks_at(b.y, height);
     return HairTerms(p.ambient * banks_at(b.x, height) + p.direct * direct, p.shine * direct);
@@ -108,15 +112,15 @@ fn hair_terms(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f3
 
 // The hair lighting at one point (see `HairLight` and `hair_terms`).
 fn hair_light(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f32,
-              wrap: f32) -> HairLight {
-    let k = hair_terms(tangent, normal, view, height, wrap);
+              wrap: f32, shadow: f32) -> HairLight {
+    let k = hair_terms(tangent, normal, view, height, wrap, shadow);
     return HairLight(vec3<f32>(0.0), k.scale, frame.light_color.rgb * k.shine);
 }
 
 // `albedo` is premultiplied by `alpha`; so is the result.
 fn shade(albedo: vec3<f32>, alpha: f32, tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>,
-         height: f32, wrap: f32) -> vec4<f32> {
-    let k = hair_light(tangent, normal, view, height, wrap);
+         height: f32, wrap: f32, shadow: f32) -> vec4<f32> {
+    let k = hair_light(tangent, normal, view, height, wrap, shadow);
     return vec4<f32>(albedo * k.scale + alpha * k.add, alpha);
 }
 
@@ -124,9 +128,10 @@ fn shade(albedo: vec3<f32>, alpha: f32, tangent: vec3<f32>, normal: vec3<f32>, v
 // whole of what shows), lit by the wrapped N·L instead of the hair terms. Its tangent map holds
 // the roots' mean direction, nearly the normal, which Kajiya-Kay would light darkest exactly
 // where the light falls straight on. Banks-darkened like the roots above it.
-fn shade_skin(albedo: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, wrap: f32) -> vec3<f32> {
+fn shade_skin(albedo: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, wrap: f32,
+              shadow: f32) -> vec3<f32> {
     let l = frame.light_direction.xyz;
-    let lit = clamp((dot(normal, l) + wrap) / (1.0 + wrap), 0.0, 1.0);
+    let lit = clamp((dot(normal, l) + wrap) / (1.0 + wrap), 0.0, 1.0) * shadow;
     let light = frame.light_color.rgb * (lit * frame.kajiya_kay.x);
     let b = banks_strengths(normal, l, view);
     return albedo * (ambient_at(normal) * (1.0 - b.x) + light * (1.0 - b.y));

@@ -1,7 +1,8 @@
 //! The fur passes' pipelines, built on first use per lighting model and target format: each pass
 //! (`skin.rs`, `fins.rs`, `shells.rs`, `strands.rs`) builds its own from the shared layouts
 //! (`layouts.rs`) and the recipe in `pass.rs`; the occluders' pass (`occluders.rs`), drawn first
-//! when the fur is composited into another picture, has its own layout.
+//! when the fur is composited into another picture, and the body's shadow map
+//! (`shadow_map.rs`) have their own layouts.
 
 use std::sync::OnceLock;
 
@@ -9,6 +10,7 @@ use super::fins::FinsPass;
 use super::layouts::{FurLayouts, validated};
 use super::occluders::OccluderPass;
 use super::pass::{Model, Target};
+use super::shadow_map::ShadowPass;
 use super::shells::ShellsPass;
 use super::skin::SkinPass;
 use super::strands::StrandsPass;
@@ -29,6 +31,7 @@ pub(super) struct FurPipelines {
     passes: [OnceLock<PassPipelines>; 6],
     /// Indexed by the target ([`variant`] under Kajiya–Kay).
     occluders: [OnceLock<OccluderPass>; 3],
+    shadow: OnceLock<ShadowPass>,
 }
 
 fn variant(model: Model, target: Target) -> usize {
@@ -50,6 +53,7 @@ impl FurPipelines {
             layouts: FurLayouts::new(device)?,
             passes: Default::default(),
             occluders: Default::default(),
+            shadow: OnceLock::new(),
         })
     }
 
@@ -95,5 +99,19 @@ impl FurPipelines {
             Ok(OccluderPass::new(device, target.format()))
         })?;
         Ok(slot.get_or_init(|| built))
+    }
+
+    /// The pass drawing the body's shadow map, built on first use.
+    ///
+    /// # Errors
+    /// [`pelt_core::PeltError::Render`] when the device rejects it.
+    pub fn shadow(&self, device: &wgpu::Device) -> Result<&ShadowPass> {
+        if let Some(p) = self.shadow.get() {
+            return Ok(p);
+        }
+        let built = validated(device, "the body shadow's pipeline", || {
+            Ok(ShadowPass::new(device))
+        })?;
+        Ok(self.shadow.get_or_init(|| built))
     }
 }

@@ -19,6 +19,7 @@ use bytemuck::{Pod, Zeroable};
 use super::pass::Model;
 use super::prt_light::WorldLighting;
 use super::shaders::PassShader;
+use super::shadow_map::{self, ShadowFrame};
 use pelt_core::error::{PeltError, Result};
 use pelt_core::prt::sh::{MAX_COEFFS, MAX_ORDER, ShRotation};
 
@@ -35,6 +36,8 @@ pub(super) struct RotationUniforms {
     counts: [u32; 4],
     sun_direction: [f32; 4],
     layers: [u32; 4],
+    light_view_proj: [f32; 16],
+    shadow: [f32; 4],
     light: [[f32; 4]; MAX_COEFFS],
     sun: [[f32; 4]; MAX_COEFFS],
 }
@@ -44,7 +47,8 @@ impl RotationUniforms {
     /// each for the environment and the directional light), hair `fur_depth` deep, with
     /// `layers` level-0 layers and `composites` LOD layers past them, of which `gains` (counted
     /// from the first) get the hot spot's gain: those the frame draws where the light may come
-    /// from the eye (its share, `LightingFrame::hot_spot_share`, is not 0), else none.
+    /// from the eye (its share, `LightingFrame::hot_spot_share`, is not 0), else none; the
+    /// directional light shadowed by the body through `shadow`'s map.
     pub fn new(
         vertices: u32,
         order: usize,
@@ -52,6 +56,7 @@ impl RotationUniforms {
         fur_depth: f32,
         (layers, composites): (u32, u32),
         gains: Range<u32>,
+        shadow: &ShadowFrame,
     ) -> Self {
         let rows = |c: &[[f32; 4]]| {
             let mut rows = [[0.0; 4]; MAX_COEFFS];
@@ -63,6 +68,8 @@ impl RotationUniforms {
             counts: [vertices, order as u32, (order * order) as u32, 0],
             sun_direction: [x, y, z, fur_depth],
             layers: [layers, composites, gains.start, gains.end.min(composites)],
+            light_view_proj: shadow.light_view_proj.to_cols_array(),
+            shadow: shadow.params,
             light: rows(&light.environment),
             sun: rows(&light.sun),
         }
@@ -119,6 +126,7 @@ impl RotatePipeline {
     /// Compiles the shader and uploads the band matrices; call inside an error scope.
     pub fn new(device: &wgpu::Device) -> Result<Self> {
         use wgpu::util::DeviceExt;
+        let shadow = shadow_map::layout_entries(8, wgpu::ShaderStages::COMPUTE);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("prt rotation"),
             entries: &[
@@ -139,6 +147,9 @@ impl RotatePipeline {
                 storage_entry(5, true),
                 storage_entry(6, true),
                 storage_entry(7, false),
+                // The body's shadow map and its comparison sampler (`shadow_map.rs`).
+                shadow[0],
+                shadow[1],
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -170,13 +181,15 @@ impl RotatePipeline {
         })
     }
 
-    /// The bind group of one scene: its uniforms, surface geometry and `outputs`.
+    /// The bind group of one scene: its uniforms, surface geometry, `outputs` and its body
+    /// shadow map with the comparison sampler.
     pub fn bind_group(
         &self,
         device: &wgpu::Device,
         uniforms: &wgpu::Buffer,
         geometry: &wgpu::Buffer,
         outputs: &RotateOutputs<'_>,
+        shadow: (&wgpu::TextureView, &wgpu::Sampler),
     ) -> wgpu::BindGroup {
         fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
             wgpu::BindGroupEntry {
@@ -196,6 +209,14 @@ impl RotatePipeline {
                 entry(5, outputs.means),
                 entry(6, outputs.composites),
                 entry(7, outputs.gains),
+                wgpu::BindGroupEntry {
+                    binding: 8,
+                    resource: wgpu::BindingResource::TextureView(shadow.0),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 9,
+                    resource: wgpu::BindingResource::Sampler(shadow.1),
+                },
             ],
         })
     }

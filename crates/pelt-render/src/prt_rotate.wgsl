@@ -9,8 +9,8 @@
 // recurrence, its transpose giving Rx(-90°)) does the rest. That costs two dense products per
 // band instead of building each vertex's band matrices.
 //
-// The directional light is rotated apart and faded out past the vertex's terminator: the body
-// shadows it there, but its few bands spread it some 40° around its direction, which lit the
+// The directional light is rotated apart, dimmed by the body's shadow over the vertex's fur
+// (`column_visibility`), and faded out past the vertex's terminator: the body shadows it there, but its few bands spread it some 40° around its direction, which lit the
 // fur a back light cannot reach (5× the reference's light). The fade is the Kajiya–Kay
 // preview's terminator band (`lighting.wgsl` `terminator_wrap`): hair h tall on a surface
 // curving at κ sees √(2hκ) past the terminator in N·L, at most TERMINATOR_WRAP, with κ the
@@ -25,6 +25,7 @@
 // `composite_gain`).
 
 #import pelt::hot_spot::{hot_spot_ratio, pack_gain}
+#import pelt::body_shadow::map_visibility
 
 // Widest band past the terminator (in N·L), and the width over which the light fades out.
 const TERMINATOR_WRAP: f32 = 0.3;
@@ -37,6 +38,10 @@ struct Rotation {
     // x: level-0 layers, y: LOD composites past them, z..w: the composites whose hot-spot gain
     // the frame needs (none while the light cannot come from the eye).
     layers: vec4<u32>,
+    // The body's shadow map: object space to the light's clip space, and its `map_visibility`
+    // parameters (x 0: no map).
+    light_view_proj: mat4x4<f32>,
+    shadow: vec4<f32>,
     // The world lighting without the directional light, 1/π folded in; rgb per coefficient.
     light: array<vec4<f32>, 64>,
     // The directional light's cap, alike.
@@ -59,6 +64,8 @@ struct Rotation {
 @group(0) @binding(6) var<storage, read> composites: array<vec4<u32>>;
 // Per surface vertex and composite, the hot spot's gain (`pack_gain`).
 @group(0) @binding(7) var<storage, read_write> gains: array<vec2<u32>>;
+@group(0) @binding(8) var shadow_map: texture_depth_2d;
+@group(0) @binding(9) var shadow_sampler: sampler_comparison;
 
 const WORKGROUP: u32 = 64u;
 const GEOMETRY_FLOATS: u32 = 17u;
@@ -158,7 +165,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>,
     rotate_into_frame(&c, angles, order, mirrored);
     let facing = dot(z, params.sun_direction.xyz);
     let band = min(sqrt(2.0 * params.sun_direction.w * curvature[v]), TERMINATOR_WRAP);
-    let shown = clamp((facing + band) / TERMINATOR_WRAP, 0.0, 1.0);
+    let shown = clamp((facing + band) / TERMINATOR_WRAP, 0.0, 1.0)
+        * column_visibility(vec3_at(b), z, params.sun_direction.w);
     if (shown > 0.0) {
         rotate_into_frame(&sun, angles, order, mirrored);
         for (var k = 0u; k < n; k++) {
@@ -171,6 +179,24 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>,
     if (params.layers.z < params.layers.w) {
         write_gains(v, &c, n);
     }
+}
+
+// The share of the directional light the body lets reach the fur over the skin at `position`
+// (facing `normal`, under fur `depth` deep): the body's shadow (`map_visibility`) meaned over the
+// column's height, as the transfer's rotated lighting serves every layer of it (past a
+// terminator the tips see the light while the roots do not).
+fn column_visibility(position: vec3<f32>, normal: vec3<f32>, depth: f32) -> f32 {
+    if (params.shadow.x == 0.0) {
+        return 1.0;
+    }
+    // The middles of four equal slabs of the column.
+    var sum = 0.0;
+    for (var i = 0u; i < 4u; i++) {
+        let at = position + normal * ((f32(i) + 0.5) * 0.25 * depth);
+        sum += map_visibility(shadow_map, shadow_sampler, params.light_view_proj, params.shadow,
+                              at, normal);
+    }
+    return 0.25 * sum;
 }
 
 // The lighting `c` dotted with the transfer in row `row` of `means`.

@@ -7,6 +7,7 @@ use std::ops::Range;
 use super::prt_light::WorldLighting;
 use super::prt_rotate::{RotateOutputs, RotatePipeline, RotationUniforms};
 use super::readback::read_buffer;
+use super::shadow_map::{ShadowFrame, ShadowMap};
 use super::{AdapterChoice, Renderer};
 use glam::{DVec3, Vec3};
 use pelt_core::prt::sh::{self, MAX_ORDER, ShRotation};
@@ -126,6 +127,7 @@ fn run_pass(
             FUR_DEPTH,
             (composites.layers, count as u32),
             gains,
+            &ShadowFrame::NONE,
         )),
         usage: wgpu::BufferUsages::UNIFORM,
     });
@@ -164,6 +166,11 @@ fn run_pass(
             composites: &ranges,
             gains: &gains,
         },
+        // No map is read (`ShadowFrame::NONE`): every vertex sees the light.
+        (
+            &ShadowMap::new(device).view,
+            &renderer.fur_layouts().unwrap().shadow_sampler,
+        ),
     );
     let mut encoder = device.create_command_encoder(&Default::default());
     rotate

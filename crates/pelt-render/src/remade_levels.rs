@@ -70,6 +70,7 @@ impl FurScene {
         })?;
         self.queue
             .write_buffer(&self.surface.index, 0, bytemuck::cast_slice(&surface_indices));
+        self.shadow.set_drawn(None);
         self.queue.submit(std::iter::empty());
         self.fins = fins_gpu;
         self.uploads.geometry_bytes += index_bytes

@@ -12,6 +12,7 @@ use super::lod::{Extent, Levels};
 use super::pass::Model;
 use super::planes::ScenePlanes;
 use super::prt_rotate::{RotateOutputs, RotationUniforms};
+use super::shadow_map::ShadowMap;
 use super::stand_heights::stand_heights;
 use super::textures::VolumeTextures;
 use super::{Renderer, scoped, textures, transfer};
@@ -152,6 +153,8 @@ pub struct FurScene {
     pub(super) drawable: usize,
     pub(super) uniforms: wgpu::Buffer,
     pub(super) bind_group: wgpu::BindGroup,
+    /// The body's shadow map (redrawn when the light or the skin moves); the bind groups hold it.
+    pub(super) shadow: ShadowMap,
     /// The volume's textures, which the bind group holds (kept to make it anew).
     volume_textures: VolumeTextures,
     /// The virtual planes' slices, when set.
@@ -320,7 +323,7 @@ impl FurScene {
         );
 
         let surface_indices = with_room_for_levels(&surface_indices, surface.indices.len());
-        let (surface_gpu, fins_gpu, volume_gpu, uniforms, bind_group) =
+        let (surface_gpu, fins_gpu, volume_gpu, uniforms, bind_group, shadow) =
             scoped(device, "uploading the scene", || {
                 let surface_gpu = GpuMesh::new(
                     device,
@@ -338,6 +341,7 @@ impl FurScene {
                     usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                     mapped_at_creation: false,
                 });
+                let shadow = ShadowMap::new(device);
                 let bind_group = fur_bind_group(
                     device,
                     layouts,
@@ -345,8 +349,9 @@ impl FurScene {
                     &volume_gpu,
                     &layouts.no_planes,
                     &surface_gpu.geometry,
+                    &shadow,
                 );
-                Ok::<_, PeltError>((surface_gpu, fins_gpu, volume_gpu, uniforms, bind_group))
+                Ok::<_, PeltError>((surface_gpu, fins_gpu, volume_gpu, uniforms, bind_group, shadow))
             })??;
 
         let attribute_rows = (surface.source.len() + fins.source.len()) as u64;
@@ -377,6 +382,7 @@ impl FurScene {
             attributes: (colors, lengths),
             uniforms,
             bind_group,
+            shadow,
             volume_textures: volume_gpu,
             planes: None,
             fin_source: fins.source,
@@ -555,6 +561,7 @@ impl FurScene {
                     composites: &ranges,
                     gains: &gains,
                 },
+                (&self.shadow.view, &layouts.shadow_sampler),
             );
             fn buffer(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
                 wgpu::BindGroupEntry {
@@ -657,6 +664,7 @@ impl FurScene {
             &self.volume_textures,
             planes,
             &self.surface.geometry,
+            &self.shadow,
         );
     }
 
@@ -870,6 +878,7 @@ impl FurScene {
         let surface = pool().install(|| deformer.set_comb(comb));
         let vertices = bytemuck::cast_slice::<_, u8>(surface);
         self.queue.write_buffer(&self.surface.geometry, 0, vertices);
+        self.shadow.set_drawn(None);
         // Sent now, as a pose is.
         self.queue.submit(std::iter::empty());
         self.uploads.pose_bytes += vertices.len() as u64;
@@ -893,6 +902,7 @@ impl FurScene {
         let (surface, normals) = pool().install(|| deformer.pose(positions, normals))?;
         let vertices = bytemuck::cast_slice::<_, u8>(surface);
         self.queue.write_buffer(&self.surface.geometry, 0, vertices);
+        self.shadow.set_drawn(None);
         if let Some(strands) = &self.strands {
             let frames = super::guard_strands::root_frames(surface, &strands.records);
             self.queue
@@ -1001,7 +1011,7 @@ fn with_room_for_levels(indices: &[u32], full: usize) -> Vec<u32> {
 }
 
 /// Group 0 of every fur pass: the frame's uniforms, the volume's textures and samplers, the
-/// skin's vertices and the virtual planes' slices.
+/// skin's vertices, the virtual planes' slices and the body's shadow map.
 fn fur_bind_group(
     device: &wgpu::Device,
     layouts: &FurLayouts,
@@ -1009,6 +1019,7 @@ fn fur_bind_group(
     volume: &VolumeTextures,
     planes: &wgpu::TextureView,
     skin: &wgpu::Buffer,
+    shadow: &ShadowMap,
 ) -> wgpu::BindGroup {
     let view = wgpu::BindingResource::TextureView;
     let sampler = wgpu::BindingResource::Sampler;
@@ -1021,6 +1032,8 @@ fn fur_bind_group(
         sampler(&layouts.fin_sampler),
         skin.as_entire_binding(),
         view(planes),
+        view(&shadow.view),
+        sampler(&layouts.shadow_sampler),
     ];
     let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
         .into_iter()

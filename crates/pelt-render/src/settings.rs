@@ -121,6 +121,10 @@ pub struct RenderSettings {
     pub mesh_error: f32,
     /// Draw the fins (Lengyel §2.3, pass b).
     pub fins: bool,
+    /// Shadow the directional light by the body: one part of the mesh on the fur of another
+    /// (`shadow_map.rs`), as the reference and Blender's renders do. Off, the fur's own model
+    /// alone shadows it, as in a runtime that casts no shadows.
+    pub body_shadow: bool,
     /// Fin opacity before the silhouette fade, `[0, 1]`.
     pub fin_opacity: f32,
     /// Shell fragments whose opacity is below this write no depth and no color (Lengyel §2.3's
@@ -162,6 +166,7 @@ impl Default for RenderSettings {
             shell_method: ShellMethod::Instanced,
             mesh_error: 1.0,
             fins: true,
+            body_shadow: true,
             fin_opacity: 1.0,
             alpha_test: 1.0 / 255.0,
             background: [0.0; 4],
@@ -257,6 +262,7 @@ pub struct RenderDefaults {
     pub shell_method: &'static str,
     pub mesh_error: f32,
     pub fins: bool,
+    pub body_shadow: bool,
     pub fin_opacity: f32,
     pub alpha_test: f32,
     pub background: [f32; 4],
@@ -284,6 +290,7 @@ impl Default for RenderDefaults {
             shell_method: s.shell_method.name(),
             mesh_error: s.mesh_error,
             fins: s.fins,
+            body_shadow: s.body_shadow,
             fin_opacity: s.fin_opacity,
             alpha_test: s.alpha_test,
             background: s.background,

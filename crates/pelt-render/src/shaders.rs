@@ -17,7 +17,8 @@ use wgpu::naga::Module;
 use super::pass::Model;
 
 /// The shared modules, each after the modules it imports (naga_oil's order of adding them).
-const MODULES: [(&str, &str); 13] = [
+const MODULES: [(&str, &str); 14] = [
+    ("body_shadow.wgsl", include_str!("body_shadow.wgsl")),
     ("common.wgsl", include_str!("common.wgsl")),
     ("light_model.wgsl", include_str!("light_model.wgsl")),
     ("lighting.wgsl", include_str!("lighting.wgsl")),

@@ -1,6 +1,6 @@
 #define_import_path pelt::strand_kk
 
-#import pelt::common::view_vector
+#import pelt::common::{view_vector, body_shadow}
 #import pelt::lighting::shade
 #import pelt::light_model::StrandOut
 
@@ -9,5 +9,5 @@
 
 fn shade_strand(v: StrandOut, tangent: vec3<f32>, height: f32) -> vec4<f32> {
     return shade(v.color.rgb, v.color.a, tangent, v.normal, view_vector(v.position), height,
-                 v.wrap);
+                 v.wrap, body_shadow(v.position, v.normal));
 }

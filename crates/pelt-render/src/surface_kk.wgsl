@@ -2,7 +2,7 @@
 
 #import pelt::common::{
     frame, tangent_texture, tile_sampler, Layers, skin_layers, shading_height, HairLight,
-    clip_position, view_vector, unit_or, surface_curvature,
+    clip_position, view_vector, unit_or, surface_curvature, body_shadow,
 }
 #import pelt::lighting::{banks_strengths, hair_parts, shade, shade_skin, terminator_wrap}
 #import pelt::surface::{SurfaceData, lift, Texels, layer_texels, blended, MarchFrame}
@@ -91,7 +91,8 @@ fn skin_fragment(s: SkinVarying) -> vec3<f32> {
     let texel = blended(layer_texels(uv, layers.fine, layers.coarse));
     let n = unit_or(s.normal_u.xyz, vec3<f32>(0.0, 0.0, 1.0));
     let wrap = terminator_wrap(surface_curvature(n, s.position_v.xyz), frame.fur.x);
-    return shade_skin(texel.rgb * s.color, n, view_vector(s.position_v.xyz), wrap);
+    let shadow = body_shadow(s.position_v.xyz, n);
+    return shade_skin(texel.rgb * s.color, n, view_vector(s.position_v.xyz), wrap, shadow);
 }
 
 // The terminator band's width under the shell's hair (its painted length × the fur depth).
@@ -113,7 +114,8 @@ fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>,
     let t = tangent_between(s.uv, lit, s.dpdu, s.dpdv, s.up, n);
     let albedo = texel.rgb * s.color.rgb * opacity;
     let height = lit * frame.fur.y;
-    return shade(albedo, texel.a * opacity, t, n, view_vector(s.position), height, wrap);
+    return shade(albedo, texel.a * opacity, t, n, view_vector(s.position), height, wrap,
+                 body_shadow(s.position, n));
 }
 
 // The hair tangent of the tangent map carried from the tile frame (x along u, y along v, z up)
@@ -143,14 +145,16 @@ fn march_frame(s: SurfaceOut) -> MarchFrame {
 }
 
 // The hair lighting at the marched layer `layers` read at `uv`, before Banks darkening (at the
-// top of the fur it is none), which the march applies layer by layer (`march_banks`), so the
-// composite's heights are not needed.
+// top of the fur it is none), which the march applies layer by layer (`march_banks`); the
+// body's shadow is read at the composite's mean height (`heights.x`).
 fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alpha: f32,
                grad: vec4<f32>, heights: vec2<f32>) -> HairLight {
     let n = unit_or(f.normal, vec3<f32>(0.0, 0.0, 1.0));
     let t = hair_tangent(uv, layers.height, f.dpdu, f.dpdv, f.up, n);
     let wrap = terminator_wrap(f.curvature, frame.fur.x * s.length);
-    let p = hair_parts(t, n, view_vector(f.position), wrap);
+    // Shadowed where the composite stands: its mean height, below the hull.
+    let below = f.up * (f32(s.height) * frame.fur.y - heights.x);
+    let p = hair_parts(t, n, view_vector(f.position), wrap, body_shadow(f.position - below, n));
     return HairLight(p.ambient, p.direct, frame.light_color.rgb * p.shine);
 }
 

@@ -156,8 +156,17 @@ def write_scene(out: Path, prefix: str, positions, triangles, *, guard_hairs: bo
     preview = pelt.Preview(asset, adapter="cpu")
     preview.deform(posed)
     black = (0.0, 0.0, 0.0, 1.0)
+    # The runtime casts no shadows yet: the preview without the body's shadow is what it draws.
     frame = preview.render(
-        view, projection, SIZE, SIZE, lighting=lighting, fins=True, background=black, strand_order="depth"
+        view,
+        projection,
+        SIZE,
+        SIZE,
+        lighting=lighting,
+        fins=True,
+        body_shadow=False,
+        background=black,
+        strand_order="depth",
     )
     pelt.save_png(out / f"{prefix}preview.png", frame)
     scene = {
