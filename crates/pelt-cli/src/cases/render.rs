@@ -244,6 +244,31 @@ pub(super) fn render_frame(options: &BenchOptions) -> Result<Vec<CaseResult>> {
         &lighting,
         kk,
     )?);
+    // The light turning a little every other frame, as a character posed every frame does: the
+    // body's shadow map is drawn again each time (`render.frame` draws it once and keeps it).
+    let turned = Lighting {
+        direction: [
+            lighting.direction[0] + 0.05,
+            lighting.direction[1],
+            lighting.direction[2],
+        ],
+        ..lighting.clone()
+    };
+    let mut turn = false;
+    let timing = time_fallible(reps, || {
+        turn = !turn;
+        let light = if turn { &turned } else { &lighting };
+        renderer.render(&scene, &near, light, &settings)
+    })?;
+    let relit = format!(
+        "{}x{}, {what}{kk}, the light turning every frame (the body's shadow map drawn each \
+         time); {name}",
+        near.width, near.height
+    );
+    results.push(versus(
+        &base,
+        CaseResult::timed("render.frame.relit", relit, timing),
+    ));
     let skin = RenderSettings {
         shell_count: Some(0),
         ..no_fins(&settings)
