@@ -70,11 +70,15 @@ struct Frame {
 @group(0) @binding(8) var shadow_map: texture_depth_2d;
 @group(0) @binding(9) var shadow_sampler: sampler_comparison;
 
+// Widest band past the terminator, in N·L, that Kajiya–Kay's wrapped N·L lights
+// (`lighting.wgsl` `terminator_wrap`).
+const TERMINATOR_WRAP: f32 = 0.3;
+
 // The share of the directional light that the body lets reach `position` (`map_visibility`).
-// A surface turned from the light past the widest terminator band (`lighting.wgsl`'s
-// TERMINATOR_WRAP) is the body's own shadow: no read (a CPU adapter pays for each).
+// A surface turned from the light past the widest terminator band is the body's own shadow: no
+// read (a CPU adapter pays for each).
 fn body_shadow(position: vec3<f32>, normal: vec3<f32>) -> f32 {
-    if (frame.shadow.x != 0.0 && dot(normal, frame.light_direction.xyz) <= -0.3) {
+    if (frame.shadow.x != 0.0 && dot(normal, frame.light_direction.xyz) <= -TERMINATOR_WRAP) {
         return 0.0;
     }
     return map_visibility(shadow_map, shadow_sampler, frame.light_view_proj, frame.shadow,

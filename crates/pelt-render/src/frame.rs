@@ -2,8 +2,8 @@
 //! guard strands among the shells (hybrid paper §3) and, when compositing, the occluders' depth
 //! first — in a single render pass into an offscreen target (8-bit sRGB or linear half floats), then read
 //! back, or into a caller's texture (`texture_target.rs`). Under PRT a compute pass first rotates
-//! the lighting into every vertex's tile frame; under Kajiya–Kay a depth pass first draws the
-//! body's shadow map (`shadow_map.rs`).
+//! the lighting into every vertex's tile frame; before either, when the light or the skin moved,
+//! a depth pass draws the body's shadow map (`shadow_map.rs`).
 
 use super::camera::{Camera, CameraFrame};
 use super::frame_uniforms::{FrameUniforms, SceneFrame};

@@ -1,6 +1,6 @@
 #define_import_path pelt::lighting
 
-#import pelt::common::{frame, HairLight, unit_or, shared_path}
+#import pelt::common::{frame, HairLight, unit_or, shared_path, TERMINATOR_WRAP}
 
 // Hair lighting (Lengyel et al. 2001, §2.4): the modified Banks / Kajiya-Kay model
 //   Ka + Kd (1 - u²)^(Pd/2) + Ks (1 - v²)^(Ps/2),  u = T·L, v = T·H,
@@ -15,9 +15,8 @@
 // quarter on average, most at the rim, where the reference's hair is lit brightest).
 // The band is where hair standing `h` above a surface curving at κ still sees past its terminator:
 // √(2 h κ) in N·L (a sphere's hair tip of radius R + h sees √(2h/R) past it), at most
-// TERMINATOR_WRAP. So a flat surface has none: under a grazing sun the flat patch's fur was 6×
-// the reference's, lit through hair that shadows it.
-const TERMINATOR_WRAP: f32 = 0.3;
+// TERMINATOR_WRAP (`common.wgsl`). So a flat surface has none: under a grazing sun the flat
+// patch's fur was 6× the reference's, lit through hair that shadows it.
 
 // The wrap at a surface of `curvature` (`surface_curvature`) under fur `height` object units deep.
 fn terminator_wrap(curvature: f32, height: f32) -> f32 {
@@ -89,7 +88,8 @@ fn hair_parts(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, wrap: f32,
     let diffuse = pow(max(1.0 - u * u, 1e-8), 0.5 * frame.kajiya_kay.z);
     let specular = pow(max(1.0 - v * v, 1e-8), 0.5 * frame.kajiya_kay.w);
     let body = clamp((dot(normal, l) + wrap) / (1.0 + wrap), 0.0, 1.0);
-    let lit = mix(body, 1.0, shared_path(l, view)) * shadow * directional_attenuation(tangent, l, view);
+    let lit = mix(body, 1.0, shared_path(l, view)) * shadow
+        * directional_attenuation(tangent, l, view);
     return HairParts(ambient_at(normal), frame.light_color.rgb * lit * (frame.kajiya_kay.x * diffuse),
                      lit * (frame.kajiya_kay.y * specular));
 }

@@ -10,7 +10,7 @@ pub(super) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth3
 
 /// Bytes of one vertex of buffer 0 of the skin and shells ([`pelt_core::scene::surface_mesh::SurfaceVertex`]:
 /// five `vec3`s and a `vec2`).
-const SURFACE_STRIDE: u64 = 68;
+pub(super) const SURFACE_STRIDE: u64 = 68;
 /// Bytes of one fin vertex ([`pelt_core::scene::fin_mesh::FinVertex`]: a `vec2`, two `u32` and an `f32`).
 const FIN_STRIDE: u64 = 20;
 

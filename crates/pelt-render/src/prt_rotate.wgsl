@@ -10,8 +10,9 @@
 // band instead of building each vertex's band matrices.
 //
 // The directional light is rotated apart, dimmed by the body's shadow over the vertex's fur
-// (`column_visibility`), and faded out past the vertex's terminator: the body shadows it there, but its few bands spread it some 40° around its direction, which lit the
-// fur a back light cannot reach (5× the reference's light). The fade is the Kajiya–Kay
+// (`column_visibility`), and faded out past the vertex's terminator: the body shadows it there,
+// but its few bands spread it some 40° around its direction, which lit the fur a back light
+// cannot reach (5× the reference's light). The fade is the Kajiya–Kay
 // preview's terminator band (`lighting.wgsl` `terminator_wrap`): hair h tall on a surface
 // curving at κ sees √(2hκ) past the terminator in N·L, at most TERMINATOR_WRAP, with κ the
 // vertex's from the mesh (pelt-core `scene::curvature`) and h the fur depth (the skin, which reads

@@ -17,7 +17,7 @@ use glam::dcamera::rh::view::look_at_mat4;
 use glam::{DVec3, Mat4};
 
 use super::lod::Extent;
-use super::pass::texture_2d;
+use super::pass::{SURFACE_STRIDE, texture_2d};
 
 /// Texels along each side of the map: fur shadows are soft, and on the canonical scenes the
 /// fur's depth spans 30 texels or more. A CPU adapter pays for every texel each time the map
@@ -154,9 +154,6 @@ pub(super) struct ShadowPass {
     pipeline: wgpu::RenderPipeline,
 }
 
-/// Bytes of one skin vertex in buffer 0 (its position first; `pass.rs`'s `SURFACE_STRIDE`).
-const SKIN_STRIDE: u64 = 68;
-
 impl ShadowPass {
     pub fn new(device: &wgpu::Device) -> ShadowPass {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -189,7 +186,8 @@ impl ShadowPass {
                 entry_point: Some("vs_main"),
                 compilation_options: Default::default(),
                 buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: SKIN_STRIDE,
+                    // The skin's vertex buffer, its position first.
+                    array_stride: SURFACE_STRIDE,
                     step_mode: wgpu::VertexStepMode::Vertex,
                     attributes: &wgpu::vertex_attr_array![0 => Float32x3],
                 })],
