@@ -10,7 +10,7 @@ const glslDir = new URL( '../src/glsl/', import.meta.url );
 
 // `[GLSL chunk, its constant, WGSL module, the constant it restates]`.
 const RESTATED = [
-	[ 'lighting.js', 'PELT_TERMINATOR_WRAP', 'lighting.wgsl', 'TERMINATOR_WRAP' ],
+	[ 'lighting.js', 'PELT_TERMINATOR_WRAP', 'common.wgsl', 'TERMINATOR_WRAP' ],
 	[ 'lighting.js', 'PELT_MIN_SLANT_COS', 'lighting.wgsl', 'MIN_SLANT_COS' ],
 	[ 'lighting.js', 'PELT_HOT_SPOT_WIDTH', 'common.wgsl', 'HOT_SPOT_WIDTH' ],
 	[ 'prt.js', 'PELT_HOT_SPOT_MIN', 'prt.wgsl', 'HOT_SPOT_MIN' ],
