@@ -14,7 +14,7 @@ uniform vec4 peltKajiyaKay;
 // Banks self-shadow strength b.
 uniform float peltSelfShadow;
 
-// lighting.wgsl TERMINATOR_WRAP, MIN_SLANT_COS, HOT_SPOT_WIDTH.
+// common.wgsl TERMINATOR_WRAP and HOT_SPOT_WIDTH, lighting.wgsl MIN_SLANT_COS.
 const float PELT_TERMINATOR_WRAP = 0.3;
 const float PELT_MIN_SLANT_COS = 0.1;
 const float PELT_HOT_SPOT_WIDTH = 0.35;
