@@ -10,17 +10,19 @@ The node group outputs, joined in this order:
    theirs, such as the eyes of a head);
 2. the **shells** ``1..S-1``: the mesh without its bald faces (length 0 at every corner), turned
    into one instance, duplicated ``S - 1`` times (Duplicate Elements on the instance domain), each
-   copy's layer ``round(j (L - 1) / (S - 1))`` stored on its instance, then realized at once and
-   lifted by ``layer / L × top``. ``top = depth × length × (normal + comb - normal (normal ·
-   comb))`` is captured per vertex on the whole mesh first, so a shell's border vertices move as
-   the skin's normals say (as ``crates/pelt-render/src/shells.wgsl`` does), not as their trimmed copy's would;
-   material ``Pelt Fur``;
+   copy's layer ``round(j (L - 1) / (S - 1))`` and height ``pelt_height = layer / L`` stored on
+   its instance, then realized at once and lifted by ``pelt_height × top``.
+   ``top = depth × length × (normal + comb - normal (normal · comb))`` is captured per vertex
+   on the whole mesh first, so a shell's border vertices move as the skin's normals say (as
+   ``crates/pelt-render/src/shells.wgsl`` does), not as their trimmed copy's would; material
+   ``Pelt Fur``;
 3. the **fins** (when Fins is on): every edge with some length at either end, duplicated into its
    own two vertices and extruded, each end to its own tip (``top``, as ``crates/pelt-render/src/fins.wgsl``
    lifts them): one quad per edge, with the UV map ``pelt_fin_uv``
    (``u`` from a random start per edge, running ``edge length / tile size`` along the edge; ``v``
    0 at the root, 1 at the tip) and the face attribute ``pelt_fin_normal`` (the unsheared fin's
-   normal, for the fade); material ``Pelt Fin``.
+   normal, for the fade) and the point attribute ``pelt_growth`` (the unit direction of ``top``,
+   the hair the fin shows, which its material lights); material ``Pelt Fin``.
 
 Missing attributes read as Pelt's defaults: ``pelt_length`` 1, ``pelt_comb`` 0, ``pelt_color``
 white (stored on the output, so the materials always find it). The inputs Layers, Shells, Depth,
@@ -34,7 +36,15 @@ from ..io.fur_layout import FurSettings
 from ..io.names import COLOR, COMB, LENGTH, datablock_name
 from ..io.ownership import find_owned, is_owned
 from . import templates
-from .materials import FIN_NORMAL_ATTRIBUTE, FIN_ROLE, FIN_UV_ATTRIBUTE, FUR_ROLE, LAYER_ATTRIBUTE
+from .materials import (
+    FIN_NORMAL_ATTRIBUTE,
+    FIN_ROLE,
+    FIN_UV_ATTRIBUTE,
+    FUR_ROLE,
+    GROWTH_ATTRIBUTE,
+    HEIGHT_ATTRIBUTE,
+    LAYER_ATTRIBUTE,
+)
 from .node_graph import NodeGraph, output
 
 NODES_ROLE = "fur_nodes"
@@ -269,8 +279,10 @@ def _shells(g: NodeGraph, base, top, length, layers, shells):
     )
     layer = g.math("FLOOR", g.math("ADD", spread, 0.5))
     tagged = _store(g, copies.outputs["Geometry"], LAYER_ATTRIBUTE, "FLOAT", "INSTANCE", layer)
+    # The shell's height as a share of the fur depth, for the material's self-shadowing.
+    tagged = _store(g, tagged, HEIGHT_ATTRIBUTE, "FLOAT", "INSTANCE", g.math("DIVIDE", layer, layers))
     realized = g.node("GeometryNodeRealizeInstances", {"Geometry": tagged}).outputs[0]
-    height = g.math("DIVIDE", output(_named(g, LAYER_ATTRIBUTE, "FLOAT"), "Attribute"), layers)
+    height = output(_named(g, HEIGHT_ATTRIBUTE, "FLOAT"), "Attribute")
     lifted = g.node(
         "GeometryNodeSetPosition", {"Geometry": realized, "Offset": g.vector_math("SCALE", top, scale=height)}
     )
@@ -360,6 +372,8 @@ def _fins(g: NodeGraph, base, top, length, tile_size):
         data_type="FLOAT_VECTOR",
     )
     fins = _store(g, extruded, FIN_UV_ATTRIBUTE, "FLOAT2", "CORNER", output(uv, "Value"))
+    # The hair's direction, which the fin material lights (the fin's own plane is not the hair's).
+    fins = _store(g, fins, GROWTH_ATTRIBUTE, "FLOAT_VECTOR", "POINT", g.vector_math("NORMALIZE", top))
     return _store(g, fins, FIN_NORMAL_ATTRIBUTE, "FLOAT_VECTOR", "FACE", per_point.outputs["Fin Normal"])
 
 

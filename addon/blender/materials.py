@@ -18,10 +18,25 @@ fin by ``max(0, 2|p| - 1)``, ``p`` = fin normal · view direction, so only fins 
 show. The fin normal is the unsheared fin's (``pelt_fin_normal``, object space), as in
 ``crates/pelt-render/src/fins.wgsl``.
 
+Both shade as the preview does (``crates/pelt-render/src/lighting.wgsl``), so that a render agrees
+with it:
+
+- **The fur's shadow on itself is the preview's Banks term** (Lengyel §2.4): the color is darkened
+  by ``SELF_SHADOW`` at the skin, fading to none at the tips (``pelt_height`` on the shells, ``v``
+  on the fins). Shadow and diffuse rays pass the shells and fins; only the skin stops them, as
+  only the skin casts the preview's body shadow. A shadow ray through the shells met each layer's
+  coverage as if it were independent of the next, whereas a hair's cross-sections line up along
+  it: a slanted light was dimmed again at every layer, so the more shells, the darker (Cycles at
+  0.24–0.72 of the reference renderer's strands on a furred sphere at 16 layers).
+- **Fins are lit as the hair they show:** a Lambertian and a translucent lobe about the normal
+  of the hair's cylinder that faces the eye (``pelt_growth`` is the hair's direction), so a light
+  from the eye lights it fully and a light along the hair not at all, as Kajiya–Kay's diffuse
+  term does. The fin quad's own normal had lit the fringe black under a light from above.
+
 Both render with EEVEE's DITHERED method: it writes depth and needs no sorting, so the many
 overlapping shells and fins of one object composite correctly (BLENDED sorts per object only).
-Cycles takes the Principled BSDF's alpha as transparency; it needs as many transparent bounces as
-surfaces a ray crosses (``fur.prepare_scene``).
+Cycles takes the alpha as transparency; it needs as many transparent bounces as surfaces a ray
+crosses (``fur.prepare_scene``).
 """
 
 import bpy
@@ -36,6 +51,12 @@ FIN_ROLE = "fin_material"
 LAYER_ATTRIBUTE = "pelt_layer"
 FIN_UV_ATTRIBUTE = "pelt_fin_uv"
 FIN_NORMAL_ATTRIBUTE = "pelt_fin_normal"
+HEIGHT_ATTRIBUTE = "pelt_height"
+GROWTH_ATTRIBUTE = "pelt_growth"
+# The preview's Kajiya-Kay diffuse coefficient and Banks self-shadowing (the library's defaults,
+# which ``preview.object_lighting`` passes explicitly): the materials shade with the same values.
+HAIR_DIFFUSE = 0.9
+SELF_SHADOW = 0.15
 RENDER_METHODS = ("DITHERED", "BLENDED")
 # The nodes that hold what differs per object (``templates.set_values``).
 ATLAS_NODE = "Pelt Atlas"
@@ -94,8 +115,10 @@ def new_fur_material(name: str):
     )
     color = _color_attribute(g)
     coverage = g.math("MULTIPLY", texel.outputs["Alpha"], color.outputs["Alpha"])
-    alpha = g.math("MAXIMUM", coverage, g.math("LESS_THAN", layer, 0.5))
-    _shade(g, _tinted(g, texel, color), alpha)
+    skin = g.math("LESS_THAN", layer, 0.5)
+    alpha = _seen_alpha(g, g.math("MAXIMUM", coverage, skin), casts=skin)
+    height = g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=HEIGHT_ATTRIBUTE)
+    _shade(g, _self_shadowed(g, _tinted(g, texel, color), height.outputs["Fac"]), alpha)
     return material
 
 
@@ -139,12 +162,14 @@ def new_fin_material(name: str):
         convert_from="OBJECT",
         convert_to="WORLD",
     ).outputs["Vector"]
-    incoming = g.node("ShaderNodeNewGeometry").outputs["Incoming"]
-    p = g.vector_math("DOT_PRODUCT", g.vector_math("NORMALIZE", fin_normal), incoming)
+    geometry = g.node("ShaderNodeNewGeometry").outputs
+    p = g.vector_math("DOT_PRODUCT", g.vector_math("NORMALIZE", fin_normal), geometry["Incoming"])
     fade = g.math("MAXIMUM", g.math("MULTIPLY_ADD", g.math("ABSOLUTE", p), 2.0, -1.0), 0.0)
     color = _color_attribute(g)
     alpha = g.math("MULTIPLY", g.math("MULTIPLY", texel.outputs["Alpha"], color.outputs["Alpha"]), fade)
-    _shade(g, _tinted(g, texel, color), alpha)
+    hair = _world_attribute(g, GROWTH_ATTRIBUTE)
+    lit = _hair_lobes(g, _self_shadowed(g, _tinted(g, texel, color), v), hair, geometry)
+    _output(g, lit, _seen_alpha(g, alpha, casts=0.0))
     return material
 
 
@@ -219,6 +244,62 @@ def _tinted(g: NodeGraph, texel, color):
         blend_type="MULTIPLY",
     )
     return output(mix, "Result")
+
+
+def _self_shadowed(g: NodeGraph, color, height):
+    """``color`` darkened as the preview's Banks term does at ``height`` (0 at the skin, 1 at the
+    tips): by ``SELF_SHADOW`` at the skin, none at the tips."""
+    return g.vector_math("SCALE", color, scale=g.math("MULTIPLY_ADD", height, SELF_SHADOW, 1.0 - SELF_SHADOW))
+
+
+def _seen_alpha(g: NodeGraph, alpha, *, casts):
+    """``alpha`` for the rays that see the fur; ``alpha × casts`` for shadow and diffuse rays (the
+    fur's shadow on itself is ``_self_shadowed``'s; ``casts`` is 1 where the surface is the skin)."""
+    path = g.node("ShaderNodeLightPath").outputs
+    lighting = g.math("MAXIMUM", path["Is Shadow Ray"], path["Is Diffuse Ray"])
+    passes = g.math("MULTIPLY", lighting, g.math("SUBTRACT", 1.0, casts))
+    return g.math("MULTIPLY", alpha, g.math("SUBTRACT", 1.0, passes))
+
+
+def _world_attribute(g: NodeGraph, name: str):
+    """The object-space direction attribute ``name``, in world space, unit."""
+    attribute = g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=name)
+    world = g.node(
+        "ShaderNodeVectorTransform",
+        {"Vector": attribute.outputs["Vector"]},
+        vector_type="VECTOR",
+        convert_from="OBJECT",
+        convert_to="WORLD",
+    )
+    return g.vector_math("NORMALIZE", world.outputs["Vector"])
+
+
+def _hair_lobes(g: NodeGraph, color, hair, geometry):
+    """Hair of direction ``hair`` lit as a cylinder seen from the eye: Lambertian and translucent
+    lobes (``HAIR_DIFFUSE`` × ``color``) about the normal of the hair that faces the eye, so that
+    the light reaching it is ``|κ| sin(hair, light)`` (Kajiya–Kay's diffuse term, weighed by
+    Goldman's azimuth cosine κ). A hair pointing at the eye has no such normal: a hundredth of the
+    surface's keeps it defined."""
+    incoming = geometry["Incoming"]
+    across = g.vector_math(
+        "SUBTRACT", incoming, g.vector_math("SCALE", hair, scale=g.vector_math("DOT_PRODUCT", incoming, hair))
+    )
+    normal = g.vector_math(
+        "NORMALIZE", g.vector_math("ADD", across, g.vector_math("SCALE", geometry["Normal"], scale=0.01))
+    )
+    weighted = g.vector_math("SCALE", color, scale=HAIR_DIFFUSE)
+    diffuse = g.node("ShaderNodeBsdfDiffuse", {"Color": weighted, "Normal": normal})
+    translucent = g.node("ShaderNodeBsdfTranslucent", {"Color": weighted, "Normal": normal})
+    lobes = {("Shader", 0): diffuse.outputs["BSDF"], ("Shader", 1): translucent.outputs["BSDF"]}
+    both = g.node("ShaderNodeAddShader", lobes)
+    return both.outputs["Shader"]
+
+
+def _output(g: NodeGraph, shader, alpha) -> None:
+    """``shader`` over transparency by ``alpha`` into the material output."""
+    clear = g.node("ShaderNodeBsdfTransparent").outputs["BSDF"]
+    mix = g.node("ShaderNodeMixShader", {"Factor": alpha, ("Shader", 0): clear, ("Shader", 1): shader})
+    g.node("ShaderNodeOutputMaterial", {"Surface": mix.outputs["Shader"]}, target="ALL")
 
 
 def _shade(g: NodeGraph, base_color, alpha) -> None:

@@ -17,7 +17,7 @@ import pelt
 from ..io import bridge, live
 from ..io.names import datablock_name
 from ..io.ownership import find_owned, tag
-from . import bake, lighting, pose, preferences
+from . import bake, lighting, materials, pose, preferences
 
 PREVIEW_IMAGE = datablock_name("Preview")
 PREVIEW_ROLE = "preview"
@@ -53,6 +53,9 @@ def object_lighting(scene, obj, model: str, order: int | None) -> dict:
         "direction": tuple(local),
         "color": tuple(float(c) for c in color),
         "environment": rotate_sh(lighting.world_ambient(scene), rotation),
+        # What the Blender materials shade with, so that a render agrees with the preview.
+        "diffuse": materials.HAIR_DIFFUSE,
+        "self_shadow": materials.SELF_SHADOW,
     }
 
 
