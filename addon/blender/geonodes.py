@@ -11,7 +11,8 @@ The node group outputs, joined in this order:
 2. the **shells** ``1..S-1``: the mesh without its bald faces (length 0 at every corner), turned
    into one instance, duplicated ``S - 1`` times (Duplicate Elements on the instance domain), each
    copy's layer ``round(j (L - 1) / (S - 1))`` and height ``pelt_height = layer / L`` stored on
-   its instance, then realized at once and lifted by ``pelt_height × top``.
+   its instance, then realized at once, lifted by ``pelt_height × top`` and ``top`` stored as
+   ``pelt_top``.
    ``top = depth × length × (normal + comb - normal (normal · comb))`` is captured per vertex
    on the whole mesh first, so a shell's border vertices move as the skin's normals say (as
    ``crates/pelt-render/src/shells.wgsl`` does), not as their trimmed copy's would; material
@@ -44,6 +45,7 @@ from .materials import (
     GROWTH_ATTRIBUTE,
     HEIGHT_ATTRIBUTE,
     LAYER_ATTRIBUTE,
+    TOP_ATTRIBUTE,
 )
 from .node_graph import NodeGraph, output
 
@@ -286,7 +288,8 @@ def _shells(g: NodeGraph, base, top, length, layers, shells):
     lifted = g.node(
         "GeometryNodeSetPosition", {"Geometry": realized, "Offset": g.vector_math("SCALE", top, scale=height)}
     )
-    return lifted.outputs[0]
+    # The fur's height here, which tells the material how far a ray is from its own fur.
+    return _store(g, lifted.outputs[0], TOP_ATTRIBUTE, "FLOAT_VECTOR", "POINT", top)
 
 
 def _fins(g: NodeGraph, base, top, length, tile_size):

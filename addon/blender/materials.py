@@ -23,8 +23,10 @@ with it:
 
 - **The fur's shadow on itself is the preview's Banks term** (Lengyel §2.4): the color is darkened
   by ``SELF_SHADOW`` at the skin, fading to none at the tips (``pelt_height`` on the shells, ``v``
-  on the fins). Shadow and diffuse rays pass the shells and fins; only the skin stops them, as
-  only the skin casts the preview's body shadow. A shadow ray through the shells met each layer's
+  on the fins). Shadow and diffuse rays pass the fins, and the shells within ``SELF_REACH`` fur
+  depths of where they started (``pelt_top``, Light Path's Ray Length): the skin, as the
+  preview's body shadow, and shells further away, as the fur's shadow on other things, stop
+  them. A shadow ray through the shells met each layer's
   coverage as if it were independent of the next, whereas a hair's cross-sections line up along
   it: a slanted light was dimmed again at every layer, so the more shells, the darker (Cycles at
   0.24–0.72 of the reference renderer's strands on a furred sphere at 16 layers).
@@ -53,6 +55,10 @@ FIN_UV_ATTRIBUTE = "pelt_fin_uv"
 FIN_NORMAL_ATTRIBUTE = "pelt_fin_normal"
 HEIGHT_ATTRIBUTE = "pelt_height"
 GROWTH_ATTRIBUTE = "pelt_growth"
+TOP_ATTRIBUTE = "pelt_top"
+# Fur depths a shadow or diffuse ray may run through its own fur's shells (the Banks term stands
+# for that shadow) before a shell stops it: a light 75° off the normal crosses the fur within 4.
+SELF_REACH = 4.0
 # The preview's Kajiya-Kay diffuse coefficient and Banks self-shadowing (the library's defaults,
 # which ``preview.object_lighting`` passes explicitly): the materials shade with the same values.
 HAIR_DIFFUSE = 0.9
@@ -116,7 +122,10 @@ def new_fur_material(name: str):
     color = _color_attribute(g)
     coverage = g.math("MULTIPLY", texel.outputs["Alpha"], color.outputs["Alpha"])
     skin = g.math("LESS_THAN", layer, 0.5)
-    alpha = _seen_alpha(g, g.math("MAXIMUM", coverage, skin), casts=skin)
+    reach = g.vector_math("LENGTH", _world_vector(g, TOP_ATTRIBUTE))
+    path = g.node("ShaderNodeLightPath").outputs
+    away = g.math("GREATER_THAN", path["Ray Length"], g.math("MULTIPLY", reach, SELF_REACH))
+    alpha = _seen_alpha(g, g.math("MAXIMUM", coverage, skin), casts=g.math("MAXIMUM", skin, away))
     height = g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=HEIGHT_ATTRIBUTE)
     _shade(g, _self_shadowed(g, _tinted(g, texel, color), height.outputs["Fac"]), alpha)
     return material
@@ -254,15 +263,15 @@ def _self_shadowed(g: NodeGraph, color, height):
 
 def _seen_alpha(g: NodeGraph, alpha, *, casts):
     """``alpha`` for the rays that see the fur; ``alpha × casts`` for shadow and diffuse rays (the
-    fur's shadow on itself is ``_self_shadowed``'s; ``casts`` is 1 where the surface is the skin)."""
+    fur's shadow on itself is ``_self_shadowed``'s; ``casts`` is 1 where the surface stops them)."""
     path = g.node("ShaderNodeLightPath").outputs
     lighting = g.math("MAXIMUM", path["Is Shadow Ray"], path["Is Diffuse Ray"])
     passes = g.math("MULTIPLY", lighting, g.math("SUBTRACT", 1.0, casts))
     return g.math("MULTIPLY", alpha, g.math("SUBTRACT", 1.0, passes))
 
 
-def _world_attribute(g: NodeGraph, name: str):
-    """The object-space direction attribute ``name``, in world space, unit."""
+def _world_vector(g: NodeGraph, name: str):
+    """The object-space vector attribute ``name``, in world space."""
     attribute = g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=name)
     world = g.node(
         "ShaderNodeVectorTransform",
@@ -271,7 +280,12 @@ def _world_attribute(g: NodeGraph, name: str):
         convert_from="OBJECT",
         convert_to="WORLD",
     )
-    return g.vector_math("NORMALIZE", world.outputs["Vector"])
+    return world.outputs["Vector"]
+
+
+def _world_attribute(g: NodeGraph, name: str):
+    """The object-space direction attribute ``name``, in world space, unit."""
+    return g.vector_math("NORMALIZE", _world_vector(g, name))
 
 
 def _hair_lobes(g: NodeGraph, color, hair, geometry):

@@ -58,11 +58,11 @@ def furred_sphere_scene(light: str):
     return scene, obj, camera, sun
 
 
-def cycles_image(scene, path) -> np.ndarray:
+def cycles_image(scene, path, *, side: int = SIDE, samples: int = 16) -> np.ndarray:
     """Cycles' linear, premultiplied image, top row first."""
     scene.render.engine = "CYCLES"
     scene.cycles.device = "CPU"
-    scene.cycles.samples = 16
+    scene.cycles.samples = samples
     scene.cycles.use_denoising = False
     scene.render.image_settings.file_format = "OPEN_EXR"
     scene.render.filepath = str(path)
@@ -71,7 +71,7 @@ def cycles_image(scene, path) -> np.ndarray:
     pixels = np.empty(len(image.pixels), np.float32)
     image.pixels.foreach_get(pixels)
     bpy.data.images.remove(image)
-    return pixels.reshape(SIDE, SIDE, 4)[::-1]
+    return pixels.reshape(side, side, 4)[::-1]
 
 
 def reference_image(scene, obj, camera, sun) -> np.ndarray:
@@ -107,9 +107,8 @@ def fur_luminance(image: np.ndarray, covered: np.ndarray) -> float:
 @pytest.mark.parametrize("light", ["key", "side"])
 def test_cycles_renders_the_fur_as_bright_as_the_strands_it_was_baked_from(addon, tmp_path, light):
     # Cycles once shaded the fins by their own quads' normals and let every shell shadow the ones
-    # below, layer by layer: 0.65 (key) and 0.41 (side) of the reference here at 160². The
-    # materials now light the fins as hair and darken the shells by the preview's Banks term:
-    # 1.03 and 0.91.
+    # below, layer by layer: 0.65 (key) and 0.41 (side) of the reference here. The materials now
+    # light the fins as hair and darken the shells by the preview's Banks term: 1.03 and 0.92.
     scene, obj, camera, sun = furred_sphere_scene(light)
     cycles = cycles_image(scene, tmp_path / "cycles.exr")
     truth = reference_image(scene, obj, camera, sun)
@@ -122,3 +121,48 @@ def test_cycles_renders_the_fur_as_bright_as_the_strands_it_was_baked_from(addon
     # reference itself; Cycles is held to it within what that leaves.
     to_preview = fur_luminance(cycles, covered) / fur_luminance(shown, covered)
     assert 0.9 < to_preview < 1.3, f"{light}: Cycles / preview = {to_preview:.3f}"
+
+
+def test_the_fur_shadows_the_ground_but_not_itself(addon, tmp_path):
+    # Shadow rays pass the shells within a few fur depths of where they start (the material's
+    # Banks term is the fur's shadow on itself), and only there: the ground under a furred sphere
+    # still gets the fur's shadow, wider than the skin's.
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=32, ring_count=16)
+    obj = bpy.context.active_object
+    bpy.ops.object.shade_smooth()
+    obj.pelt.enabled = True
+    obj.pelt.tile_size = 0.3
+    obj.pelt.fur_depth = 0.4
+    bpy.ops.mesh.primitive_plane_add(size=8.0, location=(0.0, 0.0, -1.5))
+    scene = bpy.context.scene
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.data.type = "ORTHO"
+    camera.data.ortho_scale = 8.0
+    camera.location = (0.0, 0.0, 10.0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    sun.data.energy = SUN_STRENGTH
+    sun.data.angle = 0.0
+    # From +x, 45° up: the sphere's shadow falls 1.5 to 3 units toward -x on the ground.
+    sun.rotation_euler = (0.0, math.radians(45.0), 0.0)
+    scene.collection.objects.link(sun)
+    render = scene.render
+    render.resolution_x = render.resolution_y = 64
+    render.resolution_percentage = 100
+    scene.view_settings.view_transform = "Standard"
+    bpy.context.view_layer.objects.active = obj
+    assert bpy.ops.pelt.bake() == {"FINISHED"}
+    furred = cycles_image(scene, tmp_path / "furred.exr", side=64, samples=8)
+    obj.modifiers["Pelt Fur"].show_render = False
+    bald = cycles_image(scene, tmp_path / "bald.exr", side=64, samples=8)
+    # Ground pixels in the sun beside the bald sphere that the fur puts in its shadow: a ring
+    # about the skin's shadow, 55 pixels here (5 when every shell let shadow rays through).
+    lit_bald = bald[..., :3] @ LUMINANCE
+    lit_furred = furred[..., :3] @ LUMINANCE
+    # The ground only: off the furred sphere's disc (radius 1.4 seen from above, 8 pixels a unit).
+    rows, columns = np.mgrid[:64, :64] + 0.5 - 32.0
+    ground = np.hypot(rows, columns) > 1.6 * 8.0
+    sunlit = ground & (lit_bald > 0.9 * np.median(lit_bald))
+    shadowed = sunlit & (lit_furred < 0.8 * lit_bald)
+    assert shadowed.sum() > 20, shadowed.sum()
