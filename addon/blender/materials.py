@@ -125,7 +125,7 @@ def new_fur_material(name: str):
     reach = g.vector_math("LENGTH", _world_vector(g, TOP_ATTRIBUTE))
     path = g.node("ShaderNodeLightPath").outputs
     away = g.math("GREATER_THAN", path["Ray Length"], g.math("MULTIPLY", reach, SELF_REACH))
-    alpha = _seen_alpha(g, g.math("MAXIMUM", coverage, skin), casts=g.math("MAXIMUM", skin, away))
+    alpha = _seen_alpha(g, path, g.math("MAXIMUM", coverage, skin), casts=g.math("MAXIMUM", skin, away))
     height = g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=HEIGHT_ATTRIBUTE)
     _shade(g, _self_shadowed(g, _tinted(g, texel, color), height.outputs["Fac"]), alpha)
     return material
@@ -178,7 +178,7 @@ def new_fin_material(name: str):
     alpha = g.math("MULTIPLY", g.math("MULTIPLY", texel.outputs["Alpha"], color.outputs["Alpha"]), fade)
     hair = _world_attribute(g, GROWTH_ATTRIBUTE)
     lit = _hair_lobes(g, _self_shadowed(g, _tinted(g, texel, color), v), hair, geometry)
-    _output(g, lit, _seen_alpha(g, alpha, casts=0.0))
+    _output(g, lit, _seen_alpha(g, g.node("ShaderNodeLightPath").outputs, alpha, casts=0.0))
     return material
 
 
@@ -261,10 +261,10 @@ def _self_shadowed(g: NodeGraph, color, height):
     return g.vector_math("SCALE", color, scale=g.math("MULTIPLY_ADD", height, SELF_SHADOW, 1.0 - SELF_SHADOW))
 
 
-def _seen_alpha(g: NodeGraph, alpha, *, casts):
+def _seen_alpha(g: NodeGraph, path, alpha, *, casts):
     """``alpha`` for the rays that see the fur; ``alpha × casts`` for shadow and diffuse rays (the
-    fur's shadow on itself is ``_self_shadowed``'s; ``casts`` is 1 where the surface stops them)."""
-    path = g.node("ShaderNodeLightPath").outputs
+    fur's shadow on itself is ``_self_shadowed``'s; ``casts`` is 1 where the surface stops them).
+    ``path``: the outputs of the tree's Light Path node."""
     lighting = g.math("MAXIMUM", path["Is Shadow Ray"], path["Is Diffuse Ray"])
     passes = g.math("MULTIPLY", lighting, g.math("SUBTRACT", 1.0, casts))
     return g.math("MULTIPLY", alpha, g.math("SUBTRACT", 1.0, passes))

@@ -9,6 +9,7 @@ import mathutils
 import numpy as np
 import pelt
 import pytest
+from test_fur_nodes import render
 
 SIDE = 96
 # Rec. 709 luminance weights.
@@ -58,20 +59,14 @@ def furred_sphere_scene(light: str):
     return scene, obj, camera, sun
 
 
-def cycles_image(scene, path, *, side: int = SIDE, samples: int = 16) -> np.ndarray:
-    """Cycles' linear, premultiplied image, top row first."""
+def cycles_image(scene, path, *, samples: int = 16) -> np.ndarray:
+    """Cycles' linear, premultiplied image (OpenEXR, no view transform), top row first."""
     scene.render.engine = "CYCLES"
     scene.cycles.device = "CPU"
     scene.cycles.samples = samples
     scene.cycles.use_denoising = False
     scene.render.image_settings.file_format = "OPEN_EXR"
-    scene.render.filepath = str(path)
-    bpy.ops.render.render(write_still=True)
-    image = bpy.data.images.load(str(path))
-    pixels = np.empty(len(image.pixels), np.float32)
-    image.pixels.foreach_get(pixels)
-    bpy.data.images.remove(image)
-    return pixels.reshape(side, side, 4)[::-1]
+    return render(scene, path)[::-1]
 
 
 def reference_image(scene, obj, camera, sun) -> np.ndarray:
@@ -153,9 +148,9 @@ def test_the_fur_shadows_the_ground_but_not_itself(addon, tmp_path):
     scene.view_settings.view_transform = "Standard"
     bpy.context.view_layer.objects.active = obj
     assert bpy.ops.pelt.bake() == {"FINISHED"}
-    furred = cycles_image(scene, tmp_path / "furred.exr", side=64, samples=8)
+    furred = cycles_image(scene, tmp_path / "furred.exr", samples=8)
     obj.modifiers["Pelt Fur"].show_render = False
-    bald = cycles_image(scene, tmp_path / "bald.exr", side=64, samples=8)
+    bald = cycles_image(scene, tmp_path / "bald.exr", samples=8)
     # Ground pixels in the sun beside the bald sphere that the fur puts in its shadow: a ring
     # about the skin's shadow, 55 pixels here (5 when every shell let shadow rays through).
     lit_bald = bald[..., :3] @ LUMINANCE
