@@ -6,7 +6,9 @@
 //! The preview gets the scene's lights as the add-on hands Blender's to it: a sun's strength ×
 //! color as [`Lighting::color`] with the (black) World's ambient, the sky as SH (PRT) or its mean
 //! radiance as the Kajiya–Kay ambient; everything else stays at the preview's defaults, so the
-//! figures show what a user sees. The volume has 65 layers (untrimmed), so every shell count up to 64 can be drawn.
+//! figures show what a user sees. The volume has 65 layers (untrimmed), so every shell count up to 64 can be drawn;
+//! the `addon` configuration alone is baked and drawn as the add-on does by default (16 layers,
+//! trimmed; marched, LOD on).
 
 use std::path::Path;
 
@@ -26,7 +28,7 @@ use pelt_core::reference::{
     render_reference, render_volume_reference,
 };
 use pelt_core::texture::ImageRef;
-use pelt_core::volume::{PlaneParams, bake_slices};
+use pelt_core::volume::{PlaneParams, VolumeParams, bake_slices};
 use pelt_render::{
     AdapterChoice, Camera, FurScene, KajiyaKay, LightModel, Lighting, Prt, RenderSettings, Renderer,
     ShellMethod, StrandOrder,
@@ -57,6 +59,9 @@ struct Config {
     strand_pixels: f32,
     /// Virtual planes: this many per axis, and the loop limit.
     planes: Option<(usize, u32)>,
+    /// A volume of its own with this many layers, trimmed as the library trims (the others draw
+    /// the cases' 65 untrimmed layers).
+    layers: Option<usize>,
 }
 
 const DEFAULT: Config = Config {
@@ -70,13 +75,15 @@ const DEFAULT: Config = Config {
     strand_order: StrandOrder::Stochastic,
     strand_pixels: 1.0,
     planes: None,
+    layers: None,
 };
 
 /// The configurations drawn: the defaults, marched shells, the hybrid (the overcoat as guard
 /// strands over an undercoat volume; also sorted and without the strand LOD) and the virtual
 /// planes (32 per axis, loop limit 16) in `--quick`; the hybrid marched and at the add-on's
 /// share of 0.1, every shell count, fins off, LOD (Kajiya–Kay and PRT, instanced and marched),
-/// PRT at order 4 (instanced, marched and through the planes) for every object; PRT at every
+/// PRT at order 4 (instanced, marched and through the planes) and the add-on's defaults
+/// (`addon`: its own 16-layer bake, marched, LOD) for every object; PRT at every
 /// order from 2 to 8 and the planes at 16, 32 and 64 per axis with loop limits 8, 16 and 32 on
 /// the study object (the short-furred sphere) only, since each order is a transfer bake and PRT
 /// frames are the slowest on a CPU adapter.
@@ -198,6 +205,15 @@ fn configs(quick: bool, study: bool) -> Vec<Config> {
         method: ShellMethod::VirtualPlanes,
         planes: Some((32, 16)),
         prt_order: Some(4),
+        ..DEFAULT
+    });
+    // What a user gets by default: the add-on's bake (16 layers) and preview (`Auto` marches,
+    // LOD on, fins, Kajiya–Kay).
+    list.push(Config {
+        name: "addon",
+        method: ShellMethod::Marched,
+        lod: true,
+        layers: Some(VolumeParams::default().layers),
         ..DEFAULT
     });
     if study {
@@ -360,6 +376,7 @@ fn object_cases(
     let mut transfer_order = None;
     let mut hybrid: Option<(f64, FurScene)> = None;
     let mut plane_count = None;
+    let mut own_layers: Option<(usize, FurScene)> = None;
     for config in configs(options.quick, study) {
         let runs = |scene: &CanonicalScene| {
             runs_group(&format!("{group}.{}.{}", light_name(scene), config.name), prefix)
@@ -409,8 +426,19 @@ fn object_cases(
             fur.set_planes(renderer, Some(&slices))?;
             plane_count = Some(planes);
         }
-        let drawn = match (&hybrid, config.guard_share) {
-            (Some((_, scene)), Some(_)) => scene,
+        if let Some(layers) = config.layers
+            && own_layers.as_ref().is_none_or(|o| o.0 != layers)
+        {
+            let mut own = params.clone();
+            own.volume.layers = layers;
+            own.volume.trim = VolumeParams::default().trim;
+            // A pipeline of its own, so that the cases after it find the 65-layer volume kept.
+            let baked = Pipeline::new().bake(first.mesh.clone(), &own, None)?;
+            own_layers = Some((layers, FurScene::from_asset(renderer, &baked)?));
+        }
+        let drawn = match (&hybrid, config.guard_share, &own_layers, config.layers) {
+            (Some((_, scene)), Some(_), ..) => scene,
+            (.., Some((_, scene)), Some(_)) => scene,
             _ => &fur,
         };
         let settings = preview_settings(&config);
