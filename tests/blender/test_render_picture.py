@@ -50,10 +50,10 @@ def furred_sphere_scene(light: str):
     background.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
     background.inputs["Strength"].default_value = WORLD
     scene.world = world
-    render = scene.render
-    render.resolution_x = render.resolution_y = SIDE
-    render.resolution_percentage = 100
-    render.film_transparent = True
+    output = scene.render
+    output.resolution_x = output.resolution_y = SIDE
+    output.resolution_percentage = 100
+    output.film_transparent = True
     scene.view_settings.view_transform = "Standard"
     assert bpy.ops.pelt.bake() == {"FINISHED"}
     return scene, obj, camera, sun
@@ -142,9 +142,9 @@ def test_the_fur_shadows_the_ground_but_not_itself(addon, tmp_path):
     # From +x, 45° up: the sphere's shadow falls 1.5 to 3 units toward -x on the ground.
     sun.rotation_euler = (0.0, math.radians(45.0), 0.0)
     scene.collection.objects.link(sun)
-    render = scene.render
-    render.resolution_x = render.resolution_y = 64
-    render.resolution_percentage = 100
+    output = scene.render
+    output.resolution_x = output.resolution_y = 64
+    output.resolution_percentage = 100
     scene.view_settings.view_transform = "Standard"
     bpy.context.view_layer.objects.active = obj
     assert bpy.ops.pelt.bake() == {"FINISHED"}
