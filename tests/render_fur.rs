@@ -178,11 +178,11 @@ fn more_shells_never_cover_less_and_change_the_image() {
 fn zero_length_everywhere_renders_exactly_the_skin() {
     let mut scene = scene();
     let camera = oblique(SIZE);
-    let skin = render(&scene, &camera, &skin_only());
     let before = scene.uploads();
     scene
         .update_attributes(None, Some(&vec![0.0; fixture().mesh.vertex_count()]))
         .unwrap();
+    let skin = render(&scene, &camera, &skin_only());
     let bald = render(&scene, &camera, &settings());
     assert!(
         bald == skin,
@@ -726,6 +726,53 @@ fn a_light_from_the_eye_sees_no_self_shadow_and_a_slanted_one_crosses_more_fur()
         (slanted / expected - 1.0).abs() < 0.03,
         "60°: {slanted}, expected {expected}"
     );
+}
+
+#[test]
+fn painted_length_sets_how_much_fur_shadows_the_skin_and_bald_skin_has_none() {
+    // Banks darkening stands for the fur over the skin: hair painted l times as long crosses l
+    // times as much of it, (1 − b)^l at the skin under the ambient light and l times the
+    // exponent under a slanted sun (60°: 2 (1 − hot spot)). Bald skin (l = 0) is not darkened at
+    // all; before, it was darkened by the whole b, as under fur of length 1 (0.4 of the clear
+    // skin under the ambient light here, 0.18 under the sun).
+    let (mut scene, _) = uniform_skin();
+    let b = 0.6f32;
+    let (s, c) = 60f32.to_radians().sin_cos();
+    let ambient = |self_shadow: f32| Lighting {
+        color: [0.0; 3],
+        model: LightModel::KajiyaKay(KajiyaKay {
+            ambient: [0.4; 3],
+            diffuse: 1.0,
+            specular: 0.0,
+            ..KajiyaKay::default()
+        }),
+        ..sun([s, 0.0, c], 0.0, self_shadow)
+    };
+    let hot_spot = (-60f64.to_radians() / 0.35).exp();
+    let vertices = fixture().mesh.vertex_count();
+    for length in [0.0f32, 0.5] {
+        scene
+            .update_attributes(None, Some(&vec![length; vertices]))
+            .unwrap();
+        let ratio = |shadowed: &Lighting, clear: &Lighting| {
+            let shadowed = skin_over_the_top(&scene, shadowed);
+            let clear = skin_over_the_top(&scene, clear);
+            shadowed.iter().sum::<f64>() / clear.iter().sum::<f64>()
+        };
+        let l = f64::from(length);
+        let under_sky = ratio(&ambient(b), &ambient(0.0));
+        let expected = f64::from(1.0 - b).powf(l);
+        assert!(
+            (under_sky / expected - 1.0).abs() < 0.01,
+            "length {length}, ambient: {under_sky}, expected {expected}"
+        );
+        let under_sun = ratio(&sun([s, 0.0, c], 2.5, b), &sun([s, 0.0, c], 2.5, 0.0));
+        let expected = f64::from(1.0 - b).powf(2.0 * (1.0 - hot_spot) * l);
+        assert!(
+            (under_sun / expected - 1.0).abs() < 0.02,
+            "length {length}, 60° sun: {under_sun}, expected {expected}"
+        );
+    }
 }
 
 #[test]

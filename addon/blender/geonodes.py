@@ -26,8 +26,8 @@ The node group outputs, joined in this order:
    the hair the fin shows, which its material lights); material ``Pelt Fin``.
 
 Missing attributes read as Pelt's defaults: ``pelt_length`` 1, ``pelt_comb`` 0, ``pelt_color``
-white (stored on the output, so the materials always find it). The inputs Layers, Shells, Depth,
-Fins and Tile Size show in the modifier panel.
+white (color and length, at least 0, stored on the output, so the materials always find them).
+The inputs Layers, Shells, Depth, Fins and Tile Size show in the modifier panel.
 """
 
 import bpy
@@ -228,8 +228,8 @@ def _with_default_color(g: NodeGraph, geometry):
 
 def _capture_growth(g: NodeGraph, geometry, depth):
     """Captures, per vertex of the whole mesh, the length multiplier (1 where ``pelt_length`` is
-    missing, never below 0) and ``top``, the offset of the fur's tips; returns the geometry and
-    the two fields."""
+    missing, never below 0; stored as ``pelt_length`` for the materials' self-shadowing) and
+    ``top``, the offset of the fur's tips; returns the geometry and the two fields."""
     length_attribute = _named(g, LENGTH, "FLOAT")
     length = g.node(
         "GeometryNodeSwitch",
@@ -250,7 +250,7 @@ def _capture_growth(g: NodeGraph, geometry, depth):
     capture = g.node("GeometryNodeCaptureAttribute", domain="POINT")
     capture.capture_items.new("VECTOR", "Top")
     capture.capture_items.new("FLOAT", "Length")
-    g.set(capture.inputs["Geometry"], geometry)
+    g.set(capture.inputs["Geometry"], _store(g, geometry, LENGTH, "FLOAT", "POINT", length))
     g.set(capture.inputs["Top"], top)
     g.set(capture.inputs["Length"], length)
     return capture.outputs["Geometry"], capture.outputs["Top"], capture.outputs["Length"]

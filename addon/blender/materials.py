@@ -22,11 +22,12 @@ Both shade as the preview does (``crates/pelt-render/src/lighting.wgsl``), so th
 with it:
 
 - **The fur's shadow on itself is the preview's Banks term** (Lengyel §2.4): the color is darkened
-  by ``SELF_SHADOW`` at the skin, fading to none at the tips (``pelt_height`` on the shells, ``v``
-  on the fins). Shadow and diffuse rays pass the fins, and the shells within ``SELF_REACH`` fur
-  depths of where they started (``pelt_top``, Light Path's Ray Length): the skin, as the
-  preview's body shadow, and shells further away, as the fur's shadow on other things, stop
-  them. A shadow ray through the shells met each layer's
+  by ``SELF_SHADOW`` at the skin under hair of length 1, ``1 - (1 - SELF_SHADOW)^length`` under
+  the painted ``pelt_length`` (none on bald skin), fading to none at the tips (``pelt_height`` on
+  the shells, ``v`` on the fins). Shadow and diffuse rays pass the fins, and the shells within
+  ``SELF_REACH`` fur depths of where they started (``pelt_top``, Light Path's Ray Length): the
+  skin, as the preview's body shadow, and shells further away, as the fur's shadow on other
+  things, stop them. A shadow ray through the shells met each layer's
   coverage as if it were independent of the next, whereas a hair's cross-sections line up along
   it: a slanted light was dimmed again at every layer, so the more shells, the darker (Cycles at
   0.24–0.72 of the reference renderer's strands on a furred sphere at 16 layers).
@@ -44,7 +45,7 @@ crosses (``fur.prepare_scene``).
 import bpy
 import pelt
 
-from ..io.names import COLOR, UV_MAP, datablock_name
+from ..io.names import COLOR, LENGTH, UV_MAP, datablock_name
 from . import templates
 from .node_graph import NodeGraph, output
 
@@ -257,8 +258,14 @@ def _tinted(g: NodeGraph, texel, color):
 
 def _self_shadowed(g: NodeGraph, color, height):
     """``color`` darkened as the preview's Banks term does at ``height`` (0 at the skin, 1 at the
-    tips): by ``SELF_SHADOW`` at the skin, none at the tips."""
-    return g.vector_math("SCALE", color, scale=g.math("MULTIPLY_ADD", height, SELF_SHADOW, 1.0 - SELF_SHADOW))
+    tips) under hair of the painted length ``l`` (``pelt_length``, which the fur's node group
+    stores): by ``b = 1 - (1 - SELF_SHADOW)^l`` at the skin, none at the tips; the factor
+    ``height × b + 1 - b``."""
+    length = g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=LENGTH).outputs["Fac"]
+    clear = g.math("POWER", 1.0 - SELF_SHADOW, length)
+    return g.vector_math(
+        "SCALE", color, scale=g.math("MULTIPLY_ADD", height, g.math("SUBTRACT", 1.0, clear), clear)
+    )
 
 
 def _seen_alpha(g: NodeGraph, path, alpha, *, casts):

@@ -507,3 +507,32 @@ def test_bald_faces_keep_the_objects_own_materials(addon):
     skin = material_of_faces(evaluated(obj))[:base_faces]
     assert set(skin[bald]) == {"Eyes"}
     assert set(skin[~bald]) == {f"Pelt Fur {OBJECT}"}
+
+
+def test_painted_length_sets_how_much_fur_shadows_the_skin_and_bald_skin_has_none(addon, tmp_path):
+    # The material's self-shadowing (the preview's Banks term) reads the painted length that the
+    # node group stores: at the skin, hair of length l darkens by 1 - (1 - SELF_SHADOW)^l, so a
+    # bald sphere's skin (Bald Skin on: no material of its own) is not darkened and half-length
+    # hair darkens it by the square root. Before, every skin was darkened by SELF_SHADOW (ratio 1
+    # between bald and furred). The specular lobe, which the base color does not scale, is off.
+    materials = addon.blender.materials
+    obj, images, layout = furred_sphere(addon, segments=32, rings=16, length=lambda p: np.ones(len(p)))
+    bpy.ops.object.shade_smooth()
+    build(addon, obj, images, layout, settings_for(addon, shells=1, fins=False))
+    material = bpy.data.materials[materials.fur_material_name(obj)]
+    for node in material.node_tree.nodes:
+        if node.bl_idname == "ShaderNodeBsdfPrincipled":
+            node.inputs["Specular IOR Level"].default_value = 0.0
+    scene = staged_scene("CYCLES", 48, 4)
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    mean = {}
+    for length in (1.0, 0.5, 0.0):
+        obj.data.attributes["pelt_length"].data.foreach_set(
+            "value", np.full(len(obj.data.vertices), length, np.float32)
+        )
+        obj.data.update()
+        pixels = render(scene, tmp_path / f"skin_{length}.exr")
+        mean[length] = pixels[covered(pixels)][:, :3].mean()
+    clear = 1.0 - materials.SELF_SHADOW
+    assert mean[0.0] / mean[1.0] == pytest.approx(1.0 / clear, rel=0.01)
+    assert mean[0.5] / mean[1.0] == pytest.approx(clear**-0.5, rel=0.01)

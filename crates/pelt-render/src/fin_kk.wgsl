@@ -23,7 +23,7 @@ struct FinOut {
 fn fin_vertex(v: FinIn, c: FinCorner) -> FinOut {
     let n = unit_or(c.normal, vec3<f32>(0.0, 0.0, 1.0));
     let t = unit_or(c.growth, n);
-    let k = hair_terms(t, n, view_vector(c.position), 1.0 - v.uv.y, c.wrap,
+    let k = hair_terms(t, n, view_vector(c.position), 1.0 - v.uv.y, v.length, c.wrap,
                        body_shadow(c.position, n));
     return FinOut(c.clip, vec4<f32>(v.color.rgb * c.opacity * k.scale, v.uv.x),
                   vec3<f32>(c.opacity * k.shine, v.uv.y, c.opacity));

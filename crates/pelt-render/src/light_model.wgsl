@@ -32,8 +32,9 @@
 //   fn plane_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers,
 //                  grad: vec4<f32>, heights: vec2<f32>) -> HairLight: the same for the virtual
 //     planes.
-//   fn march_banks(f: MarchFrame) -> vec2<f32>
-//     The Banks strengths the march darkens its composite by: x ambient, y direct (PRT: none).
+//   fn march_banks(s: SurfaceOut, f: MarchFrame) -> vec2<f32>
+//     The Banks strengths the march darkens its composite by under the hull's painted length:
+//     x ambient, y direct (PRT: none).
 // The fins: `pelt::fin_kk` or `pelt::fin_prt`
 //   struct FinOut: what crosses from vertex to fragment.
 //   fn fin_vertex(v: FinIn, c: FinCorner) -> FinOut
@@ -84,6 +85,7 @@ struct StrandOut {
     @location(6) @interpolate(flat) weights: vec3<f32>,
     // The strand, which seeds its stochastic coverage.
     @location(7) @interpolate(flat) strand: u32,
-    // The terminator band's width at the root (Kajiya–Kay's `terminator_wrap`).
-    @location(8) @interpolate(flat) wrap: f32,
+    // The terminator band's width at the root (Kajiya–Kay's `terminator_wrap`); the root's
+    // painted length multiplier.
+    @location(8) @interpolate(flat) wrap_length: vec2<f32>,
 };

@@ -29,16 +29,24 @@ fn terminator_wrap(curvature: f32, height: f32) -> f32 {
 // Beer–Lambert has it; and the closer the light comes to the eye's direction, the more of its
 // path is the view ray's own, known clear (the hot spot, Hapke's shadow hiding): the exponent
 // falls to 0 as the light meets the view. The ambient light arrives from every direction and
-// keeps b.
+// keeps b. Hair painted `length` times as long crosses `length` times as much fur, so every
+// exponent is multiplied by it: bald skin (length 0) is not darkened at all, as the reference's
+// bare skin is not (it had been darkened as under fur of length 1: by the default b = 0.15
+// under the ambient light, 0.85^(1/cos) under a slanted sun).
 // Smallest cosine a light's slant is taken at: past the terminator the wrapped N·L fades it.
 const MIN_SLANT_COS: f32 = 0.1;
 
-// The Banks strengths: x for the ambient light, y for the light from `light` seen from `view`.
-fn banks_strengths(normal: vec3<f32>, light: vec3<f32>, view: vec3<f32>) -> vec2<f32> {
+// The Banks strengths: x for the ambient light, y for the light from `light` seen from `view`,
+// under hair of painted `hair_length` (the multiplier of the fur depth).
+fn banks_strengths(normal: vec3<f32>, light: vec3<f32>, view: vec3<f32>,
+                   hair_length: f32) -> vec2<f32> {
     let b = clamp(frame.fur.z, 0.0, 1.0);
+    let fur = max(hair_length, 0.0);
     let slant = 1.0 / max(dot(normal, light), MIN_SLANT_COS);
-    let direct = 1.0 - pow(max(1.0 - b, 1e-8), slant * (1.0 - shared_path(light, view)));
-    return vec2<f32>(b, direct);
+    let direct = 1.0 - pow(max(1.0 - b, 1e-8), slant * (1.0 - shared_path(light, view)) * fur);
+    // b itself at length 1, not pow's approximation of it.
+    let ambient = select(1.0 - pow(max(1.0 - b, 1e-8), fur), b, fur == 1.0);
+    return vec2<f32>(ambient, direct);
 }
 
 // Banks darkening of strength `b` at `height` (share of the fur depth).
@@ -101,38 +109,40 @@ struct HairTerms {
     shine: f32,
 };
 
-// `height` is the share of the fur depth (0 at the skin, 1 at the top of the volume).
+// `height` is the share of the fur depth (0 at the skin, 1 at the top of the volume),
+// `hair_length` the hair's painted length multiplier.
 fn hair_terms(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f32,
-              wrap: f32, shadow: f32) -> HairTerms {
+              hair_length: f32, wrap: f32, shadow: f32) -> HairTerms {
     let p = hair_parts(tangent, normal, view, wrap, shadow);
-    let b = banks_strengths(normal, frame.light_direction.xyz, view);
+    let b = banks_strengths(normal, frame.light_direction.xyz, view, hair_length);
     let direct = banks_at(b.y, height);
     return HairTerms(p.ambient * banks_at(b.x, height) + p.direct * direct, p.shine * direct);
 }
 
 // The hair lighting at one point (see `HairLight` and `hair_terms`).
 fn hair_light(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f32,
-              wrap: f32, shadow: f32) -> HairLight {
-    let k = hair_terms(tangent, normal, view, height, wrap, shadow);
+              hair_length: f32, wrap: f32, shadow: f32) -> HairLight {
+    let k = hair_terms(tangent, normal, view, height, hair_length, wrap, shadow);
     return HairLight(vec3<f32>(0.0), k.scale, frame.light_color.rgb * k.shine);
 }
 
 // `albedo` is premultiplied by `alpha`; so is the result.
 fn shade(albedo: vec3<f32>, alpha: f32, tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>,
-         height: f32, wrap: f32, shadow: f32) -> vec4<f32> {
-    let k = hair_light(tangent, normal, view, height, wrap, shadow);
+         height: f32, hair_length: f32, wrap: f32, shadow: f32) -> vec4<f32> {
+    let k = hair_light(tangent, normal, view, height, hair_length, wrap, shadow);
     return vec4<f32>(albedo * k.scale + alpha * k.add, alpha);
 }
 
 // The skin itself: an opaque surface under the hair roots (where the fur is painted away, the
 // whole of what shows), lit by the wrapped N·L instead of the hair terms. Its tangent map holds
 // the roots' mean direction, nearly the normal, which Kajiya-Kay would light darkest exactly
-// where the light falls straight on. Banks-darkened like the roots above it.
-fn shade_skin(albedo: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, wrap: f32,
+// where the light falls straight on. Banks-darkened like the roots above it, by the fur of
+// painted `hair_length` that stands over it.
+fn shade_skin(albedo: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, hair_length: f32, wrap: f32,
               shadow: f32) -> vec3<f32> {
     let l = frame.light_direction.xyz;
     let lit = clamp((dot(normal, l) + wrap) / (1.0 + wrap), 0.0, 1.0) * shadow;
     let light = frame.light_color.rgb * (lit * frame.kajiya_kay.x);
-    let b = banks_strengths(normal, l, view);
+    let b = banks_strengths(normal, l, view, hair_length);
     return albedo * (ambient_at(normal) * (1.0 - b.x) + light * (1.0 - b.y));
 }

@@ -109,7 +109,7 @@ fn composite_heights(m: Marched) -> vec2<f32> {
 // The composite `m` lit by `k`: the Banks darkening, linear in height, applied to the composite
 // exactly (the ambient's and the direct light's apart), then the vertex color.
 fn lit(s: model::SurfaceOut, f: MarchFrame, m: Marched, k: HairLight) -> vec4<f32> {
-    let b = model::march_banks(f);
+    let b = model::march_banks(s, f);
     let ambient = (1.0 - b.x) * m.color.rgb + b.x * m.raised.rgb;
     let c = (1.0 - b.y) * m.color + b.y * m.raised;
     return vec4<f32>((ambient * k.ambient + c.rgb * k.scale) * s.color.rgb + c.a * k.add,

@@ -11,8 +11,8 @@
 
 @vertex
 fn vs_main(v: SurfaceIn) -> SkinVarying {
-    // The skin is lit as under fur of length multiplier 1, whatever the painted length: painting
-    // lengths (or baldness) changes only the fins and shells, never the skin.
+    // Kajiya–Kay lights the skin under the fur painted over it (bald skin undarkened, with no
+    // terminator band); PRT's transfer is the tile's, as under length 1 (`prt_rotate.wgsl`).
     return skin_vertex(v);
 }
 

@@ -190,7 +190,7 @@ fn vs_main(@builtin(vertex_index) vertex: u32, @builtin(instance_index) band: u3
     out.corners = s.corners.xyz;
     out.weights = s.shape.xyz;
     out.strand = strand;
-    out.wrap = root_wrap(s);
+    out.wrap_length = vec2<f32>(root_wrap(s), s.shape.w);
     return out;
 }
 

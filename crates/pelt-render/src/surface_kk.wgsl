@@ -68,31 +68,33 @@ fn surface_vertex(v: SurfaceIn, layers: Layers, stand: f32, painted: bool) -> Su
                           vec3<u32>(layers.fine, layers.coarse, layers.height));
 }
 
-// The skin needs only its position (for the view), normal, tile UV and color (its texel layers
-// are the frame's).
+// The skin needs only its position (for the view), normal, tile UV, color and painted length
+// (its texel layers are the frame's).
 struct SkinVarying {
     @builtin(position) clip: vec4<f32>,
     @location(0) normal_u: vec4<f32>,
     @location(1) position_v: vec4<f32>,
-    @location(2) color: vec3<f32>,
+    @location(2) color_length: vec4<f32>,
 };
 
 // The skin stays where the mesh is (height 0).
 fn skin_vertex(v: SurfaceIn) -> SkinVarying {
     return SkinVarying(clip_position(v.position), vec4<f32>(v.normal, v.uv.x),
-                       vec4<f32>(v.position, v.uv.y), v.color.rgb);
+                       vec4<f32>(v.position, v.uv.y), vec4<f32>(v.color.rgb, v.length));
 }
 
 // Layer 0 of the level drawn (cross-faded into the coarser level's under LOD) × vertex color,
-// lit as the skin.
+// lit as the skin under the fur painted over it (bald skin: Lambertian, undarkened).
 fn skin_fragment(s: SkinVarying) -> vec3<f32> {
     let layers = skin_layers();
     let uv = vec2<f32>(s.normal_u.w, s.position_v.w);
     let texel = blended(layer_texels(uv, layers.fine, layers.coarse));
     let n = unit_or(s.normal_u.xyz, vec3<f32>(0.0, 0.0, 1.0));
-    let wrap = terminator_wrap(surface_curvature(n, s.position_v.xyz), frame.fur.x);
+    let hair_length = s.color_length.w;
+    let wrap = terminator_wrap(surface_curvature(n, s.position_v.xyz), frame.fur.x * hair_length);
     let shadow = body_shadow(s.position_v.xyz, n);
-    return shade_skin(texel.rgb * s.color, n, view_vector(s.position_v.xyz), wrap, shadow);
+    return shade_skin(texel.rgb * s.color_length.rgb, n, view_vector(s.position_v.xyz), hair_length,
+                      wrap, shadow);
 }
 
 // The terminator band's width under the shell's hair (its painted length × the fur depth).
@@ -114,8 +116,8 @@ fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>,
     let t = tangent_between(s.uv, lit, s.dpdu, s.dpdv, s.up, n);
     let albedo = texel.rgb * s.color.rgb * opacity;
     let height = lit * frame.fur.y;
-    return shade(albedo, texel.a * opacity, t, n, view_vector(s.position), height, wrap,
-                 body_shadow(s.position, n));
+    return shade(albedo, texel.a * opacity, t, n, view_vector(s.position), height, s.length,
+                 wrap, body_shadow(s.position, n));
 }
 
 // The hair tangent of the tangent map carried from the tile frame (x along u, y along v, z up)
@@ -165,8 +167,9 @@ fn plane_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, grad
     return march_light(s, f, uv, layers, 1.0, grad, heights);
 }
 
-// The Banks strengths the march darkens its layers by: x the ambient's, y the direct light's.
-fn march_banks(f: MarchFrame) -> vec2<f32> {
+// The Banks strengths the march darkens its layers by: x the ambient's, y the direct light's,
+// under the hull's painted length.
+fn march_banks(s: SurfaceOut, f: MarchFrame) -> vec2<f32> {
     let n = unit_or(f.normal, vec3<f32>(0.0, 0.0, 1.0));
-    return banks_strengths(n, frame.light_direction.xyz, view_vector(f.position));
+    return banks_strengths(n, frame.light_direction.xyz, view_vector(f.position), s.length);
 }

@@ -169,6 +169,6 @@ fn plane_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, grad
 }
 
 // The transfer holds the hair's self-shadowing: no Banks darkening on top.
-fn march_banks(f: MarchFrame) -> vec2<f32> {
+fn march_banks(s: SurfaceOut, f: MarchFrame) -> vec2<f32> {
     return vec2<f32>(0.0);
 }

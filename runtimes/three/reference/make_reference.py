@@ -9,7 +9,7 @@ renders it with the test's camera and light. Writes, into the folder given:
 - `character.glb`: the export the browser loads;
 - `scene.json`: time, image size, camera (view and projection, column-major, OpenGL clip
   space), light (the preview's Kajiya–Kay parameters, object space = world space here);
-- `preview.png`: the preview's frame (sRGB) on black;
+- `preview.png`: the preview's frame (sRGB) on black (the coat painted bald on one side);
 - `strands_character.glb`, `strands_scene.json`, `strands_preview.png`: the same with a longer
   coat whose guard hairs are strands (the runtime's ribbons against the preview's strands).
 
@@ -114,7 +114,11 @@ def write_scene(out: Path, prefix: str, positions, triangles, *, guard_hairs: bo
     count = len(positions)
     comb = np.tile(np.array([0.0, 0.0, -0.4], np.float32), (count, 1))
     color = np.tile(np.array([0.85, 0.6, 0.35, 1.0], np.float32), (count, 1))
-    mesh = pelt.FurMesh(positions, triangles, comb=comb, color=color)
+    # The short coat is painted: bald on the head's right (the viewer's left), growing to full
+    # length across the face, so the runtime's painted lengths (the skin's self-shadow too) are
+    # compared; the guard-hair coat keeps length 1.
+    length = np.clip((positions[:, 0] + 0.1) / 0.5, 0.0, 1.0) if not guard_hairs else np.ones(count)
+    mesh = pelt.FurMesh(positions, triangles, comb=comb, color=color, length=length.astype(np.float32))
     strands = {"guard_hairs": True, "guard_share": 0.5} if guard_hairs else {}
     hair = pelt.HairParams(density=2500, guard_fraction=0.1 if guard_hairs else 0.05)
     asset = pelt.Pipeline().bake(

@@ -102,7 +102,7 @@ void main() {
 	vec3 t = peltUnitOr( toWorld * g, n );
 	// fins.wgsl vs_main: the terminator band at the edge, from how its normals turn.
 	float wrap = peltTerminatorWrap( peltEdgeCurvature( p0, n0, p1, n1 ), peltFurDepth * peltFin.z );
-	vec4 k = peltHairTerms( t, n, peltViewVector( world.xyz ), 1.0 - peltFin.y, wrap );
+	vec4 k = peltHairTerms( t, n, peltViewVector( world.xyz ), 1.0 - peltFin.y, peltFin.z, wrap );
 	vScaleU = vec4( peltColor.rgb * k.rgb, peltFin.x );
 	vShineVOpacity = vec3( k.w, peltFin.y, opacity );
 #endif

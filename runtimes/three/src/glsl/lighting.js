@@ -38,12 +38,15 @@ float peltSharedPath( vec3 light, vec3 view ) {
 	return exp( -apart / PELT_HOT_SPOT_WIDTH );
 }
 
-// lighting.wgsl banks_strengths(): x for the ambient light, y for the light seen from view.
-vec2 peltBanksStrengths( vec3 normal, vec3 light, vec3 view ) {
+// lighting.wgsl banks_strengths(): x for the ambient light, y for the light seen from view,
+// under hair of painted length hairLength (bald skin is not darkened).
+vec2 peltBanksStrengths( vec3 normal, vec3 light, vec3 view, float hairLength ) {
 	float b = clamp( peltSelfShadow, 0.0, 1.0 );
+	float fur = max( hairLength, 0.0 );
 	float slant = 1.0 / max( dot( normal, light ), PELT_MIN_SLANT_COS );
-	float direct = 1.0 - pow( max( 1.0 - b, 1e-8 ), slant * ( 1.0 - peltSharedPath( light, view ) ) );
-	return vec2( b, direct );
+	float direct = 1.0 - pow( max( 1.0 - b, 1e-8 ), slant * ( 1.0 - peltSharedPath( light, view ) ) * fur );
+	float ambient = fur == 1.0 ? b : 1.0 - pow( max( 1.0 - b, 1e-8 ), fur );
+	return vec2( ambient, direct );
 }
 
 // lighting.wgsl banks_at(): darkening of strength b at height (share of the fur depth).
@@ -77,13 +80,13 @@ void peltHairParts( vec3 tangent, vec3 normal, vec3 view, float wrap, out vec3 a
 }
 
 // lighting.wgsl hair_terms(): the lighting's scale (rgb, multiplies the albedo) and shine (w,
-// times the light color) at height (share of the fur depth).
-vec4 peltHairTerms( vec3 tangent, vec3 normal, vec3 view, float height, float wrap ) {
+// times the light color) at height (share of the fur depth) of hair of painted length hairLength.
+vec4 peltHairTerms( vec3 tangent, vec3 normal, vec3 view, float height, float hairLength, float wrap ) {
 	vec3 ambient;
 	vec3 direct;
 	float shine;
 	peltHairParts( tangent, normal, view, wrap, ambient, direct, shine );
-	vec2 b = peltBanksStrengths( normal, peltLightDirection, view );
+	vec2 b = peltBanksStrengths( normal, peltLightDirection, view, hairLength );
 	float darkened = peltBanksAt( b.y, height );
 	return vec4( ambient * peltBanksAt( b.x, height ) + direct * darkened, shine * darkened );
 }
@@ -91,18 +94,18 @@ vec4 peltHairTerms( vec3 tangent, vec3 normal, vec3 view, float height, float wr
 // lighting.wgsl shade() in straight alpha: the lit color of hair of straight albedo (the texel's
 // rgb × vertex color), albedo × scale + light color × shine. Premultiplying by the fragment's
 // alpha gives the WGSL's albedo × scale + alpha × add.
-vec3 peltShade( vec3 albedo, vec3 tangent, vec3 normal, vec3 view, float height, float wrap ) {
-	vec4 k = peltHairTerms( tangent, normal, view, height, wrap );
+vec3 peltShade( vec3 albedo, vec3 tangent, vec3 normal, vec3 view, float height, float hairLength, float wrap ) {
+	vec4 k = peltHairTerms( tangent, normal, view, height, hairLength, wrap );
 	return albedo * k.rgb + peltLightColor * k.w;
 }
 
 // lighting.wgsl shade_skin(): the skin under the roots, wrapped N·L instead of the hair terms,
-// Banks-darkened like the roots above it.
-vec3 peltShadeSkin( vec3 albedo, vec3 normal, vec3 view, float wrap ) {
+// Banks-darkened like the roots of painted length hairLength above it.
+vec3 peltShadeSkin( vec3 albedo, vec3 normal, vec3 view, float hairLength, float wrap ) {
 	vec3 l = peltLightDirection;
 	float lit = clamp( ( dot( normal, l ) + wrap ) / ( 1.0 + wrap ), 0.0, 1.0 );
 	vec3 light = peltLightColor * ( lit * peltKajiyaKay.x );
-	vec2 b = peltBanksStrengths( normal, l, view );
+	vec2 b = peltBanksStrengths( normal, l, view, hairLength );
 	return albedo * ( peltAmbientAt( normal ) * ( 1.0 - b.x ) + light * ( 1.0 - b.y ) );
 }
 `;

@@ -103,7 +103,7 @@ void main() {
 	vec3 t = peltUnitOr( vTangent, n );
 	// strand_kk.wgsl shade_strand(), straight alpha.
 	// The root triangle's curvature is not in the file: the widest band (strands.wgsl root_wrap).
-	gl_FragColor = vec4( peltShade( vColor.rgb, t, n, peltViewVector( vPosition ), vHeight, PELT_TERMINATOR_WRAP ), vColor.a * vCoverage );
+	gl_FragColor = vec4( peltShade( vColor.rgb, t, n, peltViewVector( vPosition ), vHeight, 1.0, PELT_TERMINATOR_WRAP ), vColor.a * vCoverage );
 	#include <tonemapping_fragment>
 	#include <colorspace_fragment>
 }

@@ -78,7 +78,7 @@ void main() {
 	#include <skinning_vertex>
 #endif
 #ifdef PELT_SKIN
-	// skin.wgsl vs_main: the skin at height 0, lit as under fur of length 1.
+	// skin.wgsl vs_main: the skin at height 0 (its lighting reads the painted length).
 	int layer = 0;
 	float hairLength = 1.0;
 #else
@@ -154,16 +154,12 @@ void main() {
 	vec3 view = peltViewVector( position );
 #ifndef PELT_PRT
 	// surface_kk.wgsl surface_wrap(), before any discard (screen derivatives): the terminator
-	// band under the hair here (the skin's under length 1).
+	// band under the hair painted here.
 	vec3 dpx = dFdx( position );
 	vec3 dpy = dFdy( position );
 	float kx = dot( dFdx( n ), dpx ) / max( dot( dpx, dpx ), 1e-30 );
 	float ky = dot( dFdy( n ), dpy ) / max( dot( dpy, dpy ), 1e-30 );
-	#ifdef PELT_SKIN
-	float furHeight = peltFurDepth;
-	#else
 	float furHeight = peltFurDepth * vPositionLength.w;
-	#endif
 	float wrap = peltTerminatorWrap( max( max( kx, ky ), 0.0 ), furHeight );
 #endif
 #ifdef PELT_SKIN
@@ -174,7 +170,7 @@ void main() {
 	gl_FragColor = vec4( albedo * peltTransferRadiance( atlasUv, 0.0, peltHotSpot( position ) ), 1.0 );
 	#else
 	// surface_kk.wgsl skin_fragment().
-	gl_FragColor = vec4( peltShadeSkin( albedo, n, view, wrap ), 1.0 );
+	gl_FragColor = vec4( peltShadeSkin( albedo, n, view, vPositionLength.w, wrap ), 1.0 );
 	#endif
 #else
 	// shells.wgsl fs_main: bald faces and (nearly) empty texels draw nothing.
@@ -188,7 +184,7 @@ void main() {
 	#else
 	// surface_kk.wgsl shade_surface(), straight alpha: the blend premultiplies.
 	float height = float( vLayer ) * peltLayerSpacing;
-	gl_FragColor = vec4( peltShade( albedo, peltHairTangent( atlasUv, n ), n, view, height, wrap ), alpha );
+	gl_FragColor = vec4( peltShade( albedo, peltHairTangent( atlasUv, n ), n, view, height, vPositionLength.w, wrap ), alpha );
 	#endif
 #endif
 	#include <tonemapping_fragment>
