@@ -776,6 +776,50 @@ fn painted_length_sets_how_much_fur_shadows_the_skin_and_bald_skin_has_none() {
 }
 
 #[test]
+fn bald_skin_under_prt_is_a_bare_lambertian_surface() {
+    // PRT's transfer is the tile's, baked for hair of length 1; bald skin has no hair to shadow
+    // it or to scatter as hair does: it shows albedo × (Kd E/π cos θ + the sky's radiance), as
+    // Kajiya–Kay's bald skin does (Kd the default 0.9, the reference's skin's). Before, the layer-0 transfer lit it as furred skin: 1.17 of
+    // that with the sun at the zenith, 0.63 at 50°. Length 1 keeps the transfer: darker than
+    // bald under the slanted sun (its shadow).
+    let f = fixture();
+    let (mut scene, albedo) = uniform_skin();
+    let transfer = small_transfer(&f.volume, f64::from(FUR_DEPTH) / 0.5);
+    scene.set_transfer(&f.renderer, &transfer).unwrap();
+    let vertices = f.mesh.vertex_count();
+    let strength = 2.5f32;
+    for (degrees, sky) in [(0.0f32, 0.0f32), (50.0, 0.0), (50.0, 0.3)] {
+        let (s, c) = degrees.to_radians().sin_cos();
+        let lighting = Lighting {
+            model: LightModel::Prt(Prt {
+                // A uniform sky of radiance `sky`: only Y_0^0, √(4π) · sky.
+                environment: vec![[sky * (4.0 * std::f32::consts::PI).sqrt(); 3]],
+                ..Prt::default()
+            }),
+            ..sun([s, 0.0, c], strength, 0.0)
+        };
+        let mean = |scene: &mut FurScene, length: f32| {
+            scene
+                .update_attributes(None, Some(&vec![length; vertices]))
+                .unwrap();
+            let reds = skin_over_the_top(scene, &lighting);
+            reds.iter().sum::<f64>() / reds.len() as f64
+        };
+        let (bald, furred) = (mean(&mut scene, 0.0), mean(&mut scene, 1.0));
+        let kd = f64::from(KajiyaKay::default().diffuse);
+        let sun = kd * f64::from(strength) / std::f64::consts::PI * f64::from(c);
+        let expected = albedo * (sun + f64::from(sky));
+        assert!(
+            (bald / expected - 1.0).abs() < 0.02,
+            "{degrees}°, sky {sky}: bald {bald}, expected {expected}"
+        );
+        if degrees > 0.0 {
+            assert!(furred < 0.95 * bald, "{degrees}°: furred {furred}, bald {bald}");
+        }
+    }
+}
+
+#[test]
 fn light_along_a_flat_surface_lights_none_of_its_fur_and_a_curved_one_keeps_its_band() {
     // The wrapped terminator lights hair past the body's shadow line only where the surface
     // curves away under it (√(2 h κ) in N·L, at most 0.3): on a flat grid a sun along the surface

@@ -286,9 +286,9 @@ def test_updates_rewrite_only_colors_and_lengths(asset):
     assert after["attribute_bytes"] > before["attribute_bytes"]
     reddened = preview.render(VIEW, PROJECTION, SIDE, SIDE, lighting="kajiya-kay")
     assert reddened[..., 1].sum() < 0.8 * white[..., 1].sum()
-    # Bald everywhere renders exactly the skin.
-    skin = preview.render(VIEW, PROJECTION, SIDE, SIDE, shells=0, fins=False)
+    # Bald everywhere renders exactly the (bald) skin.
     preview.update(length=np.zeros(vertices, np.float32))
+    skin = preview.render(VIEW, PROJECTION, SIDE, SIDE, shells=0, fins=False)
     assert np.array_equal(preview.render(VIEW, PROJECTION, SIDE, SIDE), skin)
 
 

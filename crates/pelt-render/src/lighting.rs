@@ -185,10 +185,12 @@ pub(super) struct LightingFrame {
     pub direction: [f32; 3],
     /// What a white Lambertian surface facing the light shows: [`Lighting::color`] / π.
     pub color: [f32; 3],
+    /// [`KajiyaKay::ambient`]; under PRT the environment's ([`KajiyaKay::under_environment`]),
+    /// which lights bald skin as a bare surface (`surface_prt.wgsl` `bare_radiance`).
     pub ambient: [f32; 3],
-    /// [`KajiyaKay::ambient_gradient`] (zero under PRT).
+    /// [`KajiyaKay::ambient_gradient`]; under PRT the environment's, as `ambient`.
     pub ambient_gradient: [[f32; 3]; 3],
-    /// `Kd, Ks, Pd, Ps`.
+    /// `Kd, Ks, Pd, Ps`; under PRT the default `Kd` alone, for bald skin.
     pub kajiya_kay: [f32; 4],
     /// Goldman's `ρ_reflect, ρ_transmit` (1, 1 under PRT: no attenuation).
     pub goldman: [f32; 2],
@@ -231,12 +233,14 @@ impl Lighting {
             }
             LightModel::Prt(prt) => {
                 check_prt(prt)?;
+                let bare = KajiyaKay::default().under_environment(&prt.environment);
                 Ok(LightingFrame {
                     direction,
                     color,
-                    ambient: [0.0; 3],
-                    ambient_gradient: [[0.0; 3]; 3],
-                    kajiya_kay: [0.0; 4],
+                    ambient: bare.ambient,
+                    ambient_gradient: bare.ambient_gradient,
+                    // The bald skin's Kd, as the reference's default skin has it.
+                    kajiya_kay: [bare.diffuse, 0.0, 0.0, 0.0],
                     goldman: [1.0; 2],
                     self_shadow: 0.0,
                     prt: Some(prt.clone()),

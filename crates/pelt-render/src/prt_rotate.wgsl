@@ -16,8 +16,8 @@
 // preview's terminator band (`lighting.wgsl` `terminator_wrap`): hair h tall on a surface
 // curving at κ sees √(2hκ) past the terminator in N·L, at most TERMINATOR_WRAP, with κ the
 // vertex's from the mesh (pelt-core `scene::curvature`) and h the fur depth (the skin, which reads
-// this lighting too, is lit as under fur of length 1, whatever is painted: the transfer is the
-// tile's; so a bald coat renders the skin). The light fades over TERMINATOR_WRAP in
+// this lighting too, has it faded as under fur of length 1, whatever is painted; so a bald coat
+// renders exactly the skin). The light fades over TERMINATOR_WRAP in
 // N·L down to that band's edge: on a flat surface it is gone at the horizon, where the fixed
 // band had lit the flat patch's fur 10× the reference's under a grazing sun.
 //

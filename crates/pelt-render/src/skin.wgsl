@@ -11,8 +11,8 @@
 
 @vertex
 fn vs_main(v: SurfaceIn) -> SkinVarying {
-    // Kajiya–Kay lights the skin under the fur painted over it (bald skin undarkened, with no
-    // terminator band); PRT's transfer is the tile's, as under length 1 (`prt_rotate.wgsl`).
+    // Both models light the skin under the fur painted over it: bald skin is a bare Lambertian
+    // surface (Kajiya–Kay: no Banks darkening, no terminator band; PRT: `painted_skin`).
     return skin_vertex(v);
 }
 

@@ -2,9 +2,10 @@
 
 #import pelt::common::{
     frame, skin_vertices, SKIN_FLOATS, skin_vec3, NO_LAYER, Layers, skin_layers, shell_layers,
-    HairLight, growth,
+    HairLight, growth, body_shadow, unit_or, view_vector,
 }
 #import pelt::prt::{transfer_radiance, mean_radiance, hot_spot}
+#import pelt::lighting::shade_skin
 #import pelt::surface::{
     SurfaceData, lift, Texels, layer_texels, blended, uv_gradients, MarchFrame,
 }
@@ -93,7 +94,37 @@ fn skin_vertex(v: SurfaceIn) -> SurfaceVarying {
 fn skin_fragment(v: SurfaceVarying) -> vec3<f32> {
     let s = surface_fragment(v);
     let texels = layer_texels(s.uv, s.layer, s.coarse);
-    return shade_surface(s, texels, 1.0, uv_gradients(s.uv), 0.0).rgb;
+    let furred = shade_surface(s, texels, 1.0, uv_gradients(s.uv), 0.0).rgb;
+    if (s.length == 1.0) {
+        return furred;
+    }
+    return painted_skin(bare_skin(blended(texels).rgb * s.color.rgb, s.ids, s.bary), furred,
+                        s.length);
+}
+
+// The skin of `albedo` between surface vertices `ids` with weights `w` with no fur over it:
+// Kajiya–Kay's bald skin (`shade_skin` at length 0, with no terminator band), a Lambertian
+// surface lit by the sky's irradiance about its normal over π (`frame.ambient`, which PRT sets
+// from its environment too) and by Kd E/π N·L, shadowed by the body. Not the transfer's SH: a
+// sun's band-limited clamped cosine overshoots toward the terminator (a half-bald sphere's bald
+// side at 1.14 of the reference's under a sun from the eye).
+fn bare_skin(albedo: vec3<f32>, ids: vec3<u32>, w: vec3<f32>) -> vec3<f32> {
+    let position = w.x * skin_vec3(ids.x, 0u) + w.y * skin_vec3(ids.y, 0u)
+        + w.z * skin_vec3(ids.z, 0u);
+    let normal = w.x * skin_vec3(ids.x, 3u) + w.y * skin_vec3(ids.y, 3u)
+        + w.z * skin_vec3(ids.z, 3u);
+    let n = unit_or(normal, vec3<f32>(0.0, 0.0, 1.0));
+    return shade_skin(albedo, n, view_vector(position), 0.0, 0.0, body_shadow(position, n));
+}
+
+// The skin under hair of painted length `l`: the transfer's darkening of the bare surface
+// (`furred` over `bare`) to the power l, as Beer–Lambert has it for l times the fur; bare at
+// l = 0 (the tile's transfer, baked for length 1, had lit a half-bald sphere's bald side at 0.61
+// of the reference's under a sun from the eye, 0.21 under one from the side), the transfer
+// itself at l = 1.
+fn painted_skin(bare: vec3<f32>, furred: vec3<f32>, l: f32) -> vec3<f32> {
+    let through = max(furred, vec3<f32>(0.0)) / max(bare, vec3<f32>(1e-6));
+    return bare * pow(max(through, vec3<f32>(1e-8)), vec3<f32>(max(l, 0.0)));
 }
 
 // Each level's texel × vertex color, lit by the transfer of its own layer (the two levels'

@@ -76,8 +76,9 @@ export function usesPrt( lighting, stack ) {
 /**
  * The uniform values of `lighting` (lighting.rs `Lighting::frame`): the unit direction, the color
  * over π, and per model its terms; for PRT of `order` bands the sky's constant coefficient and the
- * cap's per-band weights, both over π (prt_light.rs `world_coefficients`), and the light's share
- * of the lighting, which its hot spot clears of the transfer's shadow.
+ * cap's per-band weights, both over π (prt_light.rs `world_coefficients`), the light's share
+ * of the lighting, which its hot spot clears of the transfer's shadow, and the sky as the
+ * ambient of bald skin.
  */
 export function lightingValues( lighting, order = 0 ) {
 
@@ -102,6 +103,10 @@ export function lightingValues( lighting, order = 0 ) {
 		const sun = values.color.reduce( ( a, c ) => a + c, 0 );
 		const sky = lighting.prt.sky.reduce( ( a, c ) => a + Math.max( c, 0 ), 0 );
 		values.hotSpotShare = sun > 0 ? sun / ( sun + sky ) : 0;
+		// Bald skin is Kajiya–Kay's (surface_prt.wgsl bare_skin): lit by the sky's irradiance
+		// over π, its radiance for a uniform sky.
+		values.ambient = lighting.prt.sky;
+		values.ambientGradient = [ [ 0, 0, 0 ], [ 0, 0, 0 ], [ 0, 0, 0 ] ];
 
 	}
 

@@ -166,8 +166,13 @@ void main() {
 	// skin.wgsl fs_main: layer 0 (premultiplied) × vertex color, opaque.
 	vec3 albedo = texel.rgb * texel.a * vColor.rgb;
 	#ifdef PELT_PRT
-	// surface_prt.wgsl skin_fragment(): lit by the transfer of its own layer.
-	gl_FragColor = vec4( albedo * peltTransferRadiance( atlasUv, 0.0, peltHotSpot( position ) ), 1.0 );
+	// surface_prt.wgsl skin_fragment(): lit by the transfer of its own layer, under hair of
+	// painted length l its darkening of the bare skin (bare_skin) to the power l (painted_skin).
+	vec3 furred = albedo * peltTransferRadiance( atlasUv, 0.0, peltHotSpot( position ) );
+	float l = vPositionLength.w;
+	vec3 bare = peltShadeSkin( albedo, n, view, 0.0, 0.0 );
+	vec3 through = max( furred, vec3( 0.0 ) ) / max( bare, vec3( 1e-6 ) );
+	gl_FragColor = vec4( l == 1.0 ? furred : bare * pow( max( through, vec3( 1e-8 ) ), vec3( max( l, 0.0 ) ) ), 1.0 );
 	#else
 	// surface_kk.wgsl skin_fragment().
 	gl_FragColor = vec4( peltShadeSkin( albedo, n, view, vPositionLength.w, wrap ), 1.0 );
