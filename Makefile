@@ -132,6 +132,7 @@ check-three: setup check-gltf $(THREE_STAMP)
 		PELT_BLENDER_GLB=$(CURDIR)/$(THREE_BLENDER_DIR)/blender_character.glb npm test --prefix $(THREE_DIR)
 	$(PY) $(THREE_DIR)/reference/compare.py $(THREE_REFERENCE)/preview.png $(THREE_DIR)/test/out/reference_three.png
 	$(PY) $(THREE_DIR)/reference/compare.py $(THREE_REFERENCE)/strands_preview.png $(THREE_DIR)/test/out/strands_three.png 0.10
+	$(PY) $(THREE_DIR)/reference/compare.py $(THREE_REFERENCE)/prt_preview.png $(THREE_DIR)/test/out/prt_reference_three.png 0.045
 
 check-python: setup
 	$(VENV)/bin/ruff check addon blender_scripts scripts tests/blender tests/fuzz python runtimes/three/reference

@@ -11,7 +11,9 @@ renders it with the test's camera and light. Writes, into the folder given:
   space), light (the preview's Kajiya–Kay parameters, object space = world space here);
 - `preview.png`: the preview's frame (sRGB) on black (the coat painted bald on one side);
 - `strands_character.glb`, `strands_scene.json`, `strands_preview.png`: the same with a longer
-  coat whose guard hairs are strands (the runtime's ribbons against the preview's strands).
+  coat whose guard hairs are strands (the runtime's ribbons against the preview's strands);
+- `prt_character.glb`, `prt_scene.json`, `prt_preview.png`: the painted coat with its transfer,
+  lit by PRT (a sun and a uniform sky).
 
 Run with the project's virtual environment: `python make_reference.py OUT_DIR`.
 """
@@ -105,12 +107,20 @@ def main(out: Path) -> None:
     positions, triangles = suzanne()
     write_scene(out, "", positions, triangles, guard_hairs=False)
     write_scene(out, "strands_", positions, triangles, guard_hairs=True)
+    write_scene(out, "prt_", positions, triangles, guard_hairs=False, prt=True)
 
 
-def write_scene(out: Path, prefix: str, positions, triangles, *, guard_hairs: bool) -> None:
+# The PRT scene's sky: a uniform radiance (linear RGB), and the sun's cap radius.
+PRT_SKY = 0.15
+PRT_LIGHT_RADIUS = 0.2
+
+
+def write_scene(
+    out: Path, prefix: str, positions, triangles, *, guard_hairs: bool, prt: bool = False
+) -> None:
     """The scene's files under ``out``, named with ``prefix``: with ``guard_hairs``, a longer coat
     whose guard hairs are strands (the preview composites them in its "depth" order, as the
-    three.js runtime draws them)."""
+    three.js runtime draws them); with ``prt``, the coat's transfer baked and PRT lighting."""
     count = len(positions)
     comb = np.tile(np.array([0.0, 0.0, -0.4], np.float32), (count, 1))
     color = np.tile(np.array([0.85, 0.6, 0.35, 1.0], np.float32), (count, 1))
@@ -123,7 +133,7 @@ def write_scene(out: Path, prefix: str, positions, triangles, *, guard_hairs: bo
     hair = pelt.HairParams(density=2500, guard_fraction=0.1 if guard_hairs else 0.05)
     asset = pelt.Pipeline().bake(
         mesh, tile_size=0.3, fur_depth=0.15 if guard_hairs else 0.08, layers=16, resolution=64, hair=hair,
-        transfer=False, seed=7, **strands,
+        transfer=prt, seed=7, **strands,
     )  # fmt: skip
 
     names, parents, rest, times, poses = skeleton()
@@ -157,6 +167,10 @@ def write_scene(out: Path, prefix: str, positions, triangles, *, guard_hairs: bo
     view = look_at((0.0, -4.2, 0.6), (0.0, 0.0, 0.1), (0.0, 0.0, 1.0))
     projection = perspective(math.radians(38.0), 1.0, 0.1, 100.0)
     lighting = {"model": "kajiya-kay", "direction": (0.4, -0.5, 0.75), "color": (math.pi,) * 3}
+    if prt:
+        sky = np.zeros((asset.transfer["order"] ** 2, 3), np.float32)
+        sky[0] = PRT_SKY * math.sqrt(4 * math.pi)
+        lighting = {**lighting, "model": "prt", "environment": sky, "light_radius": PRT_LIGHT_RADIUS}
     preview = pelt.Preview(asset, adapter="cpu")
     preview.deform(posed)
     black = (0.0, 0.0, 0.0, 1.0)
@@ -180,7 +194,9 @@ def write_scene(out: Path, prefix: str, positions, triangles, *, guard_hairs: bo
         "height": SIZE,
         "view": view.T.reshape(-1).tolist(),
         "projection": projection.T.reshape(-1).tolist(),
-        "lighting": {"direction": lighting["direction"], "color": lighting["color"]},
+        # The runtime's lighting options (runtimes/three/src/lighting.js).
+        "lighting": {"direction": lighting["direction"], "color": lighting["color"]}
+        | ({"model": "prt", "prt": {"sky": [PRT_SKY] * 3, "lightRadius": PRT_LIGHT_RADIUS}} if prt else {}),
         "shells": int(asset.layers - 1),
     }
     if guard_hairs:

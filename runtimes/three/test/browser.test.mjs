@@ -2,8 +2,8 @@
 // extension, hides the fallback, draws the fur in two draw calls per object, the fur adds
 // coverage around the silhouette, the animation moves it and the distance LOD thins it; and the
 // frame the wgpu preview drew of a nodding Suzanne (reference/make_reference.py) comes out with
-// the same mean luminance within 10 %, with guard hairs too, drawn as ribbons (make check-three
-// then bounds their ꟻLIP differences with reference/compare.py); and the character Blender's add-on exported (eyes and all) draws and
+// the same mean luminance within 10 %, with guard hairs too, drawn as ribbons, and under PRT (make
+// check-three then bounds their ꟻLIP differences with reference/compare.py); and the character Blender's add-on exported (eyes and all) draws and
 // bends. Screenshots go to test/out/. The browser is the system's
 // (PELT_CHROMIUM, default /usr/bin/chromium); nothing is downloaded. A missing model, reference
 // or browser fails the tests.
@@ -365,16 +365,18 @@ function luminanceRatio( t, preview, three ) {
 
 }
 
-test( 'the example draws the frame the wgpu preview draws', { timeout: 120_000 }, async ( t ) => {
+/** The example draws reference/make_reference.py's scene `prefix`scene.json as the preview drew it. */
+async function drawsThePreviewsFrame( t, prefix, prt ) {
 
-	const description = JSON.parse( readFileSync( join( REFERENCE, 'scene.json' ), 'utf8' ) );
-	const { page, problems, summary } = await openExample( 'scene=/reference/scene.json' );
+	const description = JSON.parse( readFileSync( join( REFERENCE, `${prefix}scene.json` ), 'utf8' ) );
+	const { page, problems, summary } = await openExample( `scene=/reference/${prefix}scene.json` );
 	assert.deepEqual( problems, [] );
 	assert.equal( summary.furs.length, 1 );
+	assert.equal( summary.furs[ 0 ].prt, prt, prt ? 'lit by PRT' : 'lit by Kajiya-Kay' );
 	assert.equal( summary.furs[ 0 ].drawnShells, description.shells, 'every shell, as the preview' );
 	const three = await frame( page, description.time, true );
-	save( 'reference_three.png', three );
-	const preview = await servedImage( page, '/reference/preview.png' );
+	save( `${prefix}reference_three.png`, three );
+	const preview = await servedImage( page, `/reference/${prefix}preview.png` );
 	const { covered, ratio } = luminanceRatio( t, preview, three.rgba );
 	assert.ok( covered > 20_000, `the preview covers ${covered} px` );
 	const time = await page.evaluate( () => window.pelt.frameTimeMs );
@@ -383,7 +385,11 @@ test( 'the example draws the frame the wgpu preview draws', { timeout: 120_000 }
 	assert.deepEqual( problems, [] );
 	await page.close();
 
-} );
+}
+
+test( 'the example draws the frame the wgpu preview draws', { timeout: 120_000 }, ( t ) => drawsThePreviewsFrame( t, '', false ) );
+
+test( 'the example draws the frame the wgpu preview draws under PRT', { timeout: 120_000 }, ( t ) => drawsThePreviewsFrame( t, 'prt_', true ) );
 
 test( 'the guard hairs draw as ribbons, as the preview draws its strands', { timeout: 180_000 }, async ( t ) => {
 
