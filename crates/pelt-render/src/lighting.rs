@@ -186,7 +186,7 @@ pub(super) struct LightingFrame {
     /// What a white Lambertian surface facing the light shows: [`Lighting::color`] / π.
     pub color: [f32; 3],
     /// [`KajiyaKay::ambient`]; under PRT the environment's ([`KajiyaKay::under_environment`]),
-    /// which lights bald skin as a bare surface (`surface_prt.wgsl` `bare_radiance`).
+    /// which lights bald skin as a bare surface (`surface_prt.wgsl` `bare_skin`).
     pub ambient: [f32; 3],
     /// [`KajiyaKay::ambient_gradient`]; under PRT the environment's, as `ambient`.
     pub ambient_gradient: [[f32; 3]; 3],
