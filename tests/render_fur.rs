@@ -17,7 +17,7 @@ use pelt::render::{
 use pelt::{FurMesh, MeshInput};
 
 use common::torus::{FurredTorus, covered};
-use common::volume::small_transfer;
+use common::volume::{paint_skin, small_transfer};
 use common::{column_major, look_at, parameter_name, perspective};
 
 const AROUND: usize = 32;
@@ -636,16 +636,7 @@ fn auto_shells_march_on_the_cpu_adapter() {
 fn uniform_skin() -> (FurScene, f64) {
     let f = fixture();
     let mut volume = f.volume.clone();
-    let plane = volume.resolution * volume.resolution;
-    for texel in volume.shells[..4 * plane].chunks_exact_mut(4) {
-        texel.copy_from_slice(&[188, 188, 188, 255]);
-    }
-    for (k, mip) in volume.mips.iter_mut().enumerate() {
-        let side = (volume.resolution >> (k + 1)).max(1);
-        for texel in mip[..4 * side * side].chunks_exact_mut(4) {
-            texel.copy_from_slice(&[188, 188, 188, 255]);
-        }
-    }
+    paint_skin(&mut volume, |texel| texel.copy_from_slice(&[188, 188, 188, 255]));
     let albedo = f64::from(pelt::texture::color::srgb_to_linear(188.0 / 255.0));
     (
         FurScene::new(&f.renderer, &f.mesh, &f.uvs, &volume, FUR_DEPTH).unwrap(),
@@ -779,8 +770,8 @@ fn painted_length_sets_how_much_fur_shadows_the_skin_and_bald_skin_has_none() {
 fn bald_skin_under_prt_is_a_bare_lambertian_surface() {
     // PRT's transfer is the tile's, baked for hair of length 1; bald skin has no hair to shadow
     // it or to scatter as hair does: it shows albedo × (Kd E/π cos θ + the sky's radiance), as
-    // Kajiya–Kay's bald skin does (Kd the default 0.9, the reference's skin's). Before, the layer-0 transfer lit it as furred skin: 1.17 of
-    // that with the sun at the zenith, 0.63 at 50°. Length 1 keeps the transfer: darker than
+    // Kajiya–Kay's bald skin does (Kd the default 0.9, the reference's skin's). Before, the
+    // layer-0 transfer lit it as furred skin: 1.17 of that with the sun at the zenith, 0.63 at 50°. Length 1 keeps the transfer: darker than
     // bald under the slanted sun (its shadow).
     let f = fixture();
     let (mut scene, albedo) = uniform_skin();

@@ -8,7 +8,7 @@ mod common;
 
 use std::sync::OnceLock;
 
-use common::volume::small_volume;
+use common::volume::{paint_skin, small_volume};
 use common::{column_major, orthographic, parameter_name, perspective, view_matrix};
 use glam::{DMat3, DMat4};
 use pelt::prt::pack::{PackedF16, pack_f16, texel_index};
@@ -696,16 +696,7 @@ fn half_length_hair_under_prt_lights_as_a_coat_baked_half_as_deep() {
     // A black skin (layer 0's albedo, and its mips', zero): the bald skin's own model differs
     // from the transfer's, and half the depth shows more of it.
     let mut volume = f.volume.clone();
-    let plane = volume.resolution * volume.resolution;
-    for texel in volume.shells[..4 * plane].chunks_exact_mut(4) {
-        texel[..3].fill(0);
-    }
-    for (k, mip) in volume.mips.iter_mut().enumerate() {
-        let side = (volume.resolution >> (k + 1)).max(1);
-        for texel in mip[..4 * side * side].chunks_exact_mut(4) {
-            texel[..3].fill(0);
-        }
-    }
+    paint_skin(&mut volume, |texel| texel[..3].fill(0));
     let (mesh, uvs) = grid(8, |p| p);
     let camera = looking_at_the_grid_from([-1.2, 1.6, 1.5]);
     let lighting = Lighting {

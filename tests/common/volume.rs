@@ -32,6 +32,16 @@ pub fn small_volume(layers: usize) -> HairVolume {
     bake_volume(&hair, &params, None).expect("the small test volume bakes")
 }
 
+/// Rewrites every texel of `volume`'s layer 0 (the skin) and of its mips with `paint`.
+pub fn paint_skin(volume: &mut HairVolume, paint: impl Fn(&mut [u8])) {
+    let plane = volume.resolution * volume.resolution;
+    volume.shells[..4 * plane].chunks_exact_mut(4).for_each(&paint);
+    for (k, mip) in volume.mips.iter_mut().enumerate() {
+        let side = (volume.resolution >> (k + 1)).max(1);
+        mip[..4 * side * side].chunks_exact_mut(4).for_each(&paint);
+    }
+}
+
 /// A small order-3 PRT transfer of `volume` (64 directions), its fur `depth_in_tiles` tiles deep,
 /// packed as a scene takes it.
 pub fn small_transfer(volume: &HairVolume, depth_in_tiles: f64) -> PackedF16 {

@@ -109,11 +109,8 @@ fn skin_fragment(v: SurfaceVarying) -> vec3<f32> {
 // sun's band-limited clamped cosine overshoots toward the terminator (a half-bald sphere's bald
 // side at 1.14 of the reference's under a sun from the eye).
 fn bare_skin(albedo: vec3<f32>, ids: vec3<u32>, w: vec3<f32>) -> vec3<f32> {
-    let position = w.x * skin_vec3(ids.x, 0u) + w.y * skin_vec3(ids.y, 0u)
-        + w.z * skin_vec3(ids.z, 0u);
-    let normal = w.x * skin_vec3(ids.x, 3u) + w.y * skin_vec3(ids.y, 3u)
-        + w.z * skin_vec3(ids.z, 3u);
-    let n = unit_or(normal, vec3<f32>(0.0, 0.0, 1.0));
+    let position = skin_between(ids, w, 0u);
+    let n = unit_or(skin_between(ids, w, 3u), vec3<f32>(0.0, 0.0, 1.0));
     return shade_skin(albedo, n, view_vector(position), 0.0, 0.0, body_shadow(position, n));
 }
 
@@ -154,17 +151,21 @@ fn surface_wrap(s: SurfaceOut) -> f32 {
     return 0.0;
 }
 
+// The vec3 at float `offset` of the skin vertices `ids` (pulled, as the vertex shader does),
+// interpolated with weights `w`.
+fn skin_between(ids: vec3<u32>, w: vec3<f32>, offset: u32) -> vec3<f32> {
+    return w.x * skin_vec3(ids.x, offset) + w.y * skin_vec3(ids.y, offset)
+        + w.z * skin_vec3(ids.z, offset);
+}
+
 // The hull fragment's point and tile frame for the marched shells (`marched.wgsl`), interpolated
 // from the geometry of the triangle's three surface vertices (pulled, as the vertex shader does;
 // the fragment stage reads no color or length buffer, within the storage buffer limit).
 fn march_frame(s: SurfaceOut) -> MarchFrame {
-    let w = s.bary;
-    let ids = s.ids;
     var at: array<vec3<f32>, 5>;
     // position, normal, dP/du, dP/dv at float offsets 0, 3, 6, 9; comb at 14.
     for (var k = 0u; k < 5u; k++) {
-        let o = select(3u * k, 14u, k == 4u);
-        at[k] = w.x * skin_vec3(ids.x, o) + w.y * skin_vec3(ids.y, o) + w.z * skin_vec3(ids.z, o);
+        at[k] = skin_between(s.ids, s.bary, select(3u * k, 14u, k == 4u));
     }
     let up = frame.fur.x * s.length * growth(at[1], at[4]);
     let height = f32(shell_layers(frame.counts.x - 1u).height) * frame.fur.y;
