@@ -769,10 +769,11 @@ fn painted_length_sets_how_much_fur_shadows_the_skin_and_bald_skin_has_none() {
 #[test]
 fn bald_skin_under_prt_is_a_bare_lambertian_surface() {
     // PRT's transfer is the tile's, baked for hair of length 1; bald skin has no hair to shadow
-    // it or to scatter as hair does: it shows albedo × (Kd E/π cos θ + the sky's radiance), as
-    // Kajiya–Kay's bald skin does (Kd the default 0.9, the reference's skin's). Before, the
-    // layer-0 transfer lit it as furred skin: 1.17 of that with the sun at the zenith, 0.63 at 50°. Length 1 keeps the transfer: darker than
-    // bald under the slanted sun (its shadow).
+    // it or to scatter as hair does: it shows albedo × Kd × (E/π cos θ + the sky's radiance),
+    // as Kajiya–Kay's bald skin and the reference's Lambertian skin do (Kd the default 0.9).
+    // Before, the layer-0 transfer lit it as furred skin: 1.17 of that with the sun at the
+    // zenith, 0.63 at 50°; with the sky unscaled by Kd, 1.04 under the sky. Length 1 keeps the
+    // transfer: darker than bald under the slanted sun (its shadow).
     let f = fixture();
     let (mut scene, albedo) = uniform_skin();
     let transfer = small_transfer(&f.volume, f64::from(FUR_DEPTH) / 0.5);
@@ -798,8 +799,8 @@ fn bald_skin_under_prt_is_a_bare_lambertian_surface() {
         };
         let (bald, furred) = (mean(&mut scene, 0.0), mean(&mut scene, 1.0));
         let kd = f64::from(KajiyaKay::default().diffuse);
-        let sun = kd * f64::from(strength) / std::f64::consts::PI * f64::from(c);
-        let expected = albedo * (sun + f64::from(sky));
+        let sun = f64::from(strength) / std::f64::consts::PI * f64::from(c);
+        let expected = albedo * kd * (sun + f64::from(sky));
         assert!(
             (bald / expected - 1.0).abs() < 0.02,
             "{degrees}°, sky {sky}: bald {bald}, expected {expected}"

@@ -9,8 +9,8 @@
 image, so the sample must never blend two cells: the image is read with Closest interpolation
 (no filtering across a border, and no mipmaps whose texels would straddle two layers) and the
 in-cell coordinate is kept half a texel inside the cell, so even a coordinate landing exactly on a
-border reads its own layer. Color = texel × ``pelt_color``; alpha = texel alpha × the color's alpha,
-1 on the skin (layer 0).
+border reads its own layer. Color = texel × ``pelt_color`` (× ``HAIR_DIFFUSE`` on the skin, the
+preview's Lambertian ``Kd``); alpha = texel alpha × the color's alpha, 1 on the skin (layer 0).
 
 ``Pelt Fin`` samples the fin texture at ``pelt_fin_uv`` (``u`` along the edge, repeating; ``v`` 0 at
 the root, 1 at the tip, kept half a texel inside so the tip never wraps to the root) and fades the
@@ -128,7 +128,8 @@ def new_fur_material(name: str):
     away = g.math("GREATER_THAN", path["Ray Length"], g.math("MULTIPLY", reach, SELF_REACH))
     alpha = _seen_alpha(g, path, g.math("MAXIMUM", coverage, skin), casts=g.math("MAXIMUM", skin, away))
     height = g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=HEIGHT_ATTRIBUTE)
-    _shade(g, _self_shadowed(g, _tinted(g, texel, color), height.outputs["Fac"]), alpha)
+    base = _self_shadowed(g, _skin_weighted(g, _tinted(g, texel, color), skin), height.outputs["Fac"])
+    _shade(g, base, alpha)
     return material
 
 
@@ -254,6 +255,12 @@ def _tinted(g: NodeGraph, texel, color):
         blend_type="MULTIPLY",
     )
     return output(mix, "Result")
+
+
+def _skin_weighted(g: NodeGraph, color, skin):
+    """``color`` × ``HAIR_DIFFUSE`` on the skin (``skin`` 1 there, 0 on the shells): the
+    preview's and the reference's skin is Lambertian with that ``Kd`` under every light."""
+    return g.vector_math("SCALE", color, scale=g.math("MULTIPLY_ADD", skin, HAIR_DIFFUSE - 1.0, 1.0))
 
 
 def _self_shadowed(g: NodeGraph, color, height):

@@ -509,6 +509,51 @@ def test_bald_faces_keep_the_objects_own_materials(addon):
     assert set(skin[~bald]) == {f"Pelt Fur {OBJECT}"}
 
 
+def one_shell_in_cycles(addon, obj, images, layout, *, samples: int):
+    """Builds ``obj``'s fur smooth-shaded with one shell and no fins, its material's specular
+    lobe off (the base color does not scale it); returns the staged Cycles scene writing EXR."""
+    bpy.ops.object.shade_smooth()
+    build(addon, obj, images, layout, settings_for(addon, shells=1, fins=False))
+    material = bpy.data.materials[addon.blender.materials.fur_material_name(obj)]
+    for node in material.node_tree.nodes:
+        if node.bl_idname == "ShaderNodeBsdfPrincipled":
+            node.inputs["Specular IOR Level"].default_value = 0.0
+    scene = staged_scene("CYCLES", 48, samples)
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    return scene
+
+
+def test_bald_skin_is_lambertian_with_the_previews_diffuse_coefficient(addon, tmp_path):
+    # The preview's and the reference's skin is Lambertian with Kd = HAIR_DIFFUSE under every
+    # light; a white bald skin (bald faces grow no shells; white atlas, white paint) renders at
+    # HAIR_DIFFUSE of a plain white Principled BSDF on the same sphere, under the sun and the
+    # world alike. Before, the skin took no Kd (ratio 1). The specular lobes are off.
+    def bald(p):
+        return np.zeros(len(p))
+
+    def white(p):
+        return np.ones((len(p), 4))
+
+    obj, images, layout = furred_sphere(addon, segments=32, rings=16, length=bald, color=white)
+    atlas = images["shells"]
+    blank = np.full((atlas.size[1], atlas.size[0], 4), 255, np.uint8)
+    addon.io.bridge.write_image(bpy.data.images, atlas.name, blank, image=atlas)
+    scene = one_shell_in_cycles(addon, obj, images, layout, samples=16)
+    fur = render(scene, tmp_path / "fur.exr")
+    plain = bpy.data.materials.new("Plain")
+    plain.use_nodes = True
+    plain.node_tree.nodes["Principled BSDF"].inputs["Specular IOR Level"].default_value = 0.0
+    plain.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    obj.modifiers["Pelt Fur"].show_render = False
+    obj.data.materials.clear()
+    obj.data.materials.append(plain)
+    bare = render(scene, tmp_path / "plain.exr")
+    seen = covered(fur) & covered(bare)
+    assert seen.sum() > 500
+    ratio = fur[seen][:, :3].mean() / bare[seen][:, :3].mean()
+    assert ratio == pytest.approx(addon.blender.materials.HAIR_DIFFUSE, rel=0.01)
+
+
 def test_painted_length_sets_how_much_fur_shadows_the_skin_and_bald_skin_has_none(addon, tmp_path):
     # The material's self-shadowing (the preview's Banks term) reads the painted length that the
     # node group stores: at the skin, hair of length l darkens by 1 - (1 - SELF_SHADOW)^l, so a
@@ -517,14 +562,7 @@ def test_painted_length_sets_how_much_fur_shadows_the_skin_and_bald_skin_has_non
     # between bald and furred). The specular lobe, which the base color does not scale, is off.
     materials = addon.blender.materials
     obj, images, layout = furred_sphere(addon, segments=32, rings=16, length=lambda p: np.ones(len(p)))
-    bpy.ops.object.shade_smooth()
-    build(addon, obj, images, layout, settings_for(addon, shells=1, fins=False))
-    material = bpy.data.materials[materials.fur_material_name(obj)]
-    for node in material.node_tree.nodes:
-        if node.bl_idname == "ShaderNodeBsdfPrincipled":
-            node.inputs["Specular IOR Level"].default_value = 0.0
-    scene = staged_scene("CYCLES", 48, 4)
-    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene = one_shell_in_cycles(addon, obj, images, layout, samples=4)
     mean = {}
     for length in (1.0, 0.5, 0.0):
         obj.data.attributes["pelt_length"].data.foreach_set(

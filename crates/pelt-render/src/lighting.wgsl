@@ -137,12 +137,14 @@ fn shade(albedo: vec3<f32>, alpha: f32, tangent: vec3<f32>, normal: vec3<f32>, v
 // whole of what shows), lit by the wrapped N·L instead of the hair terms. Its tangent map holds
 // the roots' mean direction, nearly the normal, which Kajiya-Kay would light darkest exactly
 // where the light falls straight on. Banks-darkened like the roots above it, by the fur of
-// painted `hair_length` that stands over it.
+// painted `hair_length` that stands over it. A Lambertian surface: Kd scales the sky's light as
+// it does the sun's (the reference's skin; the ambient alone unscaled had lit bald skin under a
+// sky at 1.155 of it).
 fn shade_skin(albedo: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, hair_length: f32, wrap: f32,
               shadow: f32) -> vec3<f32> {
     let l = frame.light_direction.xyz;
     let lit = clamp((dot(normal, l) + wrap) / (1.0 + wrap), 0.0, 1.0) * shadow;
-    let light = frame.light_color.rgb * (lit * frame.kajiya_kay.x);
     let b = banks_strengths(normal, l, view, hair_length);
-    return albedo * (ambient_at(normal) * (1.0 - b.x) + light * (1.0 - b.y));
+    let light = ambient_at(normal) * (1.0 - b.x) + frame.light_color.rgb * (lit * (1.0 - b.y));
+    return albedo * (frame.kajiya_kay.x * light);
 }

@@ -104,8 +104,8 @@ vec3 peltShade( vec3 albedo, vec3 tangent, vec3 normal, vec3 view, float height,
 vec3 peltShadeSkin( vec3 albedo, vec3 normal, vec3 view, float hairLength, float wrap ) {
 	vec3 l = peltLightDirection;
 	float lit = clamp( ( dot( normal, l ) + wrap ) / ( 1.0 + wrap ), 0.0, 1.0 );
-	vec3 light = peltLightColor * ( lit * peltKajiyaKay.x );
 	vec2 b = peltBanksStrengths( normal, l, view, hairLength );
-	return albedo * ( peltAmbientAt( normal ) * ( 1.0 - b.x ) + light * ( 1.0 - b.y ) );
+	vec3 light = peltAmbientAt( normal ) * ( 1.0 - b.x ) + peltLightColor * ( lit * ( 1.0 - b.y ) );
+	return albedo * ( peltKajiyaKay.x * light );
 }
 `;
