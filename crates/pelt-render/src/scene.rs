@@ -171,6 +171,9 @@ pub struct FurScene {
     pub(super) levels: Levels,
     /// Level 0's opacity `[L][R²]`, which weighs the transfer of the LOD composites.
     alpha: Vec<u8>,
+    /// Level 0's color luminance `[L][R²]` (sRGB-encoded), which weighs the light each member of
+    /// an LOD composite shows (`transfer::composite_members`).
+    shade: Vec<u8>,
     /// Per array layer of every level, the level-0 height it stands at (`stand_heights.rs`).
     pub(super) stand_heights: Vec<f32>,
     /// Bounding sphere and longest painted length, for the LOD schedule.
@@ -298,6 +301,7 @@ impl FurScene {
         textures::validate(volume, &device.limits())?;
         let levels = Levels::new(volume.layers as u32);
         let alpha: Vec<u8> = volume.shells.chunks_exact(4).map(|px| px[3]).collect();
+        let shade = pool().install(|| transfer::texel_shades(&volume.shells));
         let surface = surface_mesh::build(mesh, corner_uvs)?;
         let layouts = renderer.fur_layouts()?;
         let colors = mesh
@@ -394,6 +398,7 @@ impl FurScene {
             levels,
             stand_heights: stand_heights(&alpha, volume.layers, volume.resolution * volume.resolution),
             alpha,
+            shade,
             extent,
             transfer: None,
             uploads,
@@ -492,8 +497,14 @@ impl FurScene {
             let alphas = transfer::level_alphas(&self.alpha, &self.levels, texels);
             let per_texture = transfer::premultiplied_levels(transfer, &alphas, &self.levels);
             let mut means = transfer::layer_means(transfer, &self.alpha, order);
-            let members =
-                transfer::composite_members(transfer, &alphas, &self.levels, order, self.layers as usize);
+            let members = transfer::composite_members(
+                transfer,
+                &alphas,
+                &self.shade,
+                &self.levels,
+                order,
+                self.layers as usize,
+            );
             means.extend_from_slice(&members.rows);
             (
                 means,

@@ -446,11 +446,12 @@ fn lod_follows_the_projected_fur_depth_between_the_levels() {
 }
 
 #[test]
-fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
+fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied_and_its_light_by_its_color() {
     use super::lod::Levels;
     use super::transfer::{composite_members, level_alphas, premultiplied_levels};
     use half::f16;
     use pelt_core::prt::pack::PackedF16;
+    use pelt_core::texture::color::srgb_to_linear;
     let (layers, resolution) = (5usize, 2usize);
     let texels = resolution * resolution;
     let voxels = layers * texels;
@@ -460,6 +461,8 @@ fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
         .map(|i| f16::from_f32(value(i / 4, i % 4)))
         .collect();
     let alpha: Vec<u8> = (0..voxels).map(|v| (1 + (v * 97) % 255) as u8).collect();
+    // Each texel's color luminance (sRGB-encoded), which weighs the members' light too.
+    let shade: Vec<u8> = (0..voxels).map(|v| (20 + (v * 53) % 230) as u8).collect();
     let packed = PackedF16 {
         textures: 1,
         layers,
@@ -477,7 +480,7 @@ fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
         pool.install(|| {
             let alphas = level_alphas(&alpha, &levels, texels);
             let out = premultiplied_levels(&packed, &alphas, &levels);
-            let members = composite_members(&packed, &alphas, &levels, order, first_row);
+            let members = composite_members(&packed, &alphas, &shade, &levels, order, first_row);
             (out, members.ranges, members.rows)
         })
     };
@@ -497,17 +500,19 @@ fn lod_transfer_weighs_each_shell_by_what_over_leaves_of_it_premultiplied() {
                 (_, 0) => 0..1,
                 _ => ((j - 1) << k) + 1..((j << k) + 1).min(layers),
             };
-            // Each level-0 layer's transfer weighted by what the composite shows of it, meaned
-            // over the tile.
+            // Each level-0 layer's transfer weighted by what the composite shows of it and by its
+            // color's luminance, meaned over the tile.
             let mut shown = vec![[0.0f64; 4]; layers];
             for x in 0..texels {
                 for c in 0..4 {
                     let (mut sum, mut weights, mut clear) = (0.0f64, 0.0f64, 1.0f64);
                     for i in group.clone().rev() {
                         let a = f64::from(alpha[i * texels + x]) / 255.0;
+                        let light = f64::from(srgb_to_linear(f32::from(shade[i * texels + x]) / 255.0));
                         sum += a * clear * f64::from(value(i * texels + x, c));
                         weights += a * clear;
-                        shown[i][c] += a * clear * f64::from(value(i * texels + x, c)) / texels as f64;
+                        shown[i][c] +=
+                            a * light * clear * f64::from(value(i * texels + x, c)) / texels as f64;
                         clear *= 1.0 - a;
                     }
                     // Stored premultiplied by the composite's opacity, 1 − clear.

@@ -27,6 +27,7 @@ use rayon::prelude::*;
 use pelt_core::error::{PeltError, Result};
 use pelt_core::prt::pack::{CHANNELS, PackedF16, texture_count};
 use pelt_core::prt::sh::MAX_ORDER;
+use pelt_core::texture::color::{srgb8_encoder, srgb8_to_linear_table};
 use pelt_core::texture::{MipAlpha, MipLevels, MipOptions, mip_chain_rgba16f};
 use pelt_core::volume::lod::sources;
 
@@ -251,9 +252,13 @@ pub(super) fn level_alphas(alpha: &[u8], levels: &Levels, texels: usize) -> Vec<
 /// `hot_spot_factor`); a composite shows `Σ R_i`, `R_i` the light of layer `i`'s hair it shows,
 /// and all shells give `Σ R_i f_i` of it. `R_i` is the lighting dotted with layer `i`'s transfer
 /// weighted by how much of it the composite shows ("over": its opacity times the clearness of
-/// the composite's layers above it), which is linear and baked here; the ratio is taken per
-/// vertex. (Raised by one mean for the composite, taking `R_i ∝` the layer's opacity, the dolly
-/// had drifted 13%; by the level-0 mean at its middle height, up to twice the all-shells image.)
+/// the composite's layers above it) and by its color's luminance, which is linear and baked
+/// here; the ratio is taken per vertex. (Raised by one mean for the composite, taking `R_i ∝`
+/// the layer's opacity, the dolly had drifted 13%; by the level-0 mean at its middle height, up
+/// to twice the all-shells image. Without the color, the dark roots, whose factors are the
+/// largest, weighed as much as the light tips: the short-furred sphere's dolly under a light
+/// from the eye drifted to 1.11 of all shells, 1.07 with it. Weighing the composite's transfer
+/// by the color too made it 1.11 again; `docs/accuracy.md`, twenty-third step.)
 pub(super) struct CompositeMembers {
     /// Per composite (every LOD layer past level 0, in the array's order): the level-0 layers
     /// `first..end` it holds and the row of layer `first`'s weighted transfer in `rows`
@@ -265,12 +270,13 @@ pub(super) struct CompositeMembers {
 }
 
 /// [`CompositeMembers`] of `packed` (level 0's transfer), `alphas` every level's opacities
-/// ([`level_alphas`]), rows numbered from `first_row` (they follow level 0's layer means in one
-/// buffer). Runs in the current rayon pool; sums in f64 in texel order, so the result does not
+/// ([`level_alphas`]) and `shade` level 0's color luminance ([`texel_shades`]), rows numbered
+/// from `first_row` (they follow level 0's layer means in one buffer). Runs in the current rayon pool; sums in f64 in texel order, so the result does not
 /// depend on the thread count.
 pub(super) fn composite_members(
     packed: &PackedF16,
     alphas: &[Vec<f32>],
+    shade: &[u8],
     levels: &Levels,
     order: usize,
     first_row: usize,
@@ -279,8 +285,14 @@ pub(super) fn composite_members(
     let n = order * order;
     let texels = packed.resolution * packed.resolution;
     let voxels = layers * texels;
-    // Level-0 layer i's share of its group's color per texel; its group's level-0 layers.
-    let mut weight = alphas[0].clone();
+    // Level-0 layer i's share of its group's color per texel (its opacity × luminance, then
+    // × the clearness of what is composited over it); its group's level-0 layers.
+    let linear = srgb8_to_linear_table();
+    let mut weight: Vec<f32> = alphas[0]
+        .iter()
+        .zip(shade)
+        .map(|(a, &s)| a * linear[usize::from(s)])
+        .collect();
     let mut groups: Vec<Range<usize>> = (0..layers).map(|i| i..i + 1).collect();
     let mut members = CompositeMembers {
         ranges: Vec::new(),
@@ -331,6 +343,19 @@ pub(super) fn composite_members(
         groups = next;
     }
     members
+}
+
+/// The luminance of each straight sRGB RGBA8 texel of `shells`, sRGB-encoded. Runs in the
+/// current rayon pool.
+pub(super) fn texel_shades(shells: &[u8]) -> Vec<u8> {
+    let (linear, srgb) = (srgb8_to_linear_table(), srgb8_encoder());
+    shells
+        .par_chunks_exact(4)
+        .map(|px| {
+            let [r, g, b] = [0, 1, 2].map(|c| linear[usize::from(px[c])]);
+            srgb.encode(0.2126 * r + 0.7152 * g + 0.0722 * b)
+        })
+        .collect()
 }
 
 /// Every texture's coefficients for all LOD levels (`levels`), premultiplied by the opacity of

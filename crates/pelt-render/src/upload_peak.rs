@@ -12,7 +12,8 @@ const MIP_CHAIN: f64 = 4.0 / 3.0;
 /// [`super::FurScene::new`]'s texture upload of `volume`: every LOD level's RGBA8 layers with their
 /// mips held built, premultiplied, staged and on the device (four copies), the LOD levels built
 /// here when the bake has none, the tangents (cloned, staged, on the device), the fin texture's
-/// chain (built, premultiplied, staged, on the device) and the opacity the scene keeps.
+/// chain (built, premultiplied, staged, on the device) and the opacity and color luminance the
+/// scene keeps (a byte each per level-0 texel).
 pub fn scene_upload_peak_bytes(volume: &HairVolume) -> f64 {
     let texels = (volume.resolution * volume.resolution) as f64;
     let layers = volume.layers as f64;
@@ -25,7 +26,7 @@ pub fn scene_upload_peak_bytes(volume: &HairVolume) -> f64 {
     };
     let tangents = 3.0 * 4.0 * layers * texels;
     let fin = 4.0 * MIP_CHAIN * 4.0 * (volume.fin_size[0] * volume.fin_size[1]) as f64;
-    shells + built_lod + tangents + fin + layers * texels
+    shells + built_lod + tangents + fin + 2.0 * layers * texels
 }
 
 /// [`super::FurScene::set_transfer`] of an order-`order` transfer over `layers` layers of
