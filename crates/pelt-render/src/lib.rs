@@ -58,6 +58,7 @@ mod settings;
 mod shaders;
 mod shadow_map;
 mod shells;
+mod shown_heights;
 mod skin;
 mod smoke;
 mod stand_heights;

@@ -29,6 +29,9 @@
 //     The lighting of the marched composite, shown by layer `layers` read at `uv` (`alpha` its
 //     texel's own opacity); `heights` the mean height of the layers it holds and their spread
 //     (`composite_heights`, shares of the fur depth).
+//   fn march_heights(layers: Layers, coarse: bool, mip: f32) -> vec2<f32>
+//     The mean and mean square of the level-0 heights (in layers) a marched layer's texel holds
+//     (`march.wgsl` `composite`), or (`coarse`) its coarser twin's, read at mip level `mip`.
 //   fn plane_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers,
 //                  grad: vec4<f32>, heights: vec2<f32>) -> HairLight: the same for the virtual
 //     planes.

@@ -80,10 +80,12 @@ struct Marched {
 };
 
 // `out` with `texel` (premultiplied, read at `uv` from `layers`, its level's own opacity
-// `alpha`, standing `height` level-0 layers up) composited under it; the layer where the
-// composite passes half opacity is the one lit.
+// `alpha`) composited under it; `heights`: the mean and mean square of the level-0 heights (in
+// layers) of the hair the texel shows (a level-0 layer's own height h: (h, h²); an LOD
+// composite's, the model's `march_heights`). The layer where the composite passes half opacity
+// is the one lit.
 fn composite(out: Marched, texel: vec4<f32>, layers: Layers, uv: vec2<f32>, alpha: f32,
-             height: f32) -> Marched {
+             heights: vec2<f32>) -> Marched {
     var next = out;
     if (out.color.a < 0.5) {
         next.shown = layers;
@@ -92,9 +94,8 @@ fn composite(out: Marched, texel: vec4<f32>, layers: Layers, uv: vec2<f32>, alph
     }
     let share = (1.0 - out.color.a) * texel;
     next.color += share;
-    let h = height * frame.fur.y;
-    next.raised += share * h;
-    next.squared += share.a * h * h;
+    next.raised += share * (heights.x * frame.fur.y);
+    next.squared += share.a * heights.y * frame.fur.y * frame.fur.y;
     return next;
 }
 

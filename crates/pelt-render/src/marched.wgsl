@@ -12,9 +12,9 @@
 // The ray, the composite and its lighting are `march.wgsl`'s.
 
 #import pelt::common::{
-    frame, shell_texture, tile_sampler, NO_LAYER, Layers, shell_layers, shading_height,
+    frame, shell_texture, tile_sampler, NO_LAYER, Layers, shell_layers,
 }
-#import pelt::surface::{Texels, blended}
+#import pelt::surface::Texels
 #import pelt::march::{
     OPAQUE, Ray, ray_length, Marched, composite, composite_heights, lit, hull_fragment,
 }
@@ -64,12 +64,20 @@ fn vs_main(v: model::SurfaceIn) -> model::SurfaceVarying {
     return model::surface_vertex(v, hull, f32(hull.height), true);
 }
 
+// During an LOD cross-fade (`fade`) the level drawn and the coarser one are composited apart,
+// each with its own heights, and the two composites mixed: what each level's image would be,
+// cross-faded. (Composited as one, each layer's texels mixed first, "over" is not linear in
+// the mix: mid-fade the upper layers took more of the composite than either level gives them,
+// lit higher in the fur, 5% bright under PRT with a side light.)
 fn march(s: model::SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
     let hull = shell_layers(frame.counts.x - 1u);
     var out = Marched(vec4<f32>(0.0), vec4<f32>(0.0), 0.0, hull, s.uv, 1.0);
+    // The coarser level's composite (opaque when no cross-fade runs: it never stops the march).
+    var coarse = out;
+    coarse.color.a = select(1.0, 0.0, fade);
     var i = frame.counts.x;
     loop {
-        if (i == 0u || out.color.a >= OPAQUE) {
+        if (i == 0u || min(out.color.a, coarse.color.a) >= OPAQUE) {
             break;
         }
         i -= 1u;
@@ -81,24 +89,34 @@ fn march(s: model::SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
         }
         let uv = s.uv + ray.uv_rate * t;
         let texels = march_texels(uv, layers, lod, fade);
-        let texel = blended(texels) * s.color.a;
+        let fine = texels.fine * s.color.a;
         // The instanced pass's alpha test: such a texel draws nothing.
-        if (texel.a < frame.fur.w) {
-            continue;
+        if (fine.a >= frame.fur.w) {
+            out = composite(out, fine, layers, uv, texels.fine.a, model::march_heights(layers, false, lod));
         }
-        out = composite(out, texel, layers, uv, texels.fine.a, shading_height(layers));
+        let twin = texels.coarse * s.color.a;
+        if (fade && twin.a >= frame.fur.w) {
+            coarse = composite(coarse, twin, layers, uv, texels.coarse.a,
+                               model::march_heights(layers, true, lod));
+        }
     }
-    // Every layer of the level drawn spreads alike about its own height.
-    out.squared += out.color.a * lod_group_spread();
-    return out;
+    if (!fade) {
+        return out;
+    }
+    return mixed(out, coarse, frame.fin.y);
 }
 
-// The spread² of heights (shares of the fur depth) within a layer of the LOD level drawn, whose
-// group of 2^k level-0 layers (2^(k+1) for the coarser level it fades into) stands for them all
-// in `composite_heights`: taken as even over the group.
-fn lod_group_spread() -> f32 {
-    let group = f32(frame.lod.z) * (1.0 + frame.fin.y) * frame.fur.y;
-    return (group * group - frame.fur.y * frame.fur.y) / 12.0;
+// The composites `a` and `b` mixed by `t`; the layer shown is the one of the composite that
+// weighs more.
+fn mixed(a: Marched, b: Marched, t: f32) -> Marched {
+    var m = a;
+    if (t > 0.5) {
+        m = b;
+    }
+    m.color = mix(a.color, b.color, t);
+    m.raised = mix(a.raised, b.raised, t);
+    m.squared = mix(a.squared, b.squared, t);
+    return m;
 }
 
 // The coarsest LOD level with two layers or more (the skin and one group of every hair layer):
@@ -161,7 +179,8 @@ fn march_levels(s: model::SurfaceOut, ray: Ray, lod: f32, k: u32) -> Marched {
         let texels = march_texels(uv, layers, lod, false);
         let texel = texels.fine * s.color.a;
         if (texel.a >= frame.fur.w) {
-            out = composite(out, texel, layers, uv, texels.fine.a, 0.5 * f32(lo + hi));
+            let middle = 0.5 * f32(lo + hi);
+            out = composite(out, texel, layers, uv, texels.fine.a, vec2<f32>(middle, middle * middle));
         }
         j -= 1u;
     }

@@ -136,7 +136,7 @@ fn trace(s: model::SurfaceOut, f: MarchFrame, ray: Ray, grad: vec4<f32>) -> Marc
             let texel = textureSampleLevel(shell_texture, tile_sampler, uv, layer, half_z_lod) * (nv * nv);
             if (texel.a * s.color.a >= frame.fur.w) {
                 out = composite(out, texel * s.color.a, Layers(layer, layer, NO_LAYER), uv, texel.a,
-                                height);
+                                vec2<f32>(height, height * height));
             }
             half_z = 1e30;
             continue;
@@ -168,7 +168,8 @@ fn trace(s: model::SurfaceOut, f: MarchFrame, ray: Ray, grad: vec4<f32>) -> Marc
         }
         let uv = s.uv + ray.uv_rate * t;
         let shown = u32(round(height));
-        out = composite(out, texel, Layers(shown, shown, NO_LAYER), uv, texel.a, height);
+        out = composite(out, texel, Layers(shown, shown, NO_LAYER), uv, texel.a,
+                        vec2<f32>(height, height * height));
     }
     return out;
 }

@@ -1,6 +1,6 @@
 #define_import_path pelt::prt
 
-#import pelt::common::{frame, tile_sampler, shared_path, view_vector}
+#import pelt::common::{frame, tile_sampler, shell_texture, shared_path, view_vector}
 #import pelt::hot_spot::{hot_spot_ratio, unpack_gain}
 
 // Precomputed radiance transfer (prt-shell-fur §2.4): the lighting, already rotated into each
@@ -13,7 +13,8 @@
 // Per surface vertex, n² rotated coefficients (RGB).
 @group(1) @binding(1) var<storage, read> rotated: array<vec4<f32>>;
 // Per level-0 layer, the opacity-weighted mean of each coefficient: the fins' transfer and the
-// hot spot's measure of a layer's (the rotation pass reads the rows after them).
+// hot spot's measure of a layer's; then the LOD composites' heights (`shown_heights`) and the
+// rows the rotation pass reads (`transfer::composite_members`).
 @group(1) @binding(2) var<storage, read> layer_means: array<f32>;
 // Per surface vertex and LOD composite, the hot spot's gain (`prt_rotate.wgsl`, `pack_gain`).
 @group(1) @binding(4) var<storage, read> composite_gains: array<vec2<u32>>;
@@ -100,6 +101,21 @@ fn mean_radiances(ids: vec3<u32>, w: vec3<f32>, height: f32, hot: f32) -> MeanRa
         }
     }
     return m;
+}
+
+// The mean and mean square of the level-0 heights (in layers) of the hair that array layer
+// `layer` shows read at mip level `mip`: a level-0 layer its own `height`, an LOD composite its
+// members' weighed as all shells weigh them there (`shown_heights.rs`; after level 0's rows,
+// per mip level, per composite).
+fn shown_heights(layer: u32, height: u32, mip: f32) -> vec2<f32> {
+    if (layer < frame.prt.w) {
+        let h = f32(height);
+        return vec2<f32>(h, h * h);
+    }
+    let composites = frame.prt.z - frame.prt.w;
+    let level = min(u32(max(mip, 0.0)), textureNumLevels(shell_texture) - 1u);
+    let at = frame.prt.w * frame.prt.x + 2u * (level * composites + layer - frame.prt.w);
+    return vec2<f32>(layer_means[at], layer_means[at + 1u]);
 }
 
 // The mean transfer coefficient k of the top layer's hair.

@@ -57,7 +57,8 @@ struct Rotation {
 @group(0) @binding(3) var<storage, read_write> rotated: array<vec4<f32>>;
 // Per surface vertex, the surface's curvature.
 @group(0) @binding(4) var<storage, read> curvature: array<f32>;
-// Rows of n² transfer coefficients: level 0's layer means (row = layer), then per composite
+// Rows of n² transfer coefficients: level 0's layer means (row = layer), the composites' heights
+// (`prt.wgsl` `shown_heights`), then per composite
 // member its transfer weighted by what the composite shows of it (`transfer::composite_members`).
 @group(0) @binding(5) var<storage, read> means: array<f32>;
 // Per composite: its level-0 layers first..end (x, y) and the row of the first's weighted

@@ -13,7 +13,8 @@ use super::pass::Model;
 use super::planes::ScenePlanes;
 use super::prt_rotate::{RotateOutputs, RotationUniforms};
 use super::shadow_map::ShadowMap;
-use super::stand_heights::stand_heights;
+use super::shown_heights::shown_heights;
+use super::stand_heights::{composite_groups, stand_heights};
 use super::textures::VolumeTextures;
 use super::{Renderer, scoped, textures, transfer};
 use pelt_core::FurMesh;
@@ -497,14 +498,23 @@ impl FurScene {
             let alphas = transfer::level_alphas(&self.alpha, &self.levels, texels);
             let per_texture = transfer::premultiplied_levels(transfer, &alphas, &self.levels);
             let mut means = transfer::layer_means(transfer, &self.alpha, order);
+            // After level 0's rows, the composites' heights per mip level (two values each,
+            // padded to whole rows), then their members' rows.
+            let n = order * order;
+            let groups = composite_groups(self.layers as usize);
+            let heights = shown_heights(&alphas[0], self.resolution, &groups);
+            let height_rows = (2 * heights.len()).div_ceil(n);
             let members = transfer::composite_members(
                 transfer,
                 &alphas,
                 &self.shade,
                 &self.levels,
                 order,
-                self.layers as usize,
+                self.layers as usize + height_rows,
             );
+            let mut heights = heights.as_flattened().to_vec();
+            heights.resize(height_rows * n, 0.0);
+            means.extend_from_slice(&heights);
             means.extend_from_slice(&members.rows);
             (
                 means,

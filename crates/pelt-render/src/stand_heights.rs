@@ -27,7 +27,25 @@ pub(super) fn stand_heights(alpha: &[u8], layers: usize, texels: usize) -> Vec<f
         .map(|layer| layer.iter().map(|&a| f64::from(a)).sum::<f64>() / (255.0 * texels as f64))
         .collect();
     let mut heights: Vec<f32> = (0..layers).map(|l| l as f32).collect();
-    // The level-0 layers each layer of the current level holds.
+    heights.extend(composite_groups(layers).iter().map(|g| {
+        if g.start == 0 {
+            0.0
+        } else if g.start == 1 && g.end == layers {
+            // One group holds all the hair: it stays at the top (below `min_shells`' default;
+            // at `H`, the test torus's single shell was 3% brighter than all shells, at the
+            // top 0.6% darker, and fading into it dipped 2% below both levels mid-fade).
+            (g.end - 1) as f32
+        } else {
+            group_stand(&opacity[g.clone()], g.start) as f32
+        }
+    }));
+    heights
+}
+
+/// The level-0 layers each array layer past level 0 holds, level by level, following the
+/// compositing's own pairing (`pelt_core::volume::lod::sources`).
+pub(super) fn composite_groups(layers: usize) -> Vec<Range<usize>> {
+    let mut all = Vec::new();
     let mut groups: Vec<Range<usize>> = (0..layers).map(|l| l..l + 1).collect();
     for count in level_counts(layers).into_iter().skip(1) {
         groups = (0..count)
@@ -36,20 +54,9 @@ pub(super) fn stand_heights(alpha: &[u8], layers: usize, texels: usize) -> Vec<f
                 (inner, None) => groups[inner].clone(),
             })
             .collect();
-        heights.extend(groups.iter().map(|g| {
-            if g.start == 0 {
-                0.0
-            } else if count == 2 {
-                // One group holds all the hair: it stays at the top (below `min_shells`' default;
-                // at `H`, the test torus's single shell was 3% brighter than all shells, at the
-                // top 0.6% darker, and fading into it dipped 2% below both levels mid-fade).
-                (g.end - 1) as f32
-            } else {
-                group_stand(&opacity[g.clone()], g.start) as f32
-            }
-        }));
+        all.extend(groups.iter().cloned());
     }
-    heights
+    all
 }
 
 /// `H` of the module's doc for the group of level-0 layers `first ..` with mean opacities

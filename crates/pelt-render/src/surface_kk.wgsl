@@ -1,7 +1,8 @@
 #define_import_path pelt::surface_kk
 
 #import pelt::common::{
-    frame, tangent_texture, tile_sampler, Layers, skin_layers, shading_height, HairLight,
+    frame, tangent_texture, tile_sampler, Layers, skin_layers, shading_height, group_middle,
+    HairLight,
     clip_position, view_vector, unit_or, surface_curvature, body_shadow,
 }
 #import pelt::lighting::{banks_strengths, hair_parts, shade, shade_skin, terminator_wrap}
@@ -165,6 +166,21 @@ fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alph
 fn plane_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, grad: vec4<f32>,
                heights: vec2<f32>) -> HairLight {
     return march_light(s, f, uv, layers, 1.0, grad, heights);
+}
+
+// The heights the march composites a layer of `layers` at (`march.wgsl` `composite`), that of the
+// level drawn or (`coarse`) of its coarser twin, at any mip level: an LOD layer's group middle,
+// its hair spread evenly over the group's 2^k level-0 layers.
+fn march_heights(layers: Layers, coarse: bool, mip: f32) -> vec2<f32> {
+    let top = layers.height;
+    if (frame.counts.z != 1u || top == 0u) {
+        let h = f32(top);
+        return vec2<f32>(h, h * h);
+    }
+    let group = select(frame.lod.z, 2u * frame.lod.z, coarse);
+    let h = group_middle(top, group);
+    let g = f32(group);
+    return vec2<f32>(h, h * h + (g * g - 1.0) / 12.0);
 }
 
 // The Banks strengths the march darkens its layers by: x the ambient's, y the direct light's,

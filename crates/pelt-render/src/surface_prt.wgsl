@@ -4,7 +4,7 @@
     frame, skin_vertices, SKIN_FLOATS, skin_vec3, NO_LAYER, Layers, skin_layers, shell_layers,
     HairLight, growth, body_shadow, unit_or, view_vector,
 }
-#import pelt::prt::{transfer_radiance, mean_radiance, hot_spot}
+#import pelt::prt::{transfer_radiance, mean_radiance, hot_spot, shown_heights}
 #import pelt::lighting::shade_skin
 #import pelt::surface::{
     SurfaceData, lift, Texels, layer_texels, blended, uv_gradients, MarchFrame,
@@ -191,6 +191,16 @@ fn spread_radiance(ids: vec3<u32>, w: vec3<f32>, heights: vec2<f32>, hot: f32) -
     let lower = mean_radiance(ids, w, max(heights.x - heights.y, 0.0), hot);
     let upper = mean_radiance(ids, w, heights.x + heights.y, hot);
     return 0.5 * (lower + upper);
+}
+
+// The heights the march composites a layer of `layers` at (`march.wgsl` `composite`), that of the
+// level drawn or (`coarse`) of its coarser twin, read at mip level `mip`: those of the hair its
+// texels show (`shown_heights`).
+fn march_heights(layers: Layers, coarse: bool, mip: f32) -> vec2<f32> {
+    if (coarse && layers.coarse != NO_LAYER) {
+        return shown_heights(layers.coarse, layers.height, mip);
+    }
+    return shown_heights(layers.fine, layers.height, mip);
 }
 
 // The virtual planes' lighting: the march's (their slices hold no transfer of their own either:
