@@ -27,7 +27,7 @@ use rayon::prelude::*;
 use pelt_core::error::{PeltError, Result};
 use pelt_core::prt::pack::{CHANNELS, PackedF16, texture_count};
 use pelt_core::prt::sh::MAX_ORDER;
-use pelt_core::texture::color::{srgb8_encoder, srgb8_to_linear_table};
+use pelt_core::texture::color::{luminance, srgb8_encoder, srgb8_to_linear_table};
 use pelt_core::texture::{MipAlpha, MipLevels, MipOptions, mip_chain_rgba16f};
 use pelt_core::volume::lod::sources;
 
@@ -352,8 +352,8 @@ pub(super) fn texel_shades(shells: &[u8]) -> Vec<u8> {
     shells
         .par_chunks_exact(4)
         .map(|px| {
-            let [r, g, b] = [0, 1, 2].map(|c| linear[usize::from(px[c])]);
-            srgb.encode(0.2126 * r + 0.7152 * g + 0.0722 * b)
+            let rgb = [0, 1, 2].map(|c| f64::from(linear[usize::from(px[c])]));
+            srgb.encode(luminance(rgb) as f32)
         })
         .collect()
 }

@@ -8,6 +8,7 @@ use glam::{DVec3, Vec3, Vec3A};
 
 use crate::error::{Num, PeltError, Result, check_range};
 use crate::prt::sh;
+use crate::texture::color::luminance;
 
 /// Largest light strength or environment coefficient accepted.
 pub const MAX_STRENGTH: f32 = 1e6;
@@ -135,7 +136,7 @@ impl EnvironmentSampler {
         let luminance: Vec<f64> = (0..cells)
             .map(|c| {
                 let d = cell_direction(c, 0.5, 0.5);
-                luminance(sampler.radiance(d))
+                luminance(sampler.radiance(d).to_array())
             })
             .collect();
         let mean = luminance.iter().sum::<f64>() / cells as f64;
@@ -182,9 +183,4 @@ fn cell_direction(c: usize, fu: f64, fv: f64) -> DVec3 {
     let z = -1.0 + (j as f64 + fv) / HEIGHTS as f64 * 2.0;
     let r = (1.0 - z * z).max(0.0).sqrt();
     DVec3::new(r * phi.cos(), r * phi.sin(), z)
-}
-
-/// Rec. 709 luminance of linear RGB.
-pub(crate) fn luminance(rgb: DVec3) -> f64 {
-    0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z
 }

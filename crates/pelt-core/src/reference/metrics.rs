@@ -6,6 +6,7 @@
 //! profile: mean coverage against distance from the skin's outline, in fur depths.
 
 use crate::error::{Num, PeltError, Result};
+use crate::texture::color;
 
 /// Width of one bin of the alpha profile, fur depths.
 pub const PROFILE_BIN: f64 = 0.1;
@@ -190,9 +191,9 @@ fn over_boxes(values: &[f64], w: usize, h: usize, mask: &[bool], term: impl Fn(f
     if count == 0 { 0.0 } else { sum / count as f64 }
 }
 
-/// Rec. 709 luminance.
+/// Rec. 709 luminance of a linear RGBA pixel ([`color::luminance`]).
 pub fn luminance(p: [f32; 4]) -> f64 {
-    0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2])
+    color::luminance([p[0], p[1], p[2]].map(f64::from))
 }
 
 /// Per bin, the mean coverage and the pixel count (NaN mean for none).

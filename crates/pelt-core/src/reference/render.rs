@@ -13,7 +13,7 @@ use glam::{DVec4, Vec3A};
 use rayon::prelude::*;
 
 use super::camera::RayGenerator;
-use super::light::{ReferenceLight, luminance};
+use super::light::ReferenceLight;
 use super::sampler::{Lights, Sampler};
 use super::scene::ReferenceScene;
 pub use super::settings::{MAX_PIXELS, MAX_SAMPLES, ReferenceSettings};
@@ -22,6 +22,7 @@ use crate::camera::Camera;
 use crate::error::{PeltError, Result};
 use crate::progress::ProgressCallback;
 use crate::rng::Rng;
+use crate::texture::color::luminance;
 use crate::threads::pool;
 
 /// A converged reference image.
@@ -184,7 +185,7 @@ fn render_with<S: Sampler>(
                             pass += tracer.sample(x, y, pixel, s);
                         }
                         sum[x] += pass;
-                        let l = luminance(pass.truncate()) / f64::from(count);
+                        let l = luminance(pass.truncate().to_array()) / f64::from(count);
                         ls[x] += l;
                         lq[x] += l * l;
                         pl[x] = l;

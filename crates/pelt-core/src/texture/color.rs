@@ -6,6 +6,12 @@
 
 use std::sync::OnceLock;
 
+/// Rec. ITU-R BT.709 luminance of linear RGB: the weights of the picture's figures and of the
+/// renderer's shade per texel.
+pub fn luminance([r, g, b]: [f64; 3]) -> f64 {
+    0.2126 * r + 0.7152 * g + 0.0722 * b
+}
+
 /// sRGB-encodes a linear value in `[0, 1]` (clamped; NaN gives 0).
 pub fn linear_to_srgb(linear: f32) -> f32 {
     let c = if linear.is_nan() {
