@@ -142,15 +142,20 @@ fn shell_layers(instance: u32) -> Layers {
 // of alike layers would show its hair on the whole, nearer its top, the LOD strayed up to 7%
 // from the all-shells image on the short-furred scenes: their tips are sparser.)
 fn shading_height(layers: Layers) -> f32 {
-    let top = layers.height;
-    if (frame.counts.z != 1u || top == 0u) {
-        return f32(top);
-    }
-    let middle = group_middle(top, frame.lod.z);
+    let middle = level_shading_height(layers.height, frame.lod.z);
     if (layers.coarse == NO_LAYER || frame.fin.y <= 0.0) {
         return middle;
     }
-    return mix(middle, group_middle(top, 2u * frame.lod.z), frame.fin.y);
+    return mix(middle, level_shading_height(layers.height, 2u * frame.lod.z), frame.fin.y);
+}
+
+// `shading_height` within one level, whose groups hold `step` level-0 layers: the middle of the
+// group whose top is layer `top`; without LOD, or at the skin, `top` itself.
+fn level_shading_height(top: u32, step: u32) -> f32 {
+    if (frame.counts.z != 1u || top == 0u) {
+        return f32(top);
+    }
+    return group_middle(top, step);
 }
 
 // The level-0 height, in layers, at which a shell of `layers` stands: a level-0 layer at its own,

@@ -12,6 +12,7 @@
 //! resolution only, the marched LOD under a side light was 2–4% darker than all shells once the
 //! object was small enough to read coarser mips; at the group's middle, up to 11%.)
 
+use std::borrow::Cow;
 use std::ops::Range;
 
 use rayon::prelude::*;
@@ -25,11 +26,11 @@ use pelt_core::texture::full_mip_count;
 /// result does not depend on the thread count. Runs in the current rayon pool.
 pub(super) fn shown_heights(alpha: &[f32], resolution: usize, groups: &[Range<usize>]) -> Vec<[f32; 2]> {
     let mut side = resolution;
-    let mut level: Vec<f32> = alpha.to_vec();
+    let mut level = Cow::Borrowed(alpha);
     let mut out = Vec::new();
     for mip in 0..full_mip_count(resolution, resolution) {
         if mip > 0 {
-            (level, side) = (halve(&level, side), (side / 2).max(1));
+            (level, side) = (Cow::Owned(halve(&level, side)), (side / 2).max(1));
         }
         let texels = side * side;
         out.extend(groups.iter().map(|g| group_heights(&level, texels, g.clone())));

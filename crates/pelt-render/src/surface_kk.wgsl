@@ -1,8 +1,8 @@
 #define_import_path pelt::surface_kk
 
 #import pelt::common::{
-    frame, tangent_texture, tile_sampler, Layers, skin_layers, shading_height, group_middle,
-    HairLight,
+    frame, tangent_texture, tile_sampler, Layers, skin_layers, shading_height,
+    level_shading_height, HairLight,
     clip_position, view_vector, unit_or, surface_curvature, body_shadow,
 }
 #import pelt::lighting::{banks_strengths, hair_parts, shade, shade_skin, terminator_wrap}
@@ -169,16 +169,12 @@ fn plane_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, grad
 }
 
 // The heights the march composites a layer of `layers` at (`march.wgsl` `composite`), that of the
-// level drawn or (`coarse`) of its coarser twin, at any mip level: an LOD layer's group middle,
-// its hair spread evenly over the group's 2^k level-0 layers.
+// level drawn or (`coarse`) of its coarser twin, at any mip level: where it is lit
+// (`level_shading_height`), its hair spread evenly over the group's 2^k level-0 layers (one
+// without LOD, whose level is 0).
 fn march_heights(layers: Layers, coarse: bool, mip: f32) -> vec2<f32> {
-    let top = layers.height;
-    if (frame.counts.z != 1u || top == 0u) {
-        let h = f32(top);
-        return vec2<f32>(h, h * h);
-    }
     let group = select(frame.lod.z, 2u * frame.lod.z, coarse);
-    let h = group_middle(top, group);
+    let h = level_shading_height(layers.height, group);
     let g = f32(group);
     return vec2<f32>(h, h * h + (g * g - 1.0) / 12.0);
 }
