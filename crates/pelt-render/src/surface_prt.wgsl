@@ -7,7 +7,7 @@
 #import pelt::prt::{transfer_radiance, mean_radiance, hot_spot, shown_heights}
 #import pelt::lighting::shade_skin
 #import pelt::surface::{
-    SurfaceData, lift, Texels, layer_texels, blended, uv_gradients, MarchFrame,
+    SurfaceData, lift, Texels, layer_texels, blended, lone_share, uv_gradients, MarchFrame,
 }
 
 // The skin and shells under PRT lighting (prt-shell-fur §2.4). The rotated lighting lives per
@@ -126,7 +126,7 @@ fn painted_skin(bare: vec3<f32>, furred: vec3<f32>, l: f32) -> vec3<f32> {
 
 // Each level's texel × vertex color, lit by the transfer of its own layer (the two levels'
 // layers are lit differently), cross-faded; premultiplied, opacity × texel alpha. A layer with
-// no coarser twin fades its color with its alpha (its coarse texel is zero). The hot spot raises
+// no coarser twin fades its color with its alpha (`lone_share`). The hot spot raises
 // each by its own layer's factor.
 fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>,
                  wrap: f32) -> vec4<f32> {
@@ -135,7 +135,8 @@ fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>,
         * transfer_radiance(s.ids, s.bary, s.uv, s.layer, grad, texels.fine.a, s.hot);
     var rgb = fine;
     if (frame.fin.y > 0.0) {
-        var coarse = vec3<f32>(0.0);
+        // A lone layer's coarse texel is its own, scaled (`layer_texels`): lit as itself.
+        var coarse = fine * lone_share(texels.fine.a);
         if (s.coarse != NO_LAYER) {
             coarse = texels.coarse.rgb
                 * transfer_radiance(s.ids, s.bary, s.uv, s.coarse, grad, texels.coarse.a, s.hot);

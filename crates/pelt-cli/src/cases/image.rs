@@ -632,12 +632,27 @@ fn luminance_sums(pixels: &[[f32; 4]]) -> (f64, f64) {
     })
 }
 
-/// Below this radius in pixels a dolly frame is averaged over a grid of sub-pixel offsets: the
-/// object covers so few pixels that where the pixel grid falls moves their mean luminance by
-/// percents (the all-shells frames jumped 3% between steps at 30×), whatever the LOD does.
+/// A dolly frame is averaged over sub-pixel offsets: where the pixel grid falls moves the
+/// covered pixels' mean luminance by percents, whatever the LOD does (the all-shells frames of
+/// the sphere by 3% between steps at 30×; the flat patch, whose hair texels seen at a slant are
+/// about a pixel tall, by 2.5% at 90 pixels in radius). Below this radius in pixels the frame is
+/// drawn as the few pixels around the object, and the offsets are [`JITTER_POINTS_SMALL`].
 const JITTER_BELOW_PIXELS: f32 = 48.0;
-/// Offsets per axis of that grid.
-const JITTER_GRID: usize = 4;
+/// Offsets of a frame of a larger object.
+const JITTER_POINTS: usize = 16;
+/// Offsets of a frame of a small one (16 left the patch, 3 pixels tall at 30×, moving by 2%).
+const JITTER_POINTS_SMALL: usize = 64;
+
+/// `n` sub-pixel offsets, a Hammersley set: they fall in `n` different columns and `n` different
+/// rows of the pixel (a 4 × 4 grid has 4 of each, and left the patch's steps moving by 4%).
+fn jitter_offsets(n: usize) -> Vec<(f32, f32)> {
+    (0..n)
+        .map(|i| {
+            let row = (i as u32).reverse_bits() as f32 / 2f32.powi(32);
+            ((i as f32 + 0.5) / n as f32 - 0.5, row + 0.5 / n as f32 - 0.5)
+        })
+        .collect()
+}
 
 /// `camera` moved by `(dx, dy)` pixels across the image (its projection's x and y picking up
 /// that many pixels per unit of clip w).
@@ -646,6 +661,29 @@ fn jittered(camera: &Camera, dx: f32, dy: f32) -> Camera {
     moved.projection[8] -= 2.0 * dx / camera.width as f32;
     moved.projection[9] -= 2.0 * dy / camera.height as f32;
     moved
+}
+
+/// The middle `side × side` pixels of `camera`'s image (`side` of the image's parity, so the
+/// pixel grid stays where it was) at the same pixels per unit: the LOD and every shader see the
+/// frame they would, at the cost of the few pixels a far object covers.
+fn cropped(camera: &Camera, side: u32) -> Camera {
+    let fit = |full: u32| {
+        let side = side.min(full);
+        side + (full - side) % 2
+    };
+    let (width, height) = (fit(camera.width), fit(camera.height));
+    let (sx, sy) = (
+        camera.width as f32 / width as f32,
+        camera.height as f32 / height as f32,
+    );
+    let mut crop = *camera;
+    for column in 0..4 {
+        crop.projection[4 * column] *= sx;
+        crop.projection[4 * column + 1] *= sy;
+    }
+    crop.width = width;
+    crop.height = height;
+    crop
 }
 
 /// The covered pixels' mean luminance of `settings`' frames at `cameras`, together.
@@ -680,8 +718,8 @@ struct Dolly {
 }
 
 /// Dollies the camera out from the framed distance to 30 times as far with LOD on, each step
-/// 16% farther, against the all-shells image at the same distance. Frames of an object under
-/// [`JITTER_BELOW_PIXELS`] in radius are averaged over sub-pixel offsets, the same for both.
+/// 16% farther, against the all-shells image at the same distance. Each frame is averaged over
+/// sub-pixel offsets ([`JITTER_BELOW_PIXELS`]), the same for both.
 fn dolly(
     renderer: &Renderer,
     fur: &FurScene,
@@ -705,15 +743,20 @@ fn dolly(
             scene.camera.height,
         );
         let info = renderer.frame_info(fur, &camera, settings)?;
-        let small = info.radius_pixels.is_some_and(|r| r < JITTER_BELOW_PIXELS);
-        let cameras: Vec<_> = if small {
-            let offset = |i: usize| (i as f32 + 0.5) / JITTER_GRID as f32 - 0.5;
-            (0..JITTER_GRID * JITTER_GRID)
-                .map(|i| jittered(&camera, offset(i % JITTER_GRID), offset(i / JITTER_GRID)))
-                .collect()
-        } else {
-            vec![camera]
+        let small = info.radius_pixels.filter(|&r| r < JITTER_BELOW_PIXELS);
+        let (frame, points) = match small {
+            // The fur reaches 1.2 radii out at most (`FurLength::Long`) and the bounding sphere
+            // sits near the image's middle: 1.5 radii keep the whole object.
+            Some(radius) => (
+                cropped(&camera, 2 * (1.5 * radius).ceil() as u32 + 8),
+                JITTER_POINTS_SMALL,
+            ),
+            None => (camera, JITTER_POINTS),
         };
+        let cameras: Vec<_> = jitter_offsets(points)
+            .into_iter()
+            .map(|(dx, dy)| jittered(&frame, dx, dy))
+            .collect();
         let lod = covered_luminance(renderer, fur, &cameras, lighting, settings)?;
         let all = covered_luminance(renderer, fur, &cameras, lighting, &all_shells)?;
         if all <= 0.0 {
@@ -759,4 +802,66 @@ fn picture(dir: &Path, name: &str, preview: &[[f32; 4]], reference: &ReferenceIm
         &ImageRef::new(3 * w, h, 3, &rgb)?,
         &options,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{Mat4, Vec3};
+
+    /// Where `point` lands in `camera`'s image, pixels from its top-left corner.
+    fn pixel(camera: &Camera, point: Vec3) -> (f32, f32) {
+        let clip = Mat4::from_cols_array(&camera.projection)
+            * Mat4::from_cols_array(&camera.view)
+            * point.extend(1.0);
+        let ndc = clip.truncate() / clip.w;
+        (
+            (ndc.x + 1.0) * 0.5 * camera.width as f32,
+            (1.0 - ndc.y) * 0.5 * camera.height as f32,
+        )
+    }
+
+    #[test]
+    fn a_cropped_camera_sees_the_middle_pixels_of_the_full_image() {
+        let (full, _) = framing([0.0; 3], 1.0, 512, 384);
+        // An odd side becomes even with the image's sides, so the pixel grid stays put.
+        for side in [40, 41, 100] {
+            let crop = cropped(&full, side);
+            assert_eq!((crop.width % 2, crop.height % 2), (0, 0));
+            let (dx, dy) = (
+                (full.width - crop.width) as f32 / 2.0,
+                (full.height - crop.height) as f32 / 2.0,
+            );
+            for point in [
+                Vec3::ZERO,
+                Vec3::new(0.1, 0.2, -0.05),
+                Vec3::new(-0.08, 0.0, 0.12),
+            ] {
+                let (fx, fy) = pixel(&full, point);
+                let (cx, cy) = pixel(&crop, point);
+                assert!(
+                    (cx + dx - fx).abs() < 1e-2 && (cy + dy - fy).abs() < 1e-2,
+                    "{side}: {point}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_jitter_offsets_fill_every_column_and_row_of_the_pixel_once() {
+        let offsets = jitter_offsets(JITTER_POINTS_SMALL);
+        let n = offsets.len();
+        for axis in [0, 1] {
+            let mut strata: Vec<usize> = offsets
+                .iter()
+                .map(|&(x, y)| {
+                    let v = if axis == 0 { x } else { y };
+                    assert!(v.abs() < 0.5);
+                    ((v + 0.5) * n as f32) as usize
+                })
+                .collect();
+            strata.sort_unstable();
+            assert_eq!(strata, (0..n).collect::<Vec<_>>());
+        }
+    }
 }
