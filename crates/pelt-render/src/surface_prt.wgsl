@@ -135,9 +135,11 @@ fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>,
         * transfer_radiance(s.ids, s.bary, s.uv, s.layer, grad, texels.fine.a, s.hot);
     var rgb = fine;
     if (frame.fin.y > 0.0) {
-        // A lone layer's coarse texel is its own, scaled (`layer_texels`): lit as itself.
-        var coarse = fine * lone_share(texels.fine.a);
-        if (s.coarse != NO_LAYER) {
+        var coarse: vec3<f32>;
+        if (s.coarse == NO_LAYER) {
+            // A lone layer's coarse texel is its own, scaled (`layer_texels`): lit as itself.
+            coarse = fine * lone_share(texels.fine.a);
+        } else {
             coarse = texels.coarse.rgb
                 * transfer_radiance(s.ids, s.bary, s.uv, s.coarse, grad, texels.coarse.a, s.hot);
         }
