@@ -203,9 +203,11 @@ fn preview_uploads(volume: &HairVolume, transfer: &pelt::prt::pack::PackedF16) {
     let mut warm = FurScene::new(&renderer, &mesh, &uvs, volume, depth).unwrap();
     warm.set_transfer(&renderer, transfer).unwrap();
     drop(warm);
-    let mut scene = measured("preview upload", scene_upload_peak_bytes(volume), || {
-        FurScene::new(&renderer, &mesh, &uvs, volume, depth).unwrap()
-    });
+    let mut scene = measured(
+        "preview upload",
+        scene_upload_peak_bytes(volume, &renderer),
+        || FurScene::new(&renderer, &mesh, &uvs, volume, depth).unwrap(),
+    );
     let order = scene.transfer_order().unwrap_or(3);
     let estimate = transfer_upload_peak_bytes(volume.layers, volume.resolution, order);
     measured("preview transfer upload", estimate, || {

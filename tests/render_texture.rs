@@ -98,6 +98,7 @@ fn every_accepted_format_draws_the_offscreen_pixels_and_bad_textures_are_refused
     assert!(distinct.len() > 20, "{} colours", distinct.len());
 
     let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+    let mut first: Option<pelt::render::RgbaImage> = None;
     for (format, view_formats) in [
         (F::Rgba8UnormSrgb, vec![]),
         (F::Bgra8UnormSrgb, vec![]),
@@ -110,7 +111,24 @@ fn every_accepted_format_draws_the_offscreen_pixels_and_bad_textures_are_refused
             .unwrap();
         assert_eq!(info, renderer.frame_info(&scene, &camera, &settings).unwrap());
         let image = renderer.read_texture(&target).unwrap();
-        assert!(image == offscreen, "{format:?} differs from the offscreen render");
+        if renderer.is_cpu() {
+            // A caller's texture blends in its own format, shell by shell; a CPU adapter's
+            // offscreen frame blends in single floats and is encoded once. Lavapipe rounds each
+            // 8-bit blend: here the two differ by at most a few steps.
+            let apart = image
+                .pixels
+                .iter()
+                .zip(&offscreen.pixels)
+                .map(|(a, b)| a.abs_diff(*b));
+            assert!(
+                apart.max() <= Some(8),
+                "{format:?} strays from the offscreen render"
+            );
+            let first = first.get_or_insert_with(|| image.clone());
+            assert!(image == *first, "{format:?} differs from the other formats");
+        } else {
+            assert!(image == offscreen, "{format:?} differs from the offscreen render");
+        }
     }
     // Half floats are drawn too (not read back).
     let half = texture(

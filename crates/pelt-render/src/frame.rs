@@ -7,14 +7,14 @@
 
 use super::camera::{Camera, CameraFrame};
 use super::frame_uniforms::{FrameUniforms, SceneFrame};
-use super::image::{LinearImage, RgbaImage};
+use super::image::{LinearImage, RgbaImage, straight_srgb8_row};
 use super::lighting::{Lighting, LightingFrame};
 use super::lod::{self, FrameInfo};
 use super::occluders::Occluders;
 use super::pass::{DEPTH_FORMAT, Model, Target, texture_2d};
 use super::prt_light::world_coefficients;
 use super::prt_rotate::RotationUniforms;
-use super::readback::read_texels;
+use super::readback::{read_texels, read_texels_with};
 use super::scene::FurScene;
 use super::settings::{RenderSettings, ShellMethod};
 use super::shadow_map::ShadowFrame;
@@ -85,6 +85,23 @@ impl Targets {
     }
 }
 
+/// Where a frame goes: a caller's texture (of the target's format and the camera's size), or
+/// the cached offscreen target, read back as `Readback` says.
+#[derive(Clone, Copy)]
+pub(super) enum Output<'a> {
+    Texture(&'a wgpu::TextureView),
+    Read(Readback),
+}
+
+/// How an offscreen frame's texels come back.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum Readback {
+    /// The target's own bytes, premultiplied.
+    Stored,
+    /// A [`Target::Linear32`] frame as straight-alpha sRGB8, encoded once while it is read.
+    StraightSrgb8,
+}
+
 /// Everything a frame needs, checked.
 struct Checked {
     camera: CameraFrame,
@@ -96,7 +113,8 @@ struct Checked {
 impl Renderer {
     /// Renders `scene` offscreen: the opaque skin (writing depth), the fins near the silhouette
     /// (if `settings.fins`), then the shells inner to outer in one instanced draw. Returns 8-bit
-    /// sRGB with straight alpha.
+    /// sRGB with straight alpha, blended in an sRGB8 target (on a CPU adapter, in single floats
+    /// and encoded once: see `Target::Linear32`).
     ///
     /// Renders are serialized per renderer; the result depends only on the inputs (and the
     /// adapter).
@@ -131,12 +149,21 @@ impl Renderer {
         settings: &RenderSettings,
         occluders: Option<&Occluders>,
     ) -> Result<RgbaImage> {
-        let bytes = self.render_to(scene, camera, lighting, settings, Target::Srgb8, occluders)?;
-        Ok(RgbaImage::from_premultiplied(camera.width, camera.height, bytes))
+        let (w, h) = (camera.width, camera.height);
+        let (target, read) = if self.exact_targets {
+            (Target::Linear32, Readback::StraightSrgb8)
+        } else {
+            (Target::Srgb8, Readback::Stored)
+        };
+        let bytes = self.render_to(scene, camera, lighting, settings, target, read, occluders)?;
+        Ok(match read {
+            Readback::StraightSrgb8 => RgbaImage::from_straight(w, h, bytes),
+            Readback::Stored => RgbaImage::from_premultiplied(w, h, bytes),
+        })
     }
 
-    /// [`Renderer::render`] into a half-float target, returned as linear `f32` RGBA with straight
-    /// alpha (no 8-bit rounding; HDR values above 1 are kept).
+    /// [`Renderer::render`] into a half-float target (single floats on a CPU adapter), returned
+    /// as linear `f32` RGBA with straight alpha (no 8-bit rounding; HDR values above 1 are kept).
     ///
     /// # Errors
     /// As [`Renderer::render`].
@@ -162,12 +189,18 @@ impl Renderer {
         settings: &RenderSettings,
         occluders: Option<&Occluders>,
     ) -> Result<LinearImage> {
-        let bytes = self.render_to(scene, camera, lighting, settings, Target::Linear16, occluders)?;
-        Ok(LinearImage::from_premultiplied_f16(
-            camera.width,
-            camera.height,
-            &bytes,
-        ))
+        let (w, h) = (camera.width, camera.height);
+        let target = if self.exact_targets {
+            Target::Linear32
+        } else {
+            Target::Linear16
+        };
+        let read = Readback::Stored;
+        let bytes = self.render_to(scene, camera, lighting, settings, target, read, occluders)?;
+        Ok(match target {
+            Target::Linear32 => LinearImage::from_premultiplied_f32(w, h, &bytes),
+            _ => LinearImage::from_premultiplied_f16(w, h, &bytes),
+        })
     }
 
     /// What [`Renderer::render`] would draw with these inputs: the shell count, and with LOD
@@ -214,10 +247,10 @@ impl Renderer {
         settings: &RenderSettings,
     ) -> Result<Checked> {
         let info = self.frame_info(scene, camera, settings)?;
-        // Host memory of a frame: the readback (up to 8 bytes a pixel), the converted image (up
-        // to 16) and a caller's copy (16).
+        // Host memory of a frame: the readback (up to 16 bytes a pixel; on a CPU adapter the
+        // target too), the converted image (up to 16) and a caller's copy (16).
         let pixels = f64::from(camera.width) * f64::from(camera.height);
-        pelt_core::memory::check("render", 40.0 * pixels, || {
+        pelt_core::memory::check("render", 64.0 * pixels, || {
             format!("`width` ({}) or `height` ({})", camera.width, camera.height)
         })?;
         let camera = CameraFrame::of(camera, self.device.limits().max_texture_dimension_2d)?;
@@ -249,7 +282,8 @@ impl Renderer {
         })
     }
 
-    /// Renders into `target` offscreen and returns its texels, premultiplied.
+    /// Renders into `target` offscreen and returns its texels as `read` says.
+    #[allow(clippy::too_many_arguments)]
     fn render_to(
         &self,
         scene: &FurScene,
@@ -257,15 +291,16 @@ impl Renderer {
         lighting: &Lighting,
         settings: &RenderSettings,
         target: Target,
+        read: Readback,
         occluders: Option<&Occluders>,
     ) -> Result<Vec<u8>> {
-        let (_, texels) = self.draw(scene, camera, lighting, settings, target, None, occluders)?;
+        let output = Output::Read(read);
+        let (_, texels) = self.draw(scene, camera, lighting, settings, target, output, occluders)?;
         texels.ok_or_else(|| PeltError::Render("an offscreen frame was not read back".into()))
     }
 
-    /// Draws a frame into `view` (a caller's texture of `target`'s format and the camera's size),
-    /// or without one into the cached offscreen target, whose texels it then reads back; behind
-    /// `occluders` when given.
+    /// Draws a frame into `output`: a caller's texture, or the cached offscreen target, whose
+    /// texels it then reads back; behind `occluders` when given.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn draw(
         &self,
@@ -274,7 +309,7 @@ impl Renderer {
         lighting: &Lighting,
         settings: &RenderSettings,
         target: Target,
-        view: Option<&wgpu::TextureView>,
+        output: Output<'_>,
         occluders: Option<&Occluders>,
     ) -> Result<(FrameInfo, Option<Vec<u8>>)> {
         let checked = self.check(scene, camera, lighting, settings)?;
@@ -384,6 +419,10 @@ impl Renderer {
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
         let size = (camera.width, camera.height);
+        let (view, read) = match output {
+            Output::Texture(view) => (Some(view), None),
+            Output::Read(read) => (None, Some(read)),
+        };
         let offscreen = view.is_none().then_some(target);
         let targets = scoped(&self.device, "creating the render targets", || {
             Targets::fit(&self.device, cached.take(), size, offscreen)
@@ -507,14 +546,13 @@ impl Renderer {
                 .shadow
                 .set_drawn(Some((&shadow_frame, level.indices.clone())));
         }
-        let texels = match readback {
-            Some(texture) => Some(read_texels(
-                &self.device,
-                &self.queue,
-                texture,
-                target.texel_bytes(),
-            )?),
-            None => None,
+        let (device, queue, bytes) = (&self.device, &self.queue, target.texel_bytes());
+        let texels = match (readback, read) {
+            (Some(texture), Some(Readback::StraightSrgb8)) if target == Target::Linear32 => Some(
+                read_texels_with(device, queue, texture, bytes, 4, straight_srgb8_row)?,
+            ),
+            (Some(texture), _) => Some(read_texels(device, queue, texture, bytes)?),
+            (None, _) => None,
         };
         Ok((checked.info, texels))
     }

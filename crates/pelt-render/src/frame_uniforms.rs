@@ -91,7 +91,9 @@ impl FrameUniforms {
                 scene.fur_depth,
                 scene.layer_spacing,
                 light.self_shadow,
-                settings.alpha_test,
+                // Less a half float's rounding: stored in half floats (a CPU adapter's color
+                // textures), an opacity of exactly the threshold reads up to 2⁻¹¹ below it.
+                settings.alpha_test * (1.0 - 1.0 / 2048.0),
             ],
             fin: [settings.fin_opacity, info.blend, scene.fin_spacing, 0.0],
             counts: [info.shells, scene.layers, u32::from(settings.lod), coarse_stand],

@@ -6,7 +6,7 @@ use rayon::prelude::*;
 
 use pelt_core::error::Result;
 use pelt_core::texture::ImageRef;
-use pelt_core::texture::color::{srgb8_encoder, srgb8_to_linear_table};
+use pelt_core::texture::color::{srgb8_encoder, srgb8_to_linear_table, unit_to_u8};
 use pelt_core::threads::pool;
 
 /// Pixels per parallel task of a per-pixel pass: small enough to spread a 540p frame over 16
@@ -55,6 +55,15 @@ impl RgbaImage {
         }
     }
 
+    /// Straight sRGB8 pixels as they are.
+    pub(super) fn from_straight(width: u32, height: u32, pixels: Vec<u8>) -> Self {
+        RgbaImage {
+            width,
+            height,
+            pixels,
+        }
+    }
+
     /// The pixel at column `x`, row `y` (row 0 at the top), or `None` outside the image.
     pub fn pixel(&self, x: u32, y: u32) -> Option<[u8; 4]> {
         if x >= self.width || y >= self.height {
@@ -96,7 +105,8 @@ impl RgbaImage {
 }
 
 /// A linear-light RGBA image in `f32`: straight (not premultiplied) alpha, `height` rows of
-/// `width` pixels from the top, from a half-float target (about three significant digits).
+/// `width` pixels from the top, from a half-float target (about three significant digits) or,
+/// on a CPU adapter, a single-float one.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LinearImage {
     /// Width in pixels.
@@ -111,11 +121,21 @@ impl LinearImage {
     /// Turns the half-float target's premultiplied bytes into straight alpha; fully transparent
     /// pixels are all zero.
     pub(super) fn from_premultiplied_f16(width: u32, height: u32, bytes: &[u8]) -> Self {
-        let pixels = bytes
+        let values = bytes
             .chunks_exact(8)
-            .flat_map(|px| {
-                let v: [f32; 4] =
-                    std::array::from_fn(|c| f16::from_le_bytes([px[2 * c], px[2 * c + 1]]).to_f32());
+            .map(|px| std::array::from_fn(|c| f16::from_le_bytes([px[2 * c], px[2 * c + 1]]).to_f32()));
+        Self::from_premultiplied(width, height, values)
+    }
+
+    /// [`LinearImage::from_premultiplied_f16`] of a single-float target.
+    pub(super) fn from_premultiplied_f32(width: u32, height: u32, bytes: &[u8]) -> Self {
+        Self::from_premultiplied(width, height, bytes.chunks_exact(16).map(premultiplied_f32))
+    }
+
+    /// Straight alpha from premultiplied values.
+    fn from_premultiplied(width: u32, height: u32, values: impl Iterator<Item = [f32; 4]>) -> Self {
+        let pixels = values
+            .flat_map(|v| {
                 let a = v[3];
                 if a > 0.0 {
                     // An HDR value past the half range comes back infinite: keep it finite.
@@ -140,6 +160,32 @@ impl LinearImage {
         let i = 4 * (y as usize * self.width as usize + x as usize);
         self.pixels.get(i..i + 4)?.try_into().ok()
     }
+}
+
+/// A row of single-float premultiplied texels (little-endian) as straight sRGB8: color divided by
+/// the alpha as stored (as an 8-bit target's is) and encoded once.
+pub(super) fn straight_srgb8_row(row: &[u8], out: &mut [u8]) {
+    let srgb = srgb8_encoder();
+    for (px, texel) in out.chunks_exact_mut(4).zip(row.chunks_exact(16)) {
+        let [r, g, b, a] = premultiplied_f32(texel);
+        let alpha = unit_to_u8(a);
+        if alpha == 0 {
+            px.fill(0);
+            continue;
+        }
+        let scale = 255.0 / f32::from(alpha);
+        for (c, v) in px.iter_mut().zip([r, g, b]) {
+            *c = srgb.encode(v * scale);
+        }
+        px[3] = alpha;
+    }
+}
+
+/// One single-float texel's four values (little-endian bytes).
+fn premultiplied_f32(texel: &[u8]) -> [f32; 4] {
+    std::array::from_fn(|c| {
+        f32::from_le_bytes([texel[4 * c], texel[4 * c + 1], texel[4 * c + 2], texel[4 * c + 3]])
+    })
 }
 
 #[cfg(test)]

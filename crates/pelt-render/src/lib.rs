@@ -36,6 +36,7 @@
 //! `readback.rs`, `texture_target.rs` (a caller's texture) and `window.rs` (a window's surface).
 
 mod camera;
+mod color_store;
 mod fins;
 mod frame;
 mod frame_uniforms;
@@ -128,6 +129,9 @@ pub struct Renderer {
     adapter: AdapterReport,
     /// Whether the adapter is a CPU rasterizer.
     cpu: bool,
+    /// Whether offscreen frames are drawn into single floats ([`pass::Target::Linear32`]): on a
+    /// CPU adapter that blends them.
+    exact_targets: bool,
     /// Tells scenes of this renderer from others' (wgpu objects of two devices must not meet).
     id: u64,
     /// The fur pipelines, built on first use.
@@ -240,10 +244,16 @@ impl Renderer {
                 info.name
             )));
         }
+        let cpu = info.device_type == wgpu::DeviceType::Cpu;
+        let exact_targets = cpu && adapter.features().contains(wgpu::Features::FLOAT32_BLENDABLE);
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("pelt"),
-                required_features: wgpu::Features::empty(),
+                required_features: if exact_targets {
+                    wgpu::Features::FLOAT32_BLENDABLE
+                } else {
+                    wgpu::Features::empty()
+                },
                 required_limits: required_limits(&adapter.limits()),
                 experimental_features: wgpu::ExperimentalFeatures::disabled(),
                 memory_hints: wgpu::MemoryHints::Performance,
@@ -260,7 +270,8 @@ impl Renderer {
                 backend: format!("{:?}", info.backend),
                 device_type: format!("{:?}", info.device_type),
             },
-            cpu: info.device_type == wgpu::DeviceType::Cpu,
+            cpu,
+            exact_targets,
             id: NEXT_RENDERER_ID.fetch_add(1, Ordering::Relaxed),
             fur: OnceLock::new(),
             targets: Mutex::new(None),
@@ -276,6 +287,11 @@ impl Renderer {
     /// Whether the adapter is a CPU (software) rasterizer.
     pub fn is_cpu(&self) -> bool {
         self.cpu
+    }
+
+    /// How this renderer's device stores color textures.
+    pub(crate) fn color_store(&self) -> color_store::ColorStore {
+        color_store::ColorStore::for_adapter(self.cpu)
     }
 
     /// How this renderer draws shells asked for with `method` ([`ShellMethod::Auto`] resolved).

@@ -28,9 +28,9 @@ pub(super) struct PassPipelines {
 pub(super) struct FurPipelines {
     pub layouts: FurLayouts,
     /// Indexed by [`variant`].
-    passes: [OnceLock<PassPipelines>; 6],
+    passes: [OnceLock<PassPipelines>; 8],
     /// Indexed by the target ([`variant`] under Kajiya–Kay).
-    occluders: [OnceLock<OccluderPass>; 3],
+    occluders: [OnceLock<OccluderPass>; 4],
     shadow: OnceLock<ShadowPass>,
 }
 
@@ -39,8 +39,9 @@ fn variant(model: Model, target: Target) -> usize {
         Target::Srgb8 => 0,
         Target::Bgra8Srgb => 1,
         Target::Linear16 => 2,
+        Target::Linear32 => 3,
     };
-    3 * usize::from(model == Model::Prt) + target
+    4 * usize::from(model == Model::Prt) + target
 }
 
 impl FurPipelines {

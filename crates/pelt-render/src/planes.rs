@@ -4,6 +4,7 @@
 //! by [`super::shells::ShellsPass`]. Also the slices' upload: one texture array of `2N` layers, the
 //! slices premultiplied with their mip chains, as the fin texture is.
 
+use super::color_store::ColorStore;
 use super::shaders::PassShader;
 use super::textures::upload_with_mips;
 use pelt_core::error::Result;
@@ -22,7 +23,7 @@ pub(super) struct ScenePlanes {
     pub bytes: u64,
 }
 
-/// Uploads checked slices (`pelt_core::volume::slices::check_slices`).
+/// Uploads checked slices (`pelt_core::volume::slices::check_slices`), stored as `store` says.
 ///
 /// # Errors
 /// [`pelt_core::PeltError::InvalidParameter`] when a mip chain cannot be built (not for checked
@@ -31,6 +32,7 @@ pub(super) fn upload_planes(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     slices: &PlaneSlices,
+    store: ColorStore,
 ) -> Result<ScenePlanes> {
     let [width, height] = slices.size;
     let (view, bytes) = upload_with_mips(
@@ -40,6 +42,7 @@ pub(super) fn upload_planes(
         [width, height, 2 * slices.planes],
         &slices.rgba,
         wgpu::TextureViewDimension::D2Array,
+        store,
     )?;
     Ok(ScenePlanes {
         view,

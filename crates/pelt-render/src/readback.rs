@@ -1,6 +1,9 @@
 //! Copying a render target back to the CPU, with rows padded to wgpu's 256-byte copy alignment.
 
+use rayon::prelude::*;
+
 use pelt_core::error::{PeltError, Result};
+use pelt_core::threads::pool;
 
 /// Reads an RGBA8 2D texture into tightly packed rows (`height × width × 4` bytes).
 pub(super) fn read_rgba8(
@@ -17,6 +20,22 @@ pub(super) fn read_texels(
     queue: &wgpu::Queue,
     texture: &wgpu::Texture,
     texel_bytes: u32,
+) -> Result<Vec<u8>> {
+    read_texels_with(device, queue, texture, texel_bytes, texel_bytes, |row, out| {
+        out.copy_from_slice(row);
+    })
+}
+
+/// Reads a 2D texture of `texel_bytes` bytes per texel, each row turned by `convert` into a row
+/// of `out_bytes` bytes per texel straight from the mapped buffer, rows in parallel on Pelt's
+/// threads.
+pub(super) fn read_texels_with(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    texel_bytes: u32,
+    out_bytes: u32,
+    convert: impl Fn(&[u8], &mut [u8]) + Sync,
 ) -> Result<Vec<u8>> {
     let (width, height) = (texture.width(), texture.height());
     let row_bytes = width * texel_bytes;
@@ -43,11 +62,15 @@ pub(super) fn read_texels(
         texture.size(),
     );
     queue.submit([encoder.finish()]);
+    let out_row = (width * out_bytes) as usize;
     mapped(device, &buffer, |bytes| {
-        let mut pixels = Vec::with_capacity((row_bytes * height) as usize);
-        for row in bytes.chunks_exact(padded as usize) {
-            pixels.extend_from_slice(&row[..row_bytes as usize]);
-        }
+        let mut pixels = vec![0u8; out_row * height as usize];
+        pool().install(|| {
+            pixels
+                .par_chunks_mut(out_row.max(1))
+                .zip(bytes.par_chunks(padded as usize))
+                .for_each(|(out, row)| convert(&row[..row_bytes as usize], out));
+        });
         pixels
     })
 }

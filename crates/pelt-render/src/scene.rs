@@ -293,12 +293,16 @@ impl FurScene {
     ) -> Result<Self> {
         check_fur_depth(fur_depth)?;
         let device = &renderer.device;
-        pelt_core::memory::check("preview upload", super::scene_upload_peak_bytes(volume), || {
-            format!(
-                "the volume's `resolution` ({}) or `layers` ({})",
-                volume.resolution, volume.layers
-            )
-        })?;
+        pelt_core::memory::check(
+            "preview upload",
+            super::scene_upload_peak_bytes(volume, renderer),
+            || {
+                format!(
+                    "the volume's `resolution` ({}) or `layers` ({})",
+                    volume.resolution, volume.layers
+                )
+            },
+        )?;
         textures::validate(volume, &device.limits())?;
         let levels = Levels::new(volume.layers as u32);
         let alpha: Vec<u8> = volume.shells.chunks_exact(4).map(|px| px[3]).collect();
@@ -339,7 +343,13 @@ impl FurScene {
                     &surface_lengths,
                 );
                 let fins_gpu = GpuMesh::fins(device, &fins, (&colors, &lengths));
-                let volume_gpu = textures::upload_volume(device, &renderer.queue, volume, &levels)?;
+                let volume_gpu = textures::upload_volume(
+                    device,
+                    &renderer.queue,
+                    volume,
+                    &levels,
+                    renderer.color_store(),
+                )?;
                 let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("frame uniforms"),
                     size: size_of::<FrameUniforms>() as u64,
@@ -667,7 +677,7 @@ impl FurScene {
         })?;
         let device = &renderer.device;
         let planes = scoped(device, "uploading the plane slices", || {
-            super::planes::upload_planes(device, &renderer.queue, slices)
+            super::planes::upload_planes(device, &renderer.queue, slices, renderer.color_store())
         })??;
         self.uploads.texture_bytes += planes.bytes;
         self.planes = Some(planes);

@@ -3,10 +3,10 @@
 //! `mesh/`). The GPU passes are tested in `tests/render_fur.rs`.
 
 use super::camera::{Camera, CameraFrame, invert};
+use super::color_store::{premultiply, premultiply_half};
 use super::image::RgbaImage;
 use super::lighting::Lighting;
 use super::settings::RenderSettings;
-use super::textures::premultiply;
 use glam::dcamera::rh::proj::directx;
 use glam::dcamera::rh::view::look_at_mat4;
 use glam::{DMat4, DVec4, Vec4};
@@ -269,6 +269,28 @@ fn premultiplied_upload_and_straight_readback_agree_with_the_formulas() {
 }
 
 #[test]
+fn half_storage_holds_the_premultiplied_linear_values() {
+    use half::f16;
+    let straight = [
+        255, 128, 0, 128, 10, 200, 90, 255, 77, 77, 77, 0, 0, 0, 0, 3, 1, 2, 3, 1,
+    ];
+    let stored = premultiply_half(&straight);
+    assert_eq!(stored.len(), 2 * straight.len());
+    for (s, h) in straight.chunks_exact(4).zip(stored.chunks_exact(8)) {
+        let v: Vec<f32> = h
+            .chunks_exact(2)
+            .map(|p| f16::from_le_bytes([p[0], p[1]]).to_f32())
+            .collect();
+        let a = f32::from(s[3]) / 255.0;
+        let want = [0, 1, 2].map(|c| srgb_to_linear(f32::from(s[c]) / 255.0) * a);
+        for (got, want) in v.iter().zip(want.iter().chain([&a])) {
+            // A half float's rounding: 2⁻¹¹ relative, 2⁻²⁵ absolute below its normal range.
+            assert!((got - want).abs() <= want * 4.9e-4 + 3e-8, "{s:?} -> {v:?}");
+        }
+    }
+}
+
+#[test]
 fn premultiplying_does_not_depend_on_the_thread_count() {
     // Enough texels for several parallel chunks, every (color, alpha) pair present.
     let straight: Vec<u8> = (0..3 * 65536u32)
@@ -286,7 +308,7 @@ fn premultiplying_does_not_depend_on_the_thread_count() {
             .num_threads(threads)
             .build()
             .unwrap();
-        pool.install(|| premultiply(&straight))
+        pool.install(|| (premultiply(&straight), premultiply_half(&straight)))
     };
     assert!(run(1) == run(2));
 }

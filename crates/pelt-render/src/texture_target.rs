@@ -7,6 +7,7 @@
 //! formats (a surface configured by [`super::WindowSurface`] does).
 
 use super::camera::Camera;
+use super::frame::Output;
 use super::image::RgbaImage;
 use super::lighting::Lighting;
 use super::lod::FrameInfo;
@@ -45,7 +46,9 @@ fn checked_target(texture: &wgpu::Texture, usage: wgpu::TextureUsages, formats: 
 impl Renderer {
     /// Draws `scene` into `texture` like [`Renderer::render`] (skin, fins, shells; the
     /// background cleared first) and returns what it drew. The texture holds premultiplied color
-    /// afterwards. The work is submitted, not waited for.
+    /// afterwards, blended in its own format (on a CPU adapter [`Renderer::render`] blends in
+    /// single floats instead, so the two can differ by the 8-bit rounding of each shell). The
+    /// work is submitted, not waited for.
     ///
     /// `texture` must come from this renderer's device (a window's surface configured with
     /// [`super::WindowSurface`], or [`Renderer::device`]), be 2D with one layer and one sample,
@@ -86,7 +89,15 @@ impl Renderer {
                 ..Default::default()
             })
         })?;
-        let (info, _) = self.draw(scene, camera, lighting, settings, target, Some(&view), None)?;
+        let (info, _) = self.draw(
+            scene,
+            camera,
+            lighting,
+            settings,
+            target,
+            Output::Texture(&view),
+            None,
+        )?;
         Ok(info)
     }
 

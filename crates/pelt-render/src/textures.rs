@@ -3,19 +3,16 @@
 //! texture with a mip chain of its own (Lengyel et al. 2001, §2.2–§2.4).
 //!
 //! The bake stores straight alpha with sRGB-encoded color; the renderer blends premultiplied
-//! color (filtering and "over" are only right on premultiplied values), so colors are multiplied
-//! by alpha in linear light on upload and stored sRGB-encoded again in an `Rgba8UnormSrgb`
-//! texture, which the sampler decodes back to linear before filtering.
-
-use rayon::prelude::*;
+//! color, stored as [`ColorStore`] says (sRGB-encoded RGBA8 on a GPU, linear half floats on a
+//! CPU adapter).
 
 use pelt_core::error::{PeltError, Result};
-use pelt_core::texture::color::{srgb8_encoder, srgb8_to_linear_table};
 use pelt_core::texture::{MipAlpha, MipLevels, MipOptions, full_mip_count, mip_chain_rgba8};
 use pelt_core::threads::pool;
 use pelt_core::volume::HairVolume;
 use pelt_core::volume::lod::lod_chain;
 
+use super::color_store::ColorStore;
 use super::lod::Levels;
 
 /// The uploaded textures.
@@ -25,25 +22,6 @@ pub(super) struct VolumeTextures {
     pub fin: wgpu::TextureView,
     /// Bytes written to the GPU.
     pub bytes: u64,
-}
-
-/// Straight sRGB RGBA8 to premultiplied (sRGB-encoded) RGBA8, in the current rayon pool (each
-/// texel on its own, so the result does not depend on the thread count).
-pub(super) fn premultiply(straight: &[u8]) -> Vec<u8> {
-    let (table, srgb) = (srgb8_to_linear_table(), srgb8_encoder());
-    let mut out = vec![0u8; straight.len()];
-    out.par_chunks_mut(4 * 4096)
-        .zip(straight.par_chunks(4 * 4096))
-        .for_each(|(dst, src)| {
-            for (d, s) in dst.chunks_exact_mut(4).zip(src.chunks_exact(4)) {
-                let a = f32::from(s[3]) / 255.0;
-                for c in 0..3 {
-                    d[c] = srgb.encode(table[usize::from(s[c])] * a);
-                }
-                d[3] = s[3];
-            }
-        });
-    out
 }
 
 fn mismatch(name: &str, expected: usize, got: usize) -> PeltError {
@@ -168,6 +146,7 @@ fn upload(
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     });
+    let texel = format.block_copy_size(None).unwrap_or(4) as usize;
     let mut bytes = 0;
     for (first, levels) in blocks {
         for (level, data) in levels.iter().enumerate() {
@@ -186,13 +165,13 @@ fn upload(
                 data,
                 wgpu::TexelCopyBufferLayout {
                     offset: 0,
-                    bytes_per_row: Some(4 * w as u32),
+                    bytes_per_row: Some((texel * w) as u32),
                     rows_per_image: Some(h as u32),
                 },
                 wgpu::Extent3d {
                     width: w as u32,
                     height: h as u32,
-                    depth_or_array_layers: (data.len() / (4 * w * h)) as u32,
+                    depth_or_array_layers: (data.len() / (texel * w * h)) as u32,
                 },
             );
             bytes += data.len() as u64;
@@ -208,7 +187,7 @@ fn upload(
 }
 
 /// Uploads a validated volume with its LOD `levels` (the volume's chain, or one built here when
-/// it has none).
+/// it has none), its colors stored as `store` says.
 ///
 /// # Errors
 /// [`PeltError::InvalidParameter`] when a mip chain cannot be built (sizes were checked by
@@ -218,6 +197,7 @@ pub(super) fn upload_volume(
     queue: &wgpu::Queue,
     volume: &HairVolume,
     levels: &Levels,
+    store: ColorStore,
 ) -> Result<VolumeTextures> {
     let (layers, res) = (volume.layers, volume.resolution);
     let built;
@@ -247,16 +227,18 @@ pub(super) fn upload_volume(
         chains
             .iter()
             .zip(&levels.bases)
-            .map(|(chain, &base)| (base as usize, chain.iter().map(|l| premultiply(l)).collect()))
+            .map(|(chain, &base)| {
+                let stored = chain.iter().map(|l| store.premultiplied(l)).collect();
+                (base as usize, stored)
+            })
             .collect()
     });
     let array = wgpu::TextureViewDimension::D2Array;
-    let srgb = wgpu::TextureFormat::Rgba8UnormSrgb;
     let (shells, shell_bytes) = upload(
         device,
         queue,
         "shells",
-        srgb,
+        store.format(),
         [res, res, levels.total() as usize],
         &blocks,
         array,
@@ -283,6 +265,7 @@ pub(super) fn upload_volume(
         [fin_w, fin_h, 1],
         &volume.fin,
         wgpu::TextureViewDimension::D2,
+        store,
     )?;
     Ok(VolumeTextures {
         shells,
@@ -293,7 +276,7 @@ pub(super) fn upload_volume(
 }
 
 /// Uploads `layers` straight sRGB RGBA8 images of `width × height` with their full mip chain
-/// (alpha-weighted, in linear light), premultiplied.
+/// (alpha-weighted, in linear light), premultiplied and stored as `store` says.
 ///
 /// # Errors
 /// [`PeltError::InvalidParameter`] when the sizes do not match `rgba` (checked by the callers).
@@ -304,18 +287,19 @@ pub(super) fn upload_with_mips(
     [width, height, layers]: [usize; 3],
     rgba: &[u8],
     dimension: wgpu::TextureViewDimension,
+    store: ColorStore,
 ) -> Result<(wgpu::TextureView, u64)> {
     let options = MipOptions {
         levels: MipLevels::Full,
         alpha: MipAlpha::Straight,
     };
     let levels = mip_chain_rgba8(width, height, layers, rgba, true, &options)?;
-    let levels: Vec<Vec<u8>> = pool().install(|| levels.iter().map(|l| premultiply(l)).collect());
+    let levels: Vec<Vec<u8>> = pool().install(|| levels.iter().map(|l| store.premultiplied(l)).collect());
     Ok(upload(
         device,
         queue,
         label,
-        wgpu::TextureFormat::Rgba8UnormSrgb,
+        store.format(),
         [width, height, layers],
         &[(0, levels)],
         dimension,
