@@ -57,40 +57,40 @@ impl ColorStore {
 
 /// Straight sRGB RGBA8 to premultiplied (sRGB-encoded) RGBA8.
 pub(super) fn premultiply(straight: &[u8]) -> Vec<u8> {
-    let (table, srgb) = (srgb8_to_linear_table(), srgb8_encoder());
-    let mut out = vec![0u8; straight.len()];
-    out.par_chunks_mut(4 * 4096)
-        .zip(straight.par_chunks(4 * 4096))
-        .for_each(|(dst, src)| {
-            for (d, s) in dst.chunks_exact_mut(4).zip(src.chunks_exact(4)) {
-                let a = f32::from(s[3]) / 255.0;
-                for c in 0..3 {
-                    d[c] = srgb.encode(table[usize::from(s[c])] * a);
-                }
-                d[3] = s[3];
-            }
-        });
-    out
+    let srgb = srgb8_encoder();
+    premultiplied_texels(straight, 4, |[r, g, b], alpha, out| {
+        out.copy_from_slice(&[srgb.encode(r), srgb.encode(g), srgb.encode(b), alpha]);
+    })
 }
 
 /// Straight sRGB RGBA8 to premultiplied linear RGBA16F, little-endian bytes.
 pub(super) fn premultiply_half(straight: &[u8]) -> Vec<u8> {
+    premultiplied_texels(straight, 8, |[r, g, b], alpha, out| {
+        let a = f32::from(alpha) / 255.0;
+        for (pair, v) in out.chunks_exact_mut(2).zip([r, g, b, a]) {
+            pair.copy_from_slice(&f16::from_f32(v).to_le_bytes());
+        }
+    })
+}
+
+/// Each straight sRGB RGBA8 texel's linear color premultiplied by its alpha, handed with the
+/// alpha byte to `store`, which writes the texel's `texel_bytes` bytes; in parallel chunks of the
+/// current rayon pool, each texel on its own.
+fn premultiplied_texels(
+    straight: &[u8],
+    texel_bytes: usize,
+    store: impl Fn([f32; 3], u8, &mut [u8]) + Sync,
+) -> Vec<u8> {
+    const CHUNK: usize = 4096;
     let table = srgb8_to_linear_table();
-    let mut out = vec![0u8; 2 * straight.len()];
-    out.par_chunks_mut(8 * 4096)
-        .zip(straight.par_chunks(4 * 4096))
+    let mut out = vec![0u8; straight.len() / 4 * texel_bytes];
+    out.par_chunks_mut(texel_bytes * CHUNK)
+        .zip(straight.par_chunks(4 * CHUNK))
         .for_each(|(dst, src)| {
-            for (d, s) in dst.chunks_exact_mut(8).zip(src.chunks_exact(4)) {
+            for (d, s) in dst.chunks_exact_mut(texel_bytes).zip(src.chunks_exact(4)) {
                 let a = f32::from(s[3]) / 255.0;
-                let texel = [
-                    table[usize::from(s[0])] * a,
-                    table[usize::from(s[1])] * a,
-                    table[usize::from(s[2])] * a,
-                    a,
-                ];
-                for (pair, v) in d.chunks_exact_mut(2).zip(texel) {
-                    pair.copy_from_slice(&f16::from_f32(v).to_le_bytes());
-                }
+                let rgb = [0, 1, 2].map(|c| table[usize::from(s[c])] * a);
+                store(rgb, s[3], d);
             }
         });
     out

@@ -247,10 +247,12 @@ impl Renderer {
         settings: &RenderSettings,
     ) -> Result<Checked> {
         let info = self.frame_info(scene, camera, settings)?;
-        // Host memory of a frame: the readback (up to 16 bytes a pixel; on a CPU adapter the
-        // target too), the converted image (up to 16) and a caller's copy (16).
+        // Host memory of a frame: the readback (up to 8 bytes a pixel; 16 on a CPU adapter,
+        // whose single-float target is host memory too), the converted image (up to 16) and a
+        // caller's copy (16).
         let pixels = f64::from(camera.width) * f64::from(camera.height);
-        pelt_core::memory::check("render", 64.0 * pixels, || {
+        let per_pixel = if self.exact_targets { 64.0 } else { 40.0 };
+        pelt_core::memory::check("render", per_pixel * pixels, || {
             format!("`width` ({}) or `height` ({})", camera.width, camera.height)
         })?;
         let camera = CameraFrame::of(camera, self.device.limits().max_texture_dimension_2d)?;
@@ -548,9 +550,18 @@ impl Renderer {
         }
         let (device, queue, bytes) = (&self.device, &self.queue, target.texel_bytes());
         let texels = match (readback, read) {
-            (Some(texture), Some(Readback::StraightSrgb8)) if target == Target::Linear32 => Some(
-                read_texels_with(device, queue, texture, bytes, 4, straight_srgb8_row)?,
-            ),
+            (Some(texture), Some(Readback::StraightSrgb8)) => {
+                // The row conversion reads single floats.
+                debug_assert_eq!(target, Target::Linear32);
+                Some(read_texels_with(
+                    device,
+                    queue,
+                    texture,
+                    bytes,
+                    4,
+                    straight_srgb8_row,
+                )?)
+            }
             (Some(texture), _) => Some(read_texels(device, queue, texture, bytes)?),
             (None, _) => None,
         };
