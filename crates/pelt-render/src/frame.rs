@@ -24,8 +24,8 @@ use pelt_core::error::{PeltError, Result};
 use pelt_core::scene::fin_pose::PosedFinPlanes;
 use pelt_core::scene::geometry_lod;
 
-/// The depth target of one size and, for offscreen frames, a color target of that size, kept
-/// between frames.
+/// The depth target of one size and, for frames drawn offscreen, a color target of that size,
+/// kept between frames.
 pub(super) struct Targets {
     size: (u32, u32),
     depth_view: wgpu::TextureView,
@@ -73,7 +73,10 @@ impl Targets {
                 "fur color",
                 size,
                 target.format(),
-                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                // Read back, or copied into a caller's texture (`resolve.rs`).
+                wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::COPY_SRC
+                    | wgpu::TextureUsages::TEXTURE_BINDING,
             );
             targets.color = Some(ColorTarget {
                 target,
@@ -90,6 +93,9 @@ impl Targets {
 #[derive(Clone, Copy)]
 pub(super) enum Output<'a> {
     Texture(&'a wgpu::TextureView),
+    /// A caller's texture of the given format, the frame drawn offscreen in the draw's target
+    /// and copied into it once (`resolve.rs`).
+    Resolved(&'a wgpu::TextureView, Target),
     Read(Readback),
 }
 
@@ -318,6 +324,10 @@ impl Renderer {
         if let Some(o) = occluders {
             o.check(camera.width, camera.height)?;
         }
+        let resolve_pass = match output {
+            Output::Resolved(_, format) => Some(self.fur_pipelines()?.resolve(&self.device, format)?),
+            _ => None,
+        };
         let occluder_pass = match occluders {
             Some(_) => Some(self.fur_pipelines()?.occluders(&self.device, target)?),
             None => None,
@@ -421,9 +431,10 @@ impl Renderer {
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
         let size = (camera.width, camera.height);
-        let (view, read) = match output {
-            Output::Texture(view) => (Some(view), None),
-            Output::Read(read) => (None, Some(read)),
+        let (view, read, resolved) = match output {
+            Output::Texture(view) => (Some(view), None, None),
+            Output::Resolved(view, _) => (None, None, Some(view)),
+            Output::Read(read) => (None, Some(read), None),
         };
         let offscreen = view.is_none().then_some(target);
         let targets = scoped(&self.device, "creating the render targets", || {
@@ -540,6 +551,9 @@ impl Renderer {
                         .draw(&mut pass, scene, level, checked.model, (shells, method));
                 }
             }
+            if let (Some(pass), Some(into)) = (resolve_pass, resolved) {
+                pass.draw(&self.device, &mut encoder, color_view, into);
+            }
             self.queue.submit([encoder.finish()]);
             Ok::<_, PeltError>(())
         })??;
@@ -562,8 +576,8 @@ impl Renderer {
                     straight_srgb8_row,
                 )?)
             }
-            (Some(texture), _) => Some(read_texels(device, queue, texture, bytes)?),
-            (None, _) => None,
+            (Some(texture), Some(Readback::Stored)) => Some(read_texels(device, queue, texture, bytes)?),
+            _ => None,
         };
         Ok((checked.info, texels))
     }

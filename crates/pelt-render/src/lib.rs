@@ -54,6 +54,7 @@ mod prt_light;
 mod prt_rotate;
 mod readback;
 mod remade_levels;
+mod resolve;
 mod scene;
 mod settings;
 mod shaders;

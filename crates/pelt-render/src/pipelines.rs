@@ -1,8 +1,9 @@
 //! The fur passes' pipelines, built on first use per lighting model and target format: each pass
 //! (`skin.rs`, `fins.rs`, `shells.rs`, `strands.rs`) builds its own from the shared layouts
 //! (`layouts.rs`) and the recipe in `pass.rs`; the occluders' pass (`occluders.rs`), drawn first
-//! when the fur is composited into another picture, and the body's shadow map
-//! (`shadow_map.rs`) have their own layouts.
+//! when the fur is composited into another picture, the copy of a CPU adapter's frame into a
+//! caller's texture (`resolve.rs`) and the body's shadow map (`shadow_map.rs`) have their own
+//! layouts.
 
 use std::sync::OnceLock;
 
@@ -10,6 +11,7 @@ use super::fins::FinsPass;
 use super::layouts::{FurLayouts, validated};
 use super::occluders::OccluderPass;
 use super::pass::{Model, Target};
+use super::resolve::ResolvePass;
 use super::shadow_map::ShadowPass;
 use super::shells::ShellsPass;
 use super::skin::SkinPass;
@@ -31,6 +33,8 @@ pub(super) struct FurPipelines {
     passes: [OnceLock<PassPipelines>; 8],
     /// Indexed by the target ([`variant`] under Kajiya–Kay).
     occluders: [OnceLock<OccluderPass>; 4],
+    /// Indexed by the target ([`variant`] under Kajiya–Kay).
+    resolve: [OnceLock<ResolvePass>; 4],
     shadow: OnceLock<ShadowPass>,
 }
 
@@ -54,6 +58,7 @@ impl FurPipelines {
             layouts: FurLayouts::new(device)?,
             passes: Default::default(),
             occluders: Default::default(),
+            resolve: Default::default(),
             shadow: OnceLock::new(),
         })
     }
@@ -98,6 +103,22 @@ impl FurPipelines {
         }
         let built = validated(device, "the occluders' pipeline", || {
             Ok(OccluderPass::new(device, target.format()))
+        })?;
+        Ok(slot.get_or_init(|| built))
+    }
+
+    /// The pass copying a single-float frame into a texture of `target`'s format, built on
+    /// first use.
+    ///
+    /// # Errors
+    /// [`pelt_core::PeltError::Render`] when the device rejects it.
+    pub fn resolve(&self, device: &wgpu::Device, target: Target) -> Result<&ResolvePass> {
+        let slot = &self.resolve[variant(Model::KajiyaKay, target)];
+        if let Some(p) = slot.get() {
+            return Ok(p);
+        }
+        let built = validated(device, "the resolve pipeline", || {
+            Ok(ResolvePass::new(device, target))
         })?;
         Ok(slot.get_or_init(|| built))
     }

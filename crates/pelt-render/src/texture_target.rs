@@ -46,8 +46,8 @@ fn checked_target(texture: &wgpu::Texture, usage: wgpu::TextureUsages, formats: 
 impl Renderer {
     /// Draws `scene` into `texture` like [`Renderer::render`] (skin, fins, shells; the
     /// background cleared first) and returns what it drew. The texture holds premultiplied color
-    /// afterwards, blended in its own format (on a CPU adapter [`Renderer::render`] blends in
-    /// single floats instead, so the two can differ by the 8-bit rounding of each shell). The
+    /// afterwards, blended in its own format (on a CPU adapter, blended in single floats
+    /// offscreen and copied into it once, as [`Renderer::render`] encodes its frame once). The
     /// work is submitted, not waited for.
     ///
     /// `texture` must come from this renderer's device (a window's surface configured with
@@ -89,15 +89,12 @@ impl Renderer {
                 ..Default::default()
             })
         })?;
-        let (info, _) = self.draw(
-            scene,
-            camera,
-            lighting,
-            settings,
-            target,
-            Output::Texture(&view),
-            None,
-        )?;
+        // A CPU adapter blends exactly only in single floats (see `resolve.rs`).
+        let (drawn, output) = match self.exact_targets {
+            true => (Target::Linear32, Output::Resolved(&view, target)),
+            false => (target, Output::Texture(&view)),
+        };
+        let (info, _) = self.draw(scene, camera, lighting, settings, drawn, output, None)?;
         Ok(info)
     }
 
