@@ -40,6 +40,7 @@ mod color_store;
 mod fins;
 mod frame;
 mod frame_uniforms;
+mod full_frame;
 mod guard_strands;
 mod image;
 mod layouts;

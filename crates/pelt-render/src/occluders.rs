@@ -2,11 +2,13 @@
 //! renderer's depth buffer starts the frame's depth, pushed back along each view ray by a bias,
 //! so the fur behind another object fails the skin's and shells' depth test while the fur's own
 //! surfaces in that picture (its skin; Blender's shells drawn opaque), within the bias of the
-//! hair, do not hide it. One full-frame triangle writes the depth (`occluders.wgsl`).
+//! hair, do not hide it. One full-frame triangle (`full_frame.rs`) writes the depth
+//! (`occluders.wgsl`).
 
 use std::num::NonZeroU64;
 
 use super::camera::CameraFrame;
+use super::full_frame::{full_frame_pipeline, texel_entry};
 use super::pass::DEPTH_FORMAT;
 use super::pass::texture_2d;
 use pelt_core::error::{PeltError, Result};
@@ -91,58 +93,27 @@ impl OccluderPass {
                     },
                     count: None,
                 },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
+                texel_entry(1),
             ],
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("occluders"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("occluders"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("occluders.wgsl").into()),
-        });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("occluders"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
+        let pipeline = full_frame_pipeline(
+            device,
+            "occluders",
+            include_str!("occluders.wgsl"),
+            &layout,
+            Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
                 depth_write_enabled: Some(true),
                 depth_compare: Some(wgpu::CompareFunction::Always),
                 stencil: wgpu::StencilState::default(),
                 bias: wgpu::DepthBiasState::default(),
             }),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::empty(),
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+            wgpu::ColorTargetState {
+                format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::empty(),
+            },
+        );
         OccluderPass { layout, pipeline }
     }
 
