@@ -185,6 +185,18 @@ fn group_middle(top: u32, step: u32) -> f32 {
     return 0.5 * f32(top + ((top - 1u) / step) * step + 1u);
 }
 
+// Heights (shares of the fur depth, 0 the skin, 1 the top layer) at which PRT lights a marched
+// composite: HEIGHT_NODES evenly spaced, each layer's color split between the two around it.
+const HEIGHT_NODES: u32 = 9u;
+
+// What a marched composite holds, for its light (`march.wgsl` `shown`).
+struct Shown {
+    // The mean height of its hair, weighed by opacity, share of the fur depth.
+    mean: f32,
+    // Its premultiplied color split among the HEIGHT_NODES heights (PRT only; zero otherwise).
+    nodes: array<vec3<f32>, HEIGHT_NODES>,
+};
+
 // Lighting at one point, affine in the (premultiplied) texel: lit = albedo × scale + alpha × add.
 // The marched shells darken `ambient` and the rest apart (`march_banks`); elsewhere it is zero,
 // folded into `scale`.

@@ -25,15 +25,15 @@
 //   fn skin_fragment(v: SkinVarying) -> vec3<f32>: the skin, opaque, at height 0.
 //   fn march_frame(s: SurfaceOut) -> MarchFrame: the hull fragment's point and tile frame.
 //   fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alpha: f32,
-//                  grad: vec4<f32>, heights: vec2<f32>) -> HairLight
+//                  grad: vec4<f32>, heights: Shown) -> HairLight
 //     The lighting of the marched composite, shown by layer `layers` read at `uv` (`alpha` its
-//     texel's own opacity); `heights` the mean height of the layers it holds and their spread
-//     (`composite_heights`, shares of the fur depth).
+//     texel's own opacity); `heights` the mean height of the layers it holds and its color by
+//     height (`march.wgsl` `shown`).
 //   fn march_heights(layers: Layers, coarse: bool, mip: f32) -> vec2<f32>
 //     The mean and mean square of the level-0 heights (in layers) a marched layer's texel holds
 //     (`march.wgsl` `composite`), or (`coarse`) its coarser twin's, read at mip level `mip`.
 //   fn plane_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers,
-//                  grad: vec4<f32>, heights: vec2<f32>) -> HairLight: the same for the virtual
+//                  grad: vec4<f32>, heights: Shown) -> HairLight: the same for the virtual
 //     planes.
 //   fn march_banks(s: SurfaceOut, f: MarchFrame) -> vec2<f32>
 //     The Banks strengths the march darkens its composite by under the hull's painted length:

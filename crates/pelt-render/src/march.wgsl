@@ -1,6 +1,8 @@
 #define_import_path pelt::march
 
-#import pelt::common::{frame, Layers, HairLight, view_vector, surface_curvature}
+#import pelt::common::{
+    frame, Layers, HairLight, view_vector, surface_curvature, HEIGHT_NODES, Shown,
+}
 #import pelt::surface::{uv_gradients, MarchFrame}
 #ifdef PRT
 #import pelt::surface_prt as model
@@ -70,14 +72,33 @@ struct Marched {
     // Σ of each layer's share of `color` × its height (share of the fur depth): Banks darkening,
     // (1 - b) + b × height, of every layer composited is (1 - b) color + b raised.
     raised: vec4<f32>,
-    // Σ of each layer's share of the opacity × its height²: with `raised.a`, the spread of the
-    // heights the composite holds (`composite_heights`).
-    squared: f32,
+    // `color` split among the HEIGHT_NODES heights, each layer's share between the two around
+    // its height (PRT: each node is lit by the hair's mean transfer there, `Shown`).
+    nodes: array<vec3<f32>, HEIGHT_NODES>,
     shown: Layers,
     uv: vec2<f32>,
     // The shown layer's own texel opacity (level drawn).
     alpha: f32,
 };
+
+// A march that has composited nothing yet, its lit layer `shown` read at `uv`.
+fn empty_march(shown: Layers, uv: vec2<f32>) -> Marched {
+    var m: Marched;
+    m.shown = shown;
+    m.uv = uv;
+    m.alpha = 1.0;
+    return m;
+}
+
+// `color` added to the nodes of `m` around `height` (share of the fur depth), split between the
+// two linearly.
+fn deposit(m: ptr<function, Marched>, height: f32, color: vec3<f32>) {
+    let at = clamp(height, 0.0, 1.0) * f32(HEIGHT_NODES - 1u);
+    let below = min(u32(at), HEIGHT_NODES - 2u);
+    let t = at - f32(below);
+    (*m).nodes[below] += (1.0 - t) * color;
+    (*m).nodes[below + 1u] += t * color;
+}
 
 // `out` with `texel` (premultiplied, read at `uv` from `layers`, its level's own opacity
 // `alpha`) composited under it; `heights`: the mean and mean square of the level-0 heights (in
@@ -95,16 +116,24 @@ fn composite(out: Marched, texel: vec4<f32>, layers: Layers, uv: vec2<f32>, alph
     let share = (1.0 - out.color.a) * texel;
     next.color += share;
     next.raised += share * (heights.x * frame.fur.y);
-    next.squared += share.a * heights.y * frame.fur.y * frame.fur.y;
+#ifdef PRT
+    // An LOD composite's hair spreads over its members' heights: half at the mean ± the
+    // deviation.
+    let deviation = sqrt(max(heights.y - heights.x * heights.x, 0.0));
+    if (deviation > 0.0) {
+        deposit(&next, (heights.x - deviation) * frame.fur.y, 0.5 * share.rgb);
+        deposit(&next, (heights.x + deviation) * frame.fur.y, 0.5 * share.rgb);
+    } else {
+        deposit(&next, heights.x * frame.fur.y, share.rgb);
+    }
+#endif
     return next;
 }
 
-// The mean height (x) of the layers composited into `m`, weighed by what it shows of each, and
-// their spread about it (y, the standard deviation), shares of the fur depth.
-fn composite_heights(m: Marched) -> vec2<f32> {
-    let a = max(m.color.a, 1e-6);
-    let mean = m.raised.a / a;
-    return vec2<f32>(mean, sqrt(max(m.squared / a - mean * mean, 0.0)));
+// What `m` holds, for its light: the mean height of its layers, weighed by what it shows of
+// each, and its color by height.
+fn shown(m: Marched) -> Shown {
+    return Shown(m.raised.a / max(m.color.a, 1e-6), m.nodes);
 }
 
 // The composite `m` lit by `k`: the Banks darkening, linear in height, applied to the composite

@@ -8,15 +8,15 @@
 // Lighting is evaluated once per pixel: Kajiya-Kay at the layer where the composite passes half
 // opacity, which has hair where the ray crosses it, with the Banks darkening, linear in height,
 // applied to the composite exactly (the ambient's and the direct light's apart); PRT by the
-// hair's mean transfer over the heights the composite holds (`composite_heights`).
+// hair's mean transfer at the heights the composite holds (`Shown`).
 // The ray, the composite and its lighting are `march.wgsl`'s.
 
 #import pelt::common::{
-    frame, shell_texture, tile_sampler, NO_LAYER, Layers, shell_layers,
+    frame, shell_texture, tile_sampler, NO_LAYER, Layers, shell_layers, HEIGHT_NODES,
 }
 #import pelt::surface::Texels
 #import pelt::march::{
-    OPAQUE, Ray, ray_length, Marched, composite, composite_heights, lit, hull_fragment,
+    OPAQUE, Ray, ray_length, Marched, empty_march, composite, shown, lit, hull_fragment,
 }
 #ifdef PRT
 #import pelt::surface_prt as model
@@ -30,7 +30,7 @@
 const GROUP_SPREAD: f32 = 1.0;
 
 // Whether a pixel may march the LOD chain's groups (`march_levels`): not under PRT, whose
-// composite is lit by the mean transfer over the heights it holds (`composite_heights`), which
+// composite is lit by the mean transfer at the heights it holds (`Shown`), which
 // a group's middle misstates; where the pixels switched to the coarsest group (head-on) the hot
 // spot showed a bright disc.
 #ifdef PRT
@@ -71,7 +71,7 @@ fn vs_main(v: model::SurfaceIn) -> model::SurfaceVarying {
 // lit higher in the fur, 5% bright under PRT with a side light.)
 fn march(s: model::SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
     let hull = shell_layers(frame.counts.x - 1u);
-    var out = Marched(vec4<f32>(0.0), vec4<f32>(0.0), 0.0, hull, s.uv, 1.0);
+    var out = empty_march(hull, s.uv);
     // The coarser level's composite (opaque when no cross-fade runs: it never stops the march).
     var coarse = out;
     coarse.color.a = select(1.0, 0.0, fade);
@@ -115,7 +115,9 @@ fn mixed(a: Marched, b: Marched, t: f32) -> Marched {
     }
     m.color = mix(a.color, b.color, t);
     m.raised = mix(a.raised, b.raised, t);
-    m.squared = mix(a.squared, b.squared, t);
+    for (var k = 0u; k < HEIGHT_NODES; k++) {
+        m.nodes[k] = mix(a.nodes[k], b.nodes[k], t);
+    }
     return m;
 }
 
@@ -160,7 +162,7 @@ fn march_levels(s: model::SurfaceOut, ray: Ray, lod: f32, k: u32) -> Marched {
     for (var i = 0u; i < k; i++) {
         base += level_count(i);
     }
-    var out = Marched(vec4<f32>(0.0), vec4<f32>(0.0), 0.0, Layers(top, top, NO_LAYER), s.uv, 1.0);
+    var out = empty_march(Layers(top, top, NO_LAYER), s.uv);
     let step = 1u << k;
     var j = level_count(k) - 1u;
     loop {
@@ -211,6 +213,5 @@ fn fs_main(v: model::SurfaceVarying) -> @location(0) vec4<f32> {
     if (m.color.a <= 0.0) {
         discard;
     }
-    let heights = composite_heights(m);
-    return lit(s, f, m, model::march_light(s, f, m.uv, m.shown, m.alpha, grad, heights));
+    return lit(s, f, m, model::march_light(s, f, m.uv, m.shown, m.alpha, grad, shown(m)));
 }

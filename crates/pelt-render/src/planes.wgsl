@@ -19,7 +19,7 @@
 }
 #import pelt::surface::MarchFrame
 #import pelt::march::{
-    OPAQUE, Ray, ray_length, Marched, composite, composite_heights, lit, footprint_lod,
+    OPAQUE, Ray, ray_length, Marched, empty_march, composite, shown, lit, footprint_lod,
     hull_fragment,
 }
 #ifdef PRT
@@ -96,7 +96,7 @@ fn trace(s: model::SurfaceOut, f: MarchFrame, ray: Ray, grad: vec4<f32>) -> Marc
     let tilt = frame.planes.zw;
     let hull = shell_layers(frame.counts.x - 1u);
     let top = f32(hull.height);
-    var out = Marched(vec4<f32>(0.0), vec4<f32>(0.0), 0.0, hull, s.uv, 1.0);
+    var out = empty_march(hull, s.uv);
     // Where the ray meets the skin; at the limb, where it never does, where it leaves the fur.
     var end = ray_length(ray, top);
     if (end < 0.0) {
@@ -185,6 +185,5 @@ fn fs_main(v: model::SurfaceVarying) -> @location(0) vec4<f32> {
     if (m.color.a <= 0.0) {
         discard;
     }
-    let heights = composite_heights(m);
-    return lit(h.s, h.f, m, model::plane_light(h.s, h.f, m.uv, m.shown, h.grad, heights));
+    return lit(h.s, h.f, m, model::plane_light(h.s, h.f, m.uv, m.shown, h.grad, shown(m)));
 }

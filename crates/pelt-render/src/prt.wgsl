@@ -1,6 +1,6 @@
 #define_import_path pelt::prt
 
-#import pelt::common::{frame, tile_sampler, shell_texture, shared_path, view_vector}
+#import pelt::common::{frame, tile_sampler, shell_texture, shared_path, view_vector, HEIGHT_NODES}
 #import pelt::hot_spot::{hot_spot_ratio, unpack_gain}
 
 // Precomputed radiance transfer (prt-shell-fur §2.4): the lighting, already rotated into each
@@ -146,8 +146,30 @@ fn hot_spot_factor(m: MeanRadiances, hot: f32) -> vec3<f32> {
 }
 
 // Σ_k L'_k t̄_k with the hair's mean transfer at `height`, raised by the hot spot `hot`: the
-// light of the fins, the guard strands and the marched composites, which read no texel's transfer.
+// light of the fins and the guard strands, which read no texel's transfer.
 fn mean_radiance(ids: vec3<u32>, w: vec3<f32>, height: f32, hot: f32) -> vec3<f32> {
     let m = mean_radiances(ids, w, height, hot);
     return max(m.here, vec3<f32>(0.0)) * hot_spot_factor(m, hot);
+}
+
+// `mean_radiance` at each of the HEIGHT_NODES heights the marched composites are lit at, the
+// lighting read once for all.
+fn node_radiances(ids: vec3<u32>, w: vec3<f32>, hot: f32) -> array<vec3<f32>, HEIGHT_NODES> {
+    var here: array<vec3<f32>, HEIGHT_NODES>;
+    var top = vec3<f32>(0.0);
+    let spacing = 1.0 / f32(HEIGHT_NODES - 1u);
+    for (var k = 0u; k < frame.prt.x; k++) {
+        let l = light_at(ids, w, k);
+        for (var j = 0u; j < HEIGHT_NODES; j++) {
+            here[j] += l * mean_transfer(k, f32(j) * spacing);
+        }
+        if (hot > 0.0) {
+            top += l * top_transfer(k);
+        }
+    }
+    for (var j = 0u; j < HEIGHT_NODES; j++) {
+        let m = MeanRadiances(here[j], top);
+        here[j] = max(m.here, vec3<f32>(0.0)) * hot_spot_factor(m, hot);
+    }
+    return here;
 }

@@ -2,7 +2,7 @@
 
 #import pelt::common::{
     frame, tangent_texture, tile_sampler, Layers, skin_layers, shading_height,
-    level_shading_height, HairLight,
+    level_shading_height, HairLight, Shown,
     clip_position, view_vector, unit_or, surface_curvature, body_shadow,
 }
 #import pelt::lighting::{banks_strengths, hair_parts, shade, shade_skin, terminator_wrap}
@@ -149,14 +149,14 @@ fn march_frame(s: SurfaceOut) -> MarchFrame {
 
 // The hair lighting at the marched layer `layers` read at `uv`, before Banks darkening (at the
 // top of the fur it is none), which the march applies layer by layer (`march_banks`); the
-// body's shadow is read at the composite's mean height (`heights.x`).
+// body's shadow is read at the composite's mean height (`heights.mean`).
 fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alpha: f32,
-               grad: vec4<f32>, heights: vec2<f32>) -> HairLight {
+               grad: vec4<f32>, heights: Shown) -> HairLight {
     let n = unit_or(f.normal, vec3<f32>(0.0, 0.0, 1.0));
     let t = hair_tangent(uv, layers.height, f.dpdu, f.dpdv, f.up, n);
     let wrap = terminator_wrap(f.curvature, frame.fur.x * s.length);
     // Shadowed where the composite stands: its mean height, below the hull.
-    let below = f.up * (f32(s.height) * frame.fur.y - heights.x);
+    let below = f.up * (f32(s.height) * frame.fur.y - heights.mean);
     let p = hair_parts(t, n, view_vector(f.position), wrap, body_shadow(f.position - below, n));
     return HairLight(p.ambient, p.direct, frame.light_color.rgb * p.shine);
 }
@@ -164,7 +164,7 @@ fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alph
 // The virtual planes' lighting: the marched layer's, at the height where their composite passes
 // half opacity (`planes.wgsl`).
 fn plane_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, grad: vec4<f32>,
-               heights: vec2<f32>) -> HairLight {
+               heights: Shown) -> HairLight {
     return march_light(s, f, uv, layers, 1.0, grad, heights);
 }
 
