@@ -48,6 +48,7 @@ mod lighting;
 mod lod;
 mod marched;
 mod occluders;
+mod over_mips;
 mod pass;
 mod pipelines;
 mod planes;

@@ -503,10 +503,11 @@ impl FurScene {
                 ));
             }
         }
-        let (means, composite_ranges, per_texture, curvature) = pool().install(|| {
+        let (means, composite_ranges, chains, curvature) = pool().install(|| {
             let texels = self.resolution * self.resolution;
             let alphas = transfer::level_alphas(&self.alpha, &self.levels, texels);
             let per_texture = transfer::premultiplied_levels(transfer, &alphas, &self.levels);
+            let chains = transfer::mip_chains(&per_texture, &alphas, &self.levels, self.resolution);
             let mut means = transfer::layer_means(transfer, &self.alpha, order);
             // After level 0's rows, the composites' heights per mip level (two values each,
             // padded to whole rows), then their members' rows.
@@ -529,14 +530,15 @@ impl FurScene {
             (
                 means,
                 members.ranges,
-                per_texture,
+                chains,
                 vertex_curvature(&self.rest_surface),
             )
         });
+        let chains = chains?;
         let layouts = renderer.fur_layouts()?;
         let prt = layouts.prt(device)?;
         let (scene_transfer, bytes) = scoped(device, "uploading the transfer", || {
-            let textures = transfer::upload(device, &renderer.queue, &per_texture, self.resolution, stride)?;
+            let textures = transfer::upload(device, &renderer.queue, &chains, self.resolution, stride)?;
             let storage = |label: &str, contents: &[u8]| {
                 device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some(label),

@@ -4,13 +4,13 @@
 //!
 //! All shells, marched, give each level-0 layer the share "over" leaves it of the texels the march
 //! reads. A composite texel is the "over" of its group's texels at full resolution; at a coarser
-//! mip level it is the mean of those composites, while all shells read each layer's mean opacity
-//! and composite those, which gives the upper layers more of the pixel: at a distance the upper
-//! layers' hair is what all shells light. So a composite's heights are taken at each mip level as
-//! all shells take theirs there: each member weighed by its mean opacity over the mip texel's
-//! footprint times the clearness of the members over it, meaned over the tile. (Weighed at full
-//! resolution only, the marched LOD under a side light was 2–4% darker than all shells once the
-//! object was small enough to read coarser mips; at the group's middle, up to 11%.)
+//! mip level it is the mean of those composites, while all shells read each layer's mip texel and
+//! composite those. So a composite's heights are taken at each mip level as all shells take theirs
+//! there: each member weighed by its opacity in the mip texel times the clearness of the members
+//! over it, meaned over the tile. The mip texels' opacities are the ones uploaded: weighed by the
+//! transmittance above ([`over_levels`], where the sides halve evenly), else the plain 2 × 2 mean.
+//! (Weighed at full resolution only, the marched LOD under a side light was 2–4% darker than all
+//! shells once the object was small enough to read coarser mips; at the group's middle, up to 11%.)
 
 use std::borrow::Cow;
 use std::ops::Range;
@@ -19,21 +19,32 @@ use rayon::prelude::*;
 
 use pelt_core::texture::full_mip_count;
 
+use super::over_mips::over_levels;
+
 /// Per mip level of a `resolution²` tile (the full chain), per group of `groups` (level-0
 /// layers), the mean and the mean square of the heights (level-0 layer indices) of the hair the
 /// group's "over" shows, from the level-0 layers' opacities `alpha` (`[L][texels]`, 0–1); a
 /// group that shows nothing gets its members' plain mean. Sums run in f64 in texel order, so the
 /// result does not depend on the thread count. Runs in the current rayon pool.
 pub(super) fn shown_heights(alpha: &[f32], resolution: usize, groups: &[Range<usize>]) -> Vec<[f32; 2]> {
+    let texels = resolution * resolution;
+    let layers = alpha.len() / texels.max(1);
+    let count = full_mip_count(resolution, resolution);
+    let as_values: Vec<[f32; 1]> = alpha.iter().map(|&a| [a]).collect();
+    let mut over = over_levels(alpha, &as_values, layers, resolution, count).into_iter();
     let mut side = resolution;
-    let mut level = Cow::Borrowed(alpha);
+    let mut plain = Cow::Borrowed(alpha);
     let mut out = Vec::new();
-    for mip in 0..full_mip_count(resolution, resolution) {
+    for mip in 0..count {
         if mip > 0 {
-            (level, side) = (Cow::Owned(halve(&level, side)), (side / 2).max(1));
+            (plain, side) = (Cow::Owned(halve(&plain, side)), (side / 2).max(1));
         }
+        let uploaded = match (mip > 0).then(|| over.next()).flatten() {
+            Some(level) => Cow::Owned(level.into_iter().map(|[a]| a).collect()),
+            None => Cow::Borrowed(plain.as_ref()),
+        };
         let texels = side * side;
-        out.extend(groups.iter().map(|g| group_heights(&level, texels, g.clone())));
+        out.extend(groups.iter().map(|g| group_heights(&uploaded, texels, g.clone())));
     }
     out
 }
@@ -91,27 +102,32 @@ mod tests {
     /// `layers` layers of a `side²` tile, opacities varied per layer and texel.
     fn opacities(layers: usize, side: usize) -> Vec<f32> {
         (0..layers * side * side)
-            .map(|v| ((v * 37 + 11) % 17) as f32 / 16.0)
+            .map(|v| ((v * 37 + 11) % 17) as f32 / 20.0)
             .collect()
     }
 
-    /// Brute force: the heights' mean and mean square over every texel of mip `mip` (each the
-    /// plain mean of its 2^mip × 2^mip level-0 texels) and every member of `group`, each
-    /// weighed by its opacity times the product of (1 − opacity) of the members above it.
+    /// Brute force: the heights' mean and mean square over every texel of mip `mip` and every
+    /// member of `group`, each weighed by its opacity there times the product of (1 − opacity)
+    /// of the members above it; a layer's opacity in a mip texel is the mean of its
+    /// `2^mip × 2^mip` level-0 texels weighed by the transmittance through every layer above.
     fn brute(alpha: &[f32], side: usize, mip: u32, group: Range<usize>) -> [f64; 2] {
         let step = 1usize << mip;
         let texels = side * side;
+        let layers = alpha.len() / texels;
         let (mut weights, mut heights, mut squares) = (0.0f64, 0.0f64, 0.0f64);
         for by in (0..side).step_by(step) {
             for bx in (0..side).step_by(step) {
                 let mean = |i: usize| {
-                    let mut sum = 0.0f64;
+                    let (mut sum, mut above) = (0.0f64, 0.0f64);
                     for y in by..by + step {
                         for x in bx..bx + step {
-                            sum += f64::from(alpha[i * texels + y * side + x]);
+                            let at = |j: usize| f64::from(alpha[j * texels + y * side + x]);
+                            let clear: f64 = (i + 1..layers).map(|j| 1.0 - at(j)).product();
+                            sum += clear * at(i);
+                            above += clear;
                         }
                     }
-                    sum / (step * step) as f64
+                    sum / above
                 };
                 for i in group.clone() {
                     let over: f64 = (i + 1..group.end).map(|j| 1.0 - mean(j)).product();

@@ -6,7 +6,10 @@
 //! color, stored as [`ColorStore`] says (sRGB-encoded RGBA8 on a GPU, linear half floats on a
 //! CPU adapter).
 
+use rayon::prelude::*;
+
 use pelt_core::error::{PeltError, Result};
+use pelt_core::texture::color::{srgb8_encoder, srgb8_to_linear_table};
 use pelt_core::texture::{MipAlpha, MipLevels, MipOptions, full_mip_count, mip_chain_rgba8};
 use pelt_core::threads::pool;
 use pelt_core::volume::HairVolume;
@@ -14,6 +17,7 @@ use pelt_core::volume::lod::lod_chain;
 
 use super::color_store::ColorStore;
 use super::lod::Levels;
+use super::over_mips::over_levels;
 
 /// The uploaded textures.
 pub(super) struct VolumeTextures {
@@ -223,6 +227,11 @@ pub(super) fn upload_volume(
         let count = levels.counts[k + 1] as usize;
         chains.push(mip_chain_rgba8(res, res, count, level, true, &mip_options)?);
     }
+    pool().install(|| {
+        for (chain, &count) in chains.iter_mut().zip(&levels.counts) {
+            keep_over(chain, count as usize, res);
+        }
+    });
     let blocks: Vec<(usize, Vec<Vec<u8>>)> = pool().install(|| {
         chains
             .iter()
@@ -273,6 +282,43 @@ pub(super) fn upload_volume(
         fin,
         bytes: shell_bytes + tangent_bytes + fin_bytes,
     })
+}
+
+/// Replaces the levels of `chain` (a stack of `layers` straight sRGB RGBA8 layers of `res²`
+/// texels, level 0 first) that [`over_levels`] builds by its levels, which keep "over" down each
+/// column. Runs in the current rayon pool.
+fn keep_over(chain: &mut [Vec<u8>], layers: usize, res: usize) {
+    let table = srgb8_to_linear_table();
+    let (alpha, values): (Vec<f32>, Vec<[f32; 4]>) = chain[0]
+        .par_chunks_exact(4)
+        .map(|p| {
+            let a = f32::from(p[3]) / 255.0;
+            let linear = |c: u8| table[c as usize] * a;
+            (a, [linear(p[0]), linear(p[1]), linear(p[2]), a])
+        })
+        .unzip();
+    let encoder = srgb8_encoder();
+    let levels = over_levels(&alpha, &values, layers, res, chain.len());
+    for (level, values) in chain[1..].iter_mut().zip(levels) {
+        *level = values
+            .par_iter()
+            .flat_map_iter(|&[r, g, b, a]| {
+                let straight = |v: f32| {
+                    if a > 0.0 {
+                        encoder.encode((v / a).min(1.0))
+                    } else {
+                        0
+                    }
+                };
+                [
+                    straight(r),
+                    straight(g),
+                    straight(b),
+                    (a * 255.0).round().clamp(0.0, 255.0) as u8,
+                ]
+            })
+            .collect();
+    }
 }
 
 /// Uploads `layers` straight sRGB RGBA8 images of `width × height` with their full mip chain

@@ -32,6 +32,7 @@ use pelt_core::texture::{MipAlpha, MipLevels, MipOptions, mip_chain_rgba16f};
 use pelt_core::volume::lod::sources;
 
 use super::lod::Levels;
+use super::over_mips::over_levels;
 
 /// The order whose coefficients fill `textures` RGBA textures: the largest `n` with
 /// `⌈n²/4⌉ = textures` (one texture reads as order 2: an order-1 bake leaves channels 1–3 zero,
@@ -147,33 +148,68 @@ pub(super) struct TransferTextures {
     pub bytes: u64,
 }
 
-/// Uploads `per_texture[t]` (`stride` layers of `resolution²` RGBA f16 texels each, every LOD
-/// level's layers in a row) with a full mip chain per layer; call inside an error scope.
+/// The full mip chain of every texture of `per_texture` (`levels.total()` layers of
+/// `resolution²` RGBA f16 texels each, every LOD level's layers in a row, premultiplied by the
+/// opacity `alphas` of each level's layers): weighed as the shells' colors are, by the
+/// transmittance above each texel ([`over_levels`]), where the sides halve evenly. Runs in the
+/// current rayon pool.
 ///
 /// # Errors
 /// [`PeltError::InvalidParameter`] from the mipmapper (not for checked input).
-pub(super) fn upload(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
+pub(super) fn mip_chains(
     per_texture: &[Vec<f16>],
+    alphas: &[Vec<f32>],
+    levels: &Levels,
     resolution: usize,
-    stride: usize,
-) -> Result<TransferTextures> {
+) -> Result<Vec<Vec<Vec<f16>>>> {
     let options = MipOptions {
         levels: MipLevels::Full,
         alpha: MipAlpha::Independent,
     };
-    let chains = per_texture
+    let stride = levels.total() as usize;
+    let texels = resolution * resolution;
+    per_texture
         .iter()
-        .map(|base| mip_chain_rgba16f(resolution, resolution, stride, base, &options))
-        .collect::<Result<Vec<_>>>()?;
+        .map(|base| {
+            let mut chain = mip_chain_rgba16f(resolution, resolution, stride, base, &options)?;
+            for ((alpha, &first), &count) in alphas.iter().zip(&levels.bases).zip(&levels.counts) {
+                let (first, count) = (first as usize, count as usize);
+                let values: Vec<[f32; CHANNELS]> = base
+                    [first * texels * CHANNELS..(first + count) * texels * CHANNELS]
+                    .chunks_exact(CHANNELS)
+                    .map(|v| std::array::from_fn(|c| v[c].to_f32()))
+                    .collect();
+                let over = over_levels(alpha, &values, count, resolution, chain.len());
+                for (m, level) in over.into_iter().enumerate() {
+                    let side = resolution >> (m + 1);
+                    let start = first * side * side * CHANNELS;
+                    let target = &mut chain[m + 1][start..start + level.len() * CHANNELS];
+                    for (t, v) in target.iter_mut().zip(level.as_flattened()) {
+                        *t = f16::from_f32(*v);
+                    }
+                }
+            }
+            Ok(chain)
+        })
+        .collect()
+}
+
+/// Uploads `chains[t]` ([`mip_chains`]: `stride` layers of `resolution²` RGBA f16 texels per
+/// level) as one texture array; call inside an error scope.
+pub(super) fn upload(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    chains: &[Vec<Vec<f16>>],
+    resolution: usize,
+    stride: usize,
+) -> Result<TransferTextures> {
     let levels = chains.first().map_or(1, Vec::len);
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some("prt transfer"),
         size: wgpu::Extent3d {
             width: resolution as u32,
             height: resolution as u32,
-            depth_or_array_layers: (per_texture.len() * stride) as u32,
+            depth_or_array_layers: (chains.len() * stride) as u32,
         },
         mip_level_count: levels as u32,
         sample_count: 1,

@@ -30,16 +30,22 @@ pub fn scene_upload_peak_bytes(volume: &HairVolume, renderer: &Renderer) -> f64 
     };
     let tangents = 3.0 * 4.0 * layers * texels;
     let fin = chain_texel * MIP_CHAIN * (volume.fin_size[0] * volume.fin_size[1]) as f64;
-    shells + built_lod + tangents + fin + 2.0 * layers * texels
+    shells + built_lod + tangents + fin + 2.0 * layers * texels + OVER_MIPS * layers * texels
 }
+
+/// Bytes per level-0 texel of a layer that [`super::over_mips`] holds while it rebuilds a stack's
+/// mips (the largest stack is level 0's): the opacity and transmittance in f32, the linear
+/// premultiplied values and their coarser levels (a third as many) in four f32.
+const OVER_MIPS: f64 = 4.0 + 4.0 + 16.0 * MIP_CHAIN;
 
 /// [`super::FurScene::set_transfer`] of an order-`order` transfer over `layers` layers of
 /// `resolution²` texels: the premultiplied f16 coefficients of every LOD level, their mip
-/// chains, staged and on the device, and the opacity carried through the levels in f32.
+/// chains, staged and on the device, the opacity carried through the levels in f32, and what
+/// rebuilding a stack's mips holds.
 pub fn transfer_upload_peak_bytes(layers: usize, resolution: usize, order: usize) -> f64 {
     let texels = (resolution * resolution) as f64;
     let stride = f64::from(Levels::new(layers as u32).total());
     let textures = (order * order).div_ceil(4) as f64;
     let coefficients = 8.0 * textures * stride * texels;
-    coefficients * (1.0 + 3.0 * MIP_CHAIN) + 2.0 * 4.0 * stride * texels
+    coefficients * (1.0 + 3.0 * MIP_CHAIN) + 2.0 * 4.0 * stride * texels + OVER_MIPS * layers as f64 * texels
 }
