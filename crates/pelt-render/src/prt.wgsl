@@ -148,7 +148,12 @@ fn hot_spot_factor(m: MeanRadiances, hot: f32) -> vec3<f32> {
 // Σ_k L'_k t̄_k with the hair's mean transfer at `height`, raised by the hot spot `hot`: the
 // light of the fins and the guard strands, which read no texel's transfer.
 fn mean_radiance(ids: vec3<u32>, w: vec3<f32>, height: f32, hot: f32) -> vec3<f32> {
-    let m = mean_radiances(ids, w, height, hot);
+    return raised(mean_radiances(ids, w, height, hot), hot);
+}
+
+// The mean radiance `m.here`, clamped at 0 (a band-limited light rings past the terminator),
+// raised by the hot spot `hot`.
+fn raised(m: MeanRadiances, hot: f32) -> vec3<f32> {
     return max(m.here, vec3<f32>(0.0)) * hot_spot_factor(m, hot);
 }
 
@@ -168,8 +173,7 @@ fn node_radiances(ids: vec3<u32>, w: vec3<f32>, hot: f32) -> array<vec3<f32>, HE
         }
     }
     for (var j = 0u; j < HEIGHT_NODES; j++) {
-        let m = MeanRadiances(here[j], top);
-        here[j] = max(m.here, vec3<f32>(0.0)) * hot_spot_factor(m, hot);
+        here[j] = raised(MeanRadiances(here[j], top), hot);
     }
     return here;
 }
