@@ -91,13 +91,13 @@ fn empty_march(shown: Layers, uv: vec2<f32>) -> Marched {
 }
 
 // `color` added to the nodes of `m` around `height` (share of the fur depth), split between the
-// two linearly.
+// two linearly. Every node is visited with its constant index: an array indexed at run time is
+// kept in memory by a CPU adapter (the marched PRT frame: 544 ms against 352 ms).
 fn deposit(m: ptr<function, Marched>, height: f32, color: vec3<f32>) {
     let at = clamp(height, 0.0, 1.0) * f32(HEIGHT_NODES - 1u);
-    let below = min(u32(at), HEIGHT_NODES - 2u);
-    let t = at - f32(below);
-    (*m).nodes[below] += (1.0 - t) * color;
-    (*m).nodes[below + 1u] += t * color;
+    for (var j = 0u; j < HEIGHT_NODES; j++) {
+        (*m).nodes[j] += max(1.0 - abs(at - f32(j)), 0.0) * color;
+    }
 }
 
 // `out` with `texel` (premultiplied, read at `uv` from `layers`, its level's own opacity
