@@ -222,11 +222,44 @@ fn view_vector(p: vec3<f32>) -> vec3<f32> {
 // control flow): the larger of the two screen axes', where the normal turns away from the step;
 // 0 where flat or concave.
 fn surface_curvature(normal: vec3<f32>, position: vec3<f32>) -> f32 {
-    let dpx = dpdx(position);
-    let dpy = dpdy(position);
-    let kx = dot(dpdx(normal), dpx) / max(dot(dpx, dpx), 1e-30);
-    let ky = dot(dpdy(normal), dpy) / max(dot(dpy, dpy), 1e-30);
+    return curvature_of_steps(screen_steps(normal, position));
+}
+
+// How the normal and the position change from a pixel to the next along the screen's x and y.
+struct SurfaceSteps {
+    dnx: vec3<f32>,
+    dpx: vec3<f32>,
+    dny: vec3<f32>,
+    dpy: vec3<f32>,
+};
+
+// The steps of `normal` and `position` (screen derivatives: uniform control flow).
+fn screen_steps(normal: vec3<f32>, position: vec3<f32>) -> SurfaceSteps {
+    return SurfaceSteps(dpdx(normal), dpdx(position), dpdy(normal), dpdy(position));
+}
+
+// `surface_curvature` from the steps.
+fn curvature_of_steps(s: SurfaceSteps) -> f32 {
+    let kx = dot(s.dnx, s.dpx) / max(dot(s.dpx, s.dpx), 1e-30);
+    let ky = dot(s.dny, s.dpy) / max(dot(s.dpy, s.dpy), 1e-30);
     return max(max(kx, ky), 0.0);
+}
+
+// The normal curvature along the tangent direction `d`: `d` written as a mix of the two position
+// steps (least squares), the normal's steps mixed alike give how the normal turns along it; 0
+// where concave, the axes' larger where the steps span no plane. A torus's tube seen along its
+// flat direction, or a crease, curves across the view but not along it.
+fn curvature_along(s: SurfaceSteps, d: vec3<f32>) -> f32 {
+    let g = vec3<f32>(dot(s.dpx, s.dpx), dot(s.dpx, s.dpy), dot(s.dpy, s.dpy));
+    let det = g.x * g.z - g.y * g.y;
+    let dd = dot(d, d);
+    if (!(det > 1e-12 * g.x * g.z && dd > 0.0)) {
+        return curvature_of_steps(s);
+    }
+    let r = vec2<f32>(dot(s.dpx, d), dot(s.dpy, d));
+    let a = (g.z * r.x - g.y * r.y) / det;
+    let b = (g.x * r.y - g.y * r.x) / det;
+    return max(dot(a * s.dnx + b * s.dny, d) / dd, 0.0);
 }
 
 // The curvature along the edge from `p0` (normal `n0`) to `p1` (`n1`): how fast the normal turns

@@ -1,6 +1,7 @@
 #define_import_path pelt::surface
 
-#import pelt::common::{frame, shell_texture, tile_sampler, NO_LAYER, clip_position, growth}
+#import pelt::common::{frame, shell_texture, tile_sampler, NO_LAYER, clip_position, growth,
+                     SurfaceSteps}
 
 // What the skin and the shells share (Lengyel et al. 2001, §2.3): both draw the mesh textured by
 // a layer of the shell texture; the shells lift it off the skin. The lighting model's module
@@ -90,6 +91,6 @@ struct MarchFrame {
     dpdu: vec3<f32>,
     dpdv: vec3<f32>,
     up: vec3<f32>,
-    // The surface's curvature there (`surface_curvature`; the models leave it 0, the hull sets it).
-    curvature: f32,
+    // How the surface turns there (`curvature_of_steps`, `curvature_along`).
+    steps: SurfaceSteps,
 };

@@ -3,7 +3,8 @@
 #import pelt::common::{
     frame, tangent_texture, tile_sampler, Layers, skin_layers, shading_height,
     level_shading_height, HairLight, Shown,
-    clip_position, view_vector, unit_or, surface_curvature, body_shadow,
+    clip_position, view_vector, unit_or, surface_curvature, body_shadow, screen_steps,
+    curvature_of_steps,
 }
 #import pelt::lighting::{banks_strengths, hair_parts, shade, shade_skin, terminator_wrap}
 #import pelt::surface::{SurfaceData, lift, Texels, layer_texels, blended, MarchFrame}
@@ -142,9 +143,10 @@ fn tangent_between(uv: vec2<f32>, at: f32, dpdu: vec3<f32>, dpdv: vec3<f32>, up:
     return unit_or(mix(a, b, at - below), n);
 }
 
-// The hull fragment's point and tile frame for the marched shells (`marched.wgsl`).
+// The hull fragment's point, tile frame and curvature for the marched shells (`marched.wgsl`).
 fn march_frame(s: SurfaceOut) -> MarchFrame {
-    return MarchFrame(s.position, s.normal, s.dpdu, s.dpdv, s.up, 0.0);
+    return MarchFrame(s.position, s.normal, s.dpdu, s.dpdv, s.up,
+                      screen_steps(s.normal, s.position));
 }
 
 // The hair lighting at the marched layer `layers` read at `uv`, before Banks darkening (at the
@@ -154,7 +156,7 @@ fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alph
                grad: vec4<f32>, heights: Shown) -> HairLight {
     let n = unit_or(f.normal, vec3<f32>(0.0, 0.0, 1.0));
     let t = hair_tangent(uv, layers.height, f.dpdu, f.dpdv, f.up, n);
-    let wrap = terminator_wrap(f.curvature, frame.fur.x * s.length);
+    let wrap = terminator_wrap(curvature_of_steps(f.steps), frame.fur.x * s.length);
     // Shadowed where the composite stands: its mean height, below the hull.
     let below = f.up * (f32(s.height) * frame.fur.y - heights.mean);
     let p = hair_parts(t, n, view_vector(f.position), wrap, body_shadow(f.position - below, n));

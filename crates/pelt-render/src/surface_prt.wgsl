@@ -2,7 +2,7 @@
 
 #import pelt::common::{
     frame, skin_vertices, SKIN_FLOATS, skin_vec3, NO_LAYER, Layers, skin_layers, shell_layers,
-    HairLight, growth, body_shadow, unit_or, view_vector, HEIGHT_NODES, Shown,
+    HairLight, growth, body_shadow, unit_or, view_vector, HEIGHT_NODES, Shown, SurfaceSteps,
 }
 #import pelt::prt::{transfer_radiance, node_radiances, hot_spot, shown_heights}
 #import pelt::lighting::shade_skin
@@ -36,6 +36,9 @@ struct SurfaceOut {
     height: u32,
     ids: vec3<u32>,
     bary: vec3<f32>,
+    // The weights as interpolated, unclamped: their screen derivatives are the triangle's
+    // (`march_frame`).
+    extrapolated: vec3<f32>,
     // The hot spot's share of the lighting at the fragment (`hot_spot`).
     hot: f32,
 };
@@ -53,14 +56,14 @@ struct SurfaceVarying {
     @location(4) @interpolate(flat) layers: vec3<u32>,
 };
 
-// The barycentric weights are clamped to the triangle: a fragment of a triangle seen nearly edge
-// on interpolates them far outside it, and the lighting and hot-spot gains weighed by them blew
-// up (a pixel of -1200 in a dolly of the benchmark's long-furred sphere).
+// The barycentric weights are clamped to the triangle for the lighting: a fragment of a triangle
+// seen nearly edge on interpolates them far outside it, and the lighting and hot-spot gains
+// weighed by them blew up (a pixel of -1200 in a dolly of the benchmark's long-furred sphere).
 fn surface_fragment(v: SurfaceVarying) -> SurfaceOut {
     let w = max(v.bary, vec3<f32>(0.0));
     let bary = w / max(w.x + w.y + w.z, 1e-6);
     return SurfaceOut(v.uv_length_hot.xy, v.color, v.uv_length_hot.z, v.layers.x, v.layers.y,
-                      v.layers.z, v.ids, bary, v.uv_length_hot.w);
+                      v.layers.z, v.ids, bary, v.bary, v.uv_length_hot.w);
 }
 
 fn load_surface(v: u32) -> SurfaceData {
@@ -161,18 +164,41 @@ fn skin_between(ids: vec3<u32>, w: vec3<f32>, offset: u32) -> vec3<f32> {
         + w.z * skin_vec3(ids.z, offset);
 }
 
-// The hull fragment's point and tile frame for the marched shells (`marched.wgsl`), interpolated
-// from the geometry of the triangle's three surface vertices (pulled, as the vertex shader does;
-// the fragment stage reads no color or length buffer, within the storage buffer limit).
+// The hull fragment's point, tile frame and curvature for the marched shells (`marched.wgsl`),
+// interpolated from the geometry of the triangle's three surface vertices (pulled, as the vertex
+// shader does; the fragment stage reads no color or length buffer, within the storage buffer
+// limit).
 fn march_frame(s: SurfaceOut) -> MarchFrame {
-    var at: array<vec3<f32>, 5>;
-    // position, normal, dP/du, dP/dv at float offsets 0, 3, 6, 9; comb at 14.
-    for (var k = 0u; k < 5u; k++) {
-        at[k] = skin_between(s.ids, s.bary, select(3u * k, 14u, k == 4u));
-    }
-    let up = frame.fur.x * s.length * growth(at[1], at[4]);
+    let lift = frame.fur.x * s.length;
     let height = f32(shell_layers(frame.counts.x - 1u).height) * frame.fur.y;
-    return MarchFrame(at[0] + height * up, at[1], at[2], at[3], up, 0.0);
+    // The curvature from the steps of the weights (varyings, which a helper lane extrapolates)
+    // over the three vertices: screen derivatives of the pulled values themselves are no
+    // triangle's, as a CPU adapter's helper lanes read zeros from storage buffers. They had made a
+    // flat patch's hull curve as 1 over the distance from the origin (up to 4.6 per unit), and
+    // a third of its long fur marched nothing, the fins showing through.
+    let wx = dpdx(s.extrapolated);
+    let wy = dpdy(s.extrapolated);
+    // position, normal, dP/du, dP/dv at float offsets 0, 3, 6, 9; comb at 14.
+    var at: array<vec3<f32>, 5>;
+    var steps: SurfaceSteps;
+    for (var c = 0u; c < 3u; c++) {
+        let id = s.ids[c];
+        let n = skin_vec3(id, 3u);
+        let comb = skin_vec3(id, 14u);
+        let p = skin_vec3(id, 0u);
+        at[0] += s.bary[c] * p;
+        at[1] += s.bary[c] * n;
+        at[2] += s.bary[c] * skin_vec3(id, 6u);
+        at[3] += s.bary[c] * skin_vec3(id, 9u);
+        at[4] += s.bary[c] * comb;
+        let lifted = p + height * lift * growth(n, comb);
+        steps.dnx += wx[c] * n;
+        steps.dpx += wx[c] * lifted;
+        steps.dny += wy[c] * n;
+        steps.dpy += wy[c] * lifted;
+    }
+    let up = lift * growth(at[1], at[4]);
+    return MarchFrame(at[0] + height * up, at[1], at[2], at[3], up, steps);
 }
 
 // The marched composite's light: each of its color's height nodes (`heights.nodes`) lit by the
