@@ -174,31 +174,36 @@ fn march_frame(s: SurfaceOut) -> MarchFrame {
     // The curvature from the steps of the weights (varyings, which a helper lane extrapolates)
     // over the three vertices: screen derivatives of the pulled values themselves are no
     // triangle's, as a CPU adapter's helper lanes read zeros from storage buffers. They had made a
-    // flat patch's hull curve as 1 over the distance from the origin (up to 4.6 per unit), and
-    // a third of its long fur marched nothing, the fins showing through.
+    // flat patch's hull curve as h / |p|² about the origin (h the hull's height; up to 4.6 per
+    // unit), and a third of its long fur marched nothing, the fins showing through.
     let wx = dpdx(s.extrapolated);
     let wy = dpdy(s.extrapolated);
-    // position, normal, dP/du, dP/dv at float offsets 0, 3, 6, 9; comb at 14.
-    var at: array<vec3<f32>, 5>;
+    // Each vertex's position, normal, dP/du, dP/dv and comb, at float offsets 0, 3, 6, 9 and 14.
+    var position = vec3<f32>(0.0);
+    var normal = vec3<f32>(0.0);
+    var dpdu = vec3<f32>(0.0);
+    var dpdv = vec3<f32>(0.0);
+    var comb = vec3<f32>(0.0);
     var steps: SurfaceSteps;
     for (var c = 0u; c < 3u; c++) {
         let id = s.ids[c];
-        let n = skin_vec3(id, 3u);
-        let comb = skin_vec3(id, 14u);
+        let w = s.bary[c];
         let p = skin_vec3(id, 0u);
-        at[0] += s.bary[c] * p;
-        at[1] += s.bary[c] * n;
-        at[2] += s.bary[c] * skin_vec3(id, 6u);
-        at[3] += s.bary[c] * skin_vec3(id, 9u);
-        at[4] += s.bary[c] * comb;
-        let lifted = p + height * lift * growth(n, comb);
+        let n = skin_vec3(id, 3u);
+        let k = skin_vec3(id, 14u);
+        position += w * p;
+        normal += w * n;
+        dpdu += w * skin_vec3(id, 6u);
+        dpdv += w * skin_vec3(id, 9u);
+        comb += w * k;
+        let lifted = p + height * lift * growth(n, k);
         steps.dnx += wx[c] * n;
         steps.dpx += wx[c] * lifted;
         steps.dny += wy[c] * n;
         steps.dpy += wy[c] * lifted;
     }
-    let up = lift * growth(at[1], at[4]);
-    return MarchFrame(at[0] + height * up, at[1], at[2], at[3], up, steps);
+    let up = lift * growth(normal, comb);
+    return MarchFrame(position + height * up, normal, dpdu, dpdv, up, steps);
 }
 
 // The marched composite's light: each of its color's height nodes (`heights.nodes`) lit by the
