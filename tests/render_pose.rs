@@ -144,7 +144,7 @@ fn poses_start_from_the_rest_and_bad_poses_change_nothing() {
     assert_ne!(bent.pixels, rest.pixels);
     let after = scene.uploads();
     // The skin's vertices alone: the shells and fins are drawn from them.
-    assert_eq!(after.pose_bytes, 68 * scene.surface_vertex_count() as u64);
+    assert_eq!(after.pose_bytes, 76 * scene.surface_vertex_count() as u64);
     assert_eq!(
         (
             after.texture_bytes,

@@ -870,3 +870,47 @@ fn the_marched_hull_of_a_flat_grid_marches_its_whole_coat() {
     }
     assert!(compared >= 16, "only {compared} blocks covered whole");
 }
+
+#[test]
+fn the_march_stops_where_the_mesh_ends() {
+    // Each shell is the mesh lifted and ends at its open border; the march took the surface as
+    // flat and endless under a hull fragment and went on gathering layers beyond it. Seen from in
+    // front and above, the far edge's rays run out past the border: fins off, the marched image
+    // covers each of the far rows as the instanced one does, under either lighting model, corners
+    // included (the grid's cells are an eighth of it, so a corner cell's triangles reach both
+    // sides). Measured within 2 of 64 pixels a row; before, the rows the instanced shells cover
+    // 0–42 of, the march covered 48–56.
+    let f = fixture();
+    let scene = deep_grid(&small_volume(32), 0.5, None);
+    let camera = looking_at_the_grid_from([0.0, -1.6, 1.4]);
+    for (model, lighting) in [
+        ("PRT", sun_alone([0.3, -0.5, 0.8])),
+        ("Kajiya–Kay", Lighting::default()),
+    ] {
+        let coverage = |method| {
+            let settings = RenderSettings {
+                shell_method: method,
+                fins: false,
+                ..RenderSettings::default()
+            };
+            let image = f
+                .renderer
+                .render_linear(&scene, &camera, &lighting, &settings)
+                .unwrap();
+            let mut rows = vec![0.0f64; 64];
+            for (i, p) in image.pixels.chunks_exact(4).enumerate() {
+                rows[i / 64] += f64::from(p[3]);
+            }
+            rows
+        };
+        let (instanced, marched) = (coverage(ShellMethod::Instanced), coverage(ShellMethod::Marched));
+        // The far edge's fringe lies in the top rows; the whole coat below them.
+        assert!(instanced[..16].iter().any(|&a| a < 32.0) && instanced[32] > 63.0);
+        for (row, (a, b)) in instanced.iter().zip(&marched).enumerate().take(32) {
+            assert!(
+                (a - b).abs() <= 3.0,
+                "{model}, row {row}: the marched image covers {b:.1} pixels, the instanced {a:.1}"
+            );
+        }
+    }
+}

@@ -85,7 +85,8 @@ fn body_shadow(position: vec3<f32>, normal: vec3<f32>) -> f32 {
                           position, normal);
 }
 
-const SKIN_FLOATS: u32 = 17u;
+// `SurfaceVertex` rows: position, normal, dP/du, dP/dv, uv, comb, border distances.
+const SKIN_FLOATS: u32 = 19u;
 
 // The vec3 at float `offset` of skin vertex `vertex`.
 fn skin_vec3(vertex: u32, offset: u32) -> vec3<f32> {

@@ -23,8 +23,9 @@
 //     `grad`: the tile UV's screen derivatives, taken before any discard; `wrap` as above.
 //   struct SkinVarying (PRT: its `SurfaceVarying`), fn skin_vertex(v: SurfaceIn) -> SkinVarying,
 //   fn skin_fragment(v: SkinVarying) -> vec3<f32>: the skin, opaque, at height 0.
-//   fn march_frame(s: SurfaceOut) -> MarchFrame: the hull fragment's point, tile frame and how
-//     the surface turns there (`SurfaceSteps`, screen derivatives: call it before any discard).
+//   fn march_frame(s: SurfaceOut) -> MarchFrame: the hull fragment's point, tile frame, how the
+//     surface turns there (`SurfaceSteps`) and how far the open border is, with their screen
+//     derivatives (call it before any discard).
 //   fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alpha: f32,
 //                  grad: vec4<f32>, heights: Shown) -> HairLight
 //     The lighting of the marched composite, shown by layer `layers` read at `uv` (`alpha` its

@@ -31,7 +31,12 @@ struct Ray {
     bend: f32,
     // Longest ray, per layer of drop, before it is bent down to the skin: MAX_RUN layer heights.
     cap: f32,
+    // Ray length to the mesh's open border (`border_run`), NO_BORDER where it never gets there.
+    border: f32,
 };
+
+// `Ray::border` of a ray that never leaves the mesh.
+const NO_BORDER: f32 = 1e30;
 
 // The ray bends by the surface's normal curvature along the ray's own lateral direction
 // (`curvature_along`, 0 where flat or concave). The larger of the screen axes' had bent it by the
@@ -47,7 +52,7 @@ fn march_ray(f: MarchFrame) -> Ray {
     let det = dot(a, bc);
     let layer = length(c);
     if (!(abs(det) > 1e-30 && layer > 0.0)) {
-        return Ray(vec2<f32>(0.0), 1.0, 0.0, 1.0);
+        return Ray(vec2<f32>(0.0), 1.0, 0.0, 1.0, NO_BORDER);
     }
     // The ray into the surface in (u, v, height) per object unit: Cramer's rule.
     let w = -view_vector(f.position);
@@ -55,7 +60,38 @@ fn march_ray(f: MarchFrame) -> Ray {
     let n = unit_or(f.normal, c / layer);
     let lateral = w - n * dot(n, w);
     let bend = 0.5 * curvature_along(f.steps, lateral);
-    return Ray(d.xy, -d.z, bend / layer, MAX_RUN * layer);
+    return Ray(d.xy, -d.z, bend / layer, MAX_RUN * layer, NO_BORDER);
+}
+
+// Ray length from the hull fragment of `f` to the mesh's open border, its tile UV moving
+// `uv_rate` per unit of ray, `grad` the tile UV's screen derivatives. Each shell is the mesh
+// lifted and ends where the mesh does, so a march past it gathered layers that are not there
+// (marched over instanced, the long patch's coverage had been 5% more). Each of the two border
+// distances is affine over a triangle (exactly so beside one straight side), so its gradient in
+// the tile is its screen steps mapped back through the UV's screen Jacobian, and the ray stops
+// where the first of them runs out: by the nearest side alone, a ray toward a corner went on
+// past the other side.
+fn border_run(f: MarchFrame, grad: vec4<f32>, uv_rate: vec2<f32>) -> f32 {
+    return min(side_run(f.border.x, f.border_steps.xz, grad, uv_rate),
+               side_run(f.border.y, f.border_steps.yw, grad, uv_rate));
+}
+
+// Ray length to where a distance `border` with screen steps `steps` (d/dx, d/dy) falls to 0.
+fn side_run(border: f32, steps: vec2<f32>, grad: vec4<f32>, uv_rate: vec2<f32>) -> f32 {
+    // d(border)/dx = ∇·(du/dx, dv/dx), likewise in y: solved for ∇ by Cramer's rule.
+    let det = grad.x * grad.w - grad.y * grad.z;
+    if (!(abs(det) > 1e-30)) {
+        return NO_BORDER;
+    }
+    let gradient = vec2<f32>(steps.x * grad.w - grad.y * steps.y,
+                             grad.x * steps.y - grad.z * steps.x) / det;
+    let closing = -dot(gradient, uv_rate);
+    // Along or away from the side the march never meets it; nor on a triangle with the border at
+    // all three corners (0 everywhere, no gradient); a closed piece's distance is constant.
+    if (!(closing > 0.0)) {
+        return NO_BORDER;
+    }
+    return max(border, 0.0) / closing;
 }
 
 // Ray length to drop `drop` level-0 layers below the hull, or a negative value if it never does:
@@ -172,5 +208,7 @@ fn hull_fragment(v: model::SurfaceVarying) -> HullFragment {
     let s = model::surface_fragment(v);
     let grad = uv_gradients(s.uv);
     let f = model::march_frame(s);
-    return HullFragment(s, grad, f, march_ray(f));
+    var ray = march_ray(f);
+    ray.border = border_run(f, grad, ray.uv_rate);
+    return HullFragment(s, grad, f, ray);
 }

@@ -3,7 +3,7 @@
 // raycast-fur-virtual-planes §3, through Lengyel's horizontal layers instead of vertical planes).
 // Each layer is read where the ray crosses its height, in the tile frame of the hull fragment
 // (the surface taken as flat under it), and composited front to back; the march stops once the
-// pixel is opaque. The geometry is one mesh instead of one per shell, and the layers cost a
+// pixel is opaque, or where the ray passes the mesh's open border. The geometry is one mesh instead of one per shell, and the layers cost a
 // texture read each instead of a rasterized triangle, which is what a CPU adapter pays for.
 // Lighting is evaluated once per pixel: Kajiya-Kay at the layer where the composite passes half
 // opacity, which has hair where the ray crosses it, with the Banks darkening, linear in height,
@@ -83,8 +83,9 @@ fn march(s: model::SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
         i -= 1u;
         let layers = shell_layers(i);
         let t = ray_length(ray, f32(hull.height - layers.height));
-        // The deeper layers lie further along the ray still.
-        if (t < 0.0) {
+        // The deeper layers lie further along the ray still; past the mesh's open border there
+        // are none.
+        if (t < 0.0 || t > ray.border) {
             break;
         }
         let uv = s.uv + ray.uv_rate * t;
@@ -173,8 +174,8 @@ fn march_levels(s: model::SurfaceOut, ray: Ray, lod: f32, k: u32) -> Marched {
         let hi = min(j * step, top);
         let layers = Layers((lo + hi) / 2u, base + j, NO_LAYER);
         let t = ray_length(ray, f32(top) - 0.5 * f32(lo + hi));
-        // The deeper groups lie further along the ray still.
-        if (t < 0.0) {
+        // The deeper groups lie further along the ray still, as does the open border.
+        if (t < 0.0 || t > ray.border) {
             break;
         }
         let uv = s.uv + ray.uv_rate * t;

@@ -9,14 +9,15 @@
 pub(super) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// Bytes of one vertex of buffer 0 of the skin and shells ([`pelt_core::scene::surface_mesh::SurfaceVertex`]:
-/// five `vec3`s and a `vec2`).
-pub(super) const SURFACE_STRIDE: u64 = 68;
+/// four `vec3`s, a `vec2`, a `vec3` and a `vec2`).
+pub(super) const SURFACE_STRIDE: u64 = 76;
 /// Bytes of one fin vertex ([`pelt_core::scene::fin_mesh::FinVertex`]: a `vec2`, two `u32` and an `f32`).
 const FIN_STRIDE: u64 = 20;
 
 /// Attributes of buffer 0 of the skin and shell passes (`SurfaceIn` in `surface_kk.wgsl`).
-static SURFACE_ATTRIBUTES: [wgpu::VertexAttribute; 6] = wgpu::vertex_attr_array![
-    0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32x3, 4 => Float32x2, 5 => Float32x3
+static SURFACE_ATTRIBUTES: [wgpu::VertexAttribute; 7] = wgpu::vertex_attr_array![
+    0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32x3, 4 => Float32x2, 5 => Float32x3,
+    8 => Float32x2
 ];
 /// Attributes of buffer 0 of the fin pass (`FinIn` in `light_model.wgsl`).
 static FIN_ATTRIBUTES: [wgpu::VertexAttribute; 3] =

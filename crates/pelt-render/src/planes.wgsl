@@ -102,6 +102,8 @@ fn trace(s: model::SurfaceOut, f: MarchFrame, ray: Ray, grad: vec4<f32>) -> Marc
     if (end < 0.0) {
         end = select(0.0, ray.fall / ray.bend, ray.bend > 0.0 && ray.fall > 0.0);
     }
+    // Or where it passes the mesh's open border, where the hair ends.
+    end = min(end, ray.border);
     // The sheared tile, in plane spacings: q = (uv − tilt · z) N, linear in the ray length.
     let fall_z = ray.fall * frame.fur.y;
     let q0 = (s.uv - tilt * (top * frame.fur.y)) * n;

@@ -50,7 +50,7 @@ struct Rotation {
 };
 
 @group(0) @binding(0) var<uniform> params: Rotation;
-// SurfaceVertex rows of 17 floats: position, normal, dP/du, dP/dv, uv, comb.
+// SurfaceVertex rows of 19 floats: position, normal, dP/du, dP/dv, uv, comb, border distances.
 @group(0) @binding(1) var<storage, read> geometry: array<f32>;
 // D(Rx(90°)), bands 0.. one after the other, each (2l+1)² row-major.
 @group(0) @binding(2) var<storage, read> x90: array<f32>;
@@ -70,7 +70,7 @@ struct Rotation {
 @group(0) @binding(9) var shadow_sampler: sampler_comparison;
 
 const WORKGROUP: u32 = 64u;
-const GEOMETRY_FLOATS: u32 = 17u;
+const GEOMETRY_FLOATS: u32 = 19u;
 // Below this sin β the Euler angles α and γ are ill-defined and only α + γ matters.
 const GIMBAL: f32 = 1e-4;
 

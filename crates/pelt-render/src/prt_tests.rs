@@ -54,6 +54,7 @@ fn vertices() -> Vec<SurfaceVertex> {
                 dpdv: dpdv.as_vec3().to_array(),
                 uv: [0.0; 2],
                 comb: [0.0; 3],
+                border: [0.0; 2],
             }
         })
         .collect()

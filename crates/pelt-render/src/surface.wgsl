@@ -93,4 +93,8 @@ struct MarchFrame {
     up: vec3<f32>,
     // How the surface turns there (`curvature_of_steps`, `curvature_along`).
     steps: SurfaceSteps,
+    // Tile units to the open border, to the nearest edge and to the nearest running another way
+    // (`SurfaceVertex::border`), and their screen steps: d/dx of both (xy), d/dy (zw).
+    border: vec2<f32>,
+    border_steps: vec4<f32>,
 };

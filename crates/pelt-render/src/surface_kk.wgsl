@@ -21,6 +21,7 @@ struct SurfaceIn {
     @location(5) comb: vec3<f32>,
     @location(6) color: vec4<f32>,
     @location(7) length: f32,
+    @location(8) border: vec2<f32>,
 };
 
 // What the fragment reads, unpacked from `SurfaceVarying`.
@@ -37,6 +38,8 @@ struct SurfaceOut {
     layer: u32,
     coarse: u32,
     height: u32,
+    // Tile units to the open border (`SurfaceVertex::border`).
+    border: vec2<f32>,
 };
 
 // `SurfaceOut` as it crosses from vertex to fragment, packed into few vec4s: a CPU adapter sets
@@ -46,17 +49,19 @@ struct SurfaceVarying {
     @location(0) position_length: vec4<f32>,
     @location(1) normal_u: vec4<f32>,
     @location(2) dpdu_v: vec4<f32>,
-    @location(3) dpdv: vec3<f32>,
-    @location(4) up: vec3<f32>,
+    // dP/dv and the border distances, dP/dheight: packed with them.
+    @location(3) dpdv_border: vec4<f32>,
+    @location(4) up_border: vec4<f32>,
     @location(5) color: vec4<f32>,
     // Layer drawn, coarser layer, height.
     @location(6) @interpolate(flat) layers: vec3<u32>,
 };
 
 fn surface_fragment(v: SurfaceVarying) -> SurfaceOut {
-    return SurfaceOut(v.position_length.xyz, v.normal_u.xyz, v.dpdu_v.xyz, v.dpdv, v.up,
-                      vec2<f32>(v.normal_u.w, v.dpdu_v.w), v.color, v.position_length.w,
-                      v.layers.x, v.layers.y, v.layers.z);
+    return SurfaceOut(v.position_length.xyz, v.normal_u.xyz, v.dpdu_v.xyz, v.dpdv_border.xyz,
+                      v.up_border.xyz, vec2<f32>(v.normal_u.w, v.dpdu_v.w), v.color,
+                      v.position_length.w, v.layers.x, v.layers.y, v.layers.z,
+                      vec2<f32>(v.dpdv_border.w, v.up_border.w));
 }
 
 // The vertex lifted to level-0 height `stand` (in layers), with its painted length (`painted`)
@@ -65,8 +70,8 @@ fn surface_vertex(v: SurfaceIn, layers: Layers, stand: f32, painted: bool) -> Su
     let d = SurfaceData(v.position, v.normal, v.dpdu, v.dpdv, v.uv, v.comb, v.color, v.length);
     let lifted = lift(d, stand, select(1.0, v.length, painted));
     return SurfaceVarying(lifted.clip, vec4<f32>(lifted.position, v.length),
-                          vec4<f32>(v.normal, v.uv.x), vec4<f32>(v.dpdu, v.uv.y), v.dpdv,
-                          lifted.up, v.color,
+                          vec4<f32>(v.normal, v.uv.x), vec4<f32>(v.dpdu, v.uv.y),
+                          vec4<f32>(v.dpdv, v.border.x), vec4<f32>(lifted.up, v.border.y), v.color,
                           vec3<u32>(layers.fine, layers.coarse, layers.height));
 }
 
@@ -146,7 +151,8 @@ fn tangent_between(uv: vec2<f32>, at: f32, dpdu: vec3<f32>, dpdv: vec3<f32>, up:
 // The hull fragment's point, tile frame and curvature for the marched shells (`marched.wgsl`).
 fn march_frame(s: SurfaceOut) -> MarchFrame {
     return MarchFrame(s.position, s.normal, s.dpdu, s.dpdv, s.up,
-                      screen_steps(s.normal, s.position));
+                      screen_steps(s.normal, s.position), s.border,
+                      vec4<f32>(dpdx(s.border), dpdy(s.border)));
 }
 
 // The hair lighting at the marched layer `layers` read at `uv`, before Banks darkening (at the

@@ -66,6 +66,12 @@ fn surface_fragment(v: SurfaceVarying) -> SurfaceOut {
                       v.layers.z, v.ids, bary, v.bary, v.uv_length_hot.w);
 }
 
+// A skin vertex's distances to the open border (`SurfaceVertex::border`).
+fn skin_border(v: u32) -> vec2<f32> {
+    let b = v * SKIN_FLOATS;
+    return vec2<f32>(skin_vertices[b + 17u], skin_vertices[b + 18u]);
+}
+
 fn load_surface(v: u32) -> SurfaceData {
     let b = v * SKIN_FLOATS;
     let uv = vec2<f32>(skin_vertices[b + 12u], skin_vertices[b + 13u]);
@@ -185,6 +191,8 @@ fn march_frame(s: SurfaceOut) -> MarchFrame {
     var dpdv = vec3<f32>(0.0);
     var comb = vec3<f32>(0.0);
     var steps: SurfaceSteps;
+    var border = vec2<f32>(0.0);
+    var border_steps = vec4<f32>(0.0);
     for (var c = 0u; c < 3u; c++) {
         let id = s.ids[c];
         let w = s.bary[c];
@@ -201,9 +209,12 @@ fn march_frame(s: SurfaceOut) -> MarchFrame {
         steps.dpx += wx[c] * lifted;
         steps.dny += wy[c] * n;
         steps.dpy += wy[c] * lifted;
+        let b = skin_border(id);
+        border += w * b;
+        border_steps += vec4<f32>(wx[c] * b, wy[c] * b);
     }
     let up = lift * growth(normal, comb);
-    return MarchFrame(position + height * up, normal, dpdu, dpdv, up, steps);
+    return MarchFrame(position + height * up, normal, dpdu, dpdv, up, steps, border, border_steps);
 }
 
 // The marched composite's light: each of its color's height nodes (`heights.nodes`) lit by the

@@ -11,6 +11,7 @@
 //! non-manifold edges are accepted and counted: later stages must cope with them, never crash on
 //! them.
 
+mod border_distance;
 mod bounds;
 pub mod fins;
 mod frames;
@@ -23,6 +24,7 @@ mod topology;
 pub mod uv_split;
 mod validate;
 
+pub use border_distance::border_distances;
 pub use bounds::bounding_sphere;
 pub use fins::{FinQuad, fin_plane, fin_quads, fin_quads_of_edges, midpoint, quad_triangles};
 pub use frames::orthonormal_basis;

@@ -28,6 +28,9 @@ pub struct Deformer {
     comb_in_frame: Vec<[f32; 3]>,
     /// Those rest frames, to take a new comb in ([`Deformer::set_comb`]).
     rest_frames: Vec<[Vec3; 3]>,
+    /// Each surface vertex's distance to the open border, in tile units: the pose keeps it, as
+    /// it keeps the tile UV.
+    border: Vec<[f32; 2]>,
     /// The last pose's skin vertices and its triangles' derivatives: kept, so that a pose
     /// allocates neither again (fresh pages cost as much as the arithmetic here).
     surface: Vec<SurfaceVertex>,
@@ -66,6 +69,7 @@ impl Deformer {
             uv_scale: surface.uv_scale,
             comb_in_frame,
             rest_frames,
+            border: surface.vertices.iter().map(|v| v.border).collect(),
             surface: surface.vertices.clone(),
             faces: FaceDerivatives::default(),
         }
@@ -103,6 +107,7 @@ impl Deformer {
             layout,
             uv_scale,
             comb_in_frame,
+            border,
             surface,
             faces,
             ..
@@ -124,6 +129,7 @@ impl Deformer {
                     dpdv,
                     uv: layout.uvs[i],
                     comb: (ct * t + cb * b + cn * n).into(),
+                    border: border[i],
                 }
             },
         );

@@ -11,9 +11,10 @@
 //! (meshoptimizer's simplifier) to about a quarter of the triangles of the level above; seams
 //! between lapped patches stay put (the simplifier keeps vertices that share a position but
 //! differ in attributes on their seam). Besides the positions, the error metric weighs each
-//! vertex's tile UV, normal, comb, color and length, one unit of attribute as far as a tile's
-//! size in object units, so that a level neither slides the texture nor smears painted colors
-//! and lengths. A level's error is the sum of its steps' errors, each twice the simplifier's
+//! vertex's tile UV, normal, comb, color, length and distance to the open border, one unit of
+//! attribute as far as a tile's size in object units, so that a level neither slides the
+//! texture nor smears painted colors and lengths, nor cuts a mesh's corner (a triangle from one
+//! border side to the next had the marched shells run past both). A level's error is the sum of its steps' errors, each twice the simplifier's
 //! estimate: a bound, in object units, on how far it strays from the full mesh.
 
 use meshopt::{SimplifyOptions, VertexDataAdapter, simplify_scale, simplify_with_attributes_and_locks};
@@ -27,8 +28,13 @@ const REDUCTION: usize = 4;
 const MIN_GAIN: usize = 2;
 /// No level is made with fewer triangles: below this the geometry costs nothing to draw.
 const MIN_TRIANGLES: usize = 256;
-/// Attribute floats per vertex: UV 2, normal 3, comb 3, color 4, length 1.
-const ATTRIBUTES: usize = 13;
+/// Attribute floats per vertex: UV 2, normal 3, comb 3, color 4, length 1, border 2.
+const ATTRIBUTES: usize = 15;
+/// Tile units beyond which the distance to the open border is weighed as this far: the marched
+/// shells extrapolate it linearly over a triangle to stop at the border, so a level must keep
+/// it linear where a march reaches (at most six fur depths sideways, a few tiles), and beyond
+/// it nothing needs holding (a closed piece's [`super::surface_mesh::BORDERLESS`] included).
+const BORDER_REACH: f32 = 8.0;
 /// The simplifier's error is a quadric estimate: how far the kept vertices lie from the planes
 /// of the faces they replace, not how far the new triangles' interiors stray. Against an
 /// analytic torus the interiors strayed up to 1.45 times the estimate (beyond the full mesh's
@@ -80,6 +86,7 @@ pub fn simplify_levels(
             row[5..8].copy_from_slice(&v.comb);
             row[8..12].copy_from_slice(color);
             row[12] = length;
+            row[13..].copy_from_slice(&v.border.map(|d| d.min(BORDER_REACH)));
             row
         })
         .collect();
@@ -270,6 +277,71 @@ pub mod tests {
                     }
                 }
             }
+        }
+    }
+
+    #[test]
+    fn levels_keep_the_distance_to_a_square_patchs_border_linear_within_their_bound() {
+        // A flat 2 × 2 patch of 64 × 64 quads, tile 0.3: its border distances are min and max of
+        // 1 − |x| and 1 − |y|, creased along the diagonals, which a level that cut a corner
+        // would flatten.
+        let n = 64;
+        let positions: Vec<[f32; 3]> = (0..=n)
+            .flat_map(|j| (0..=n).map(move |i| [i as f32 / 32.0 - 1.0, j as f32 / 32.0 - 1.0, 0.0]))
+            .collect();
+        let at = |i: u32, j: u32| j * (n + 1) + i;
+        let triangles: Vec<[u32; 3]> = (0..n)
+            .flat_map(|j| (0..n).map(move |i| (i, j)))
+            .flat_map(|(i, j)| {
+                [
+                    [at(i, j), at(i + 1, j), at(i + 1, j + 1)],
+                    [at(i, j), at(i + 1, j + 1), at(i, j + 1)],
+                ]
+            })
+            .collect();
+        let mesh = FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap();
+        let uvs: Vec<[[f32; 2]; 3]> = triangles
+            .iter()
+            .map(|t| t.map(|v| positions[v as usize]).map(|p| [p[0] / 0.3, p[1] / 0.3]))
+            .collect();
+        let surface = surface_mesh::build(&mesh, &uvs).unwrap();
+        let tile = 1.0 / surface.uv_scale;
+        let levels = levels_of(&surface, &vec![1.0; surface.vertices.len()]);
+        assert!(levels.len() >= 3, "{} levels", levels.len());
+        let strays = |indices: &[u32]| {
+            let mut most = 0.0f64;
+            for t in indices.chunks_exact(3) {
+                let [a, b, c] = [t[0], t[1], t[2]].map(|v| surface.vertices[v as usize]);
+                for (u, v) in [(1.0, 1.0), (2.0, 1.0), (1.0, 2.0), (0.5, 0.5), (2.5, 0.25)] {
+                    let (u, v) = (u / 3.0, v / 3.0);
+                    let w = 1.0 - u - v;
+                    let p: [f64; 2] = std::array::from_fn(|i| {
+                        u * f64::from(a.position[i])
+                            + v * f64::from(b.position[i])
+                            + w * f64::from(c.position[i])
+                    });
+                    // The nearest side and the one across it.
+                    let (x, y) = ((1.0 - p[0].abs()) / tile, (1.0 - p[1].abs()) / tile);
+                    for (k, truth) in [x.min(y), x.max(y)].into_iter().enumerate() {
+                        let drawn = u * f64::from(a.border[k])
+                            + v * f64::from(b.border[k])
+                            + w * f64::from(c.border[k]);
+                        most = most.max((drawn - truth).abs());
+                    }
+                }
+            }
+            most
+        };
+        // The full mesh's own cells across a crease.
+        let own = strays(&levels[0].indices);
+        for (k, level) in levels.iter().enumerate() {
+            let most = strays(&level.indices);
+            // Tile units of border distance count as tiles of object distance.
+            assert!(
+                most <= (level.error / tile) + own + 1e-4,
+                "level {k}: the border distance strays {most:.4} tiles, bound {:.4} (+ {own:.4})",
+                level.error / tile
+            );
         }
     }
 

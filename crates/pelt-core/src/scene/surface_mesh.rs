@@ -6,7 +6,7 @@ use bytemuck::{Pod, Zeroable};
 
 use crate::FurMesh;
 use crate::error::Result;
-use crate::mesh::split_at_uv_seams;
+use crate::mesh::{border_distances, split_at_uv_seams};
 
 /// One GPU vertex of the skin and shells (vertex buffer 0; color and length live in buffers of
 /// their own so that `FurScene::update_attributes` (pelt-render) rewrites only those).
@@ -21,7 +21,15 @@ pub struct SurfaceVertex {
     pub dpdv: [f32; 3],
     pub uv: [f32; 2],
     pub comb: [f32; 3],
+    /// Tile units over the surface to the mesh's nearest open border edge and to the nearest
+    /// running another way ([`crate::mesh::border_distances`]; [`BORDERLESS`] where there is
+    /// none): where the marched shells' view ray leaves the mesh (`march.wgsl`).
+    pub border: [f32; 2],
 }
+
+/// [`SurfaceVertex::border`] of a vertex on a closed piece: no march reaches that far, and the
+/// value stays exact when the shaders interpolate it.
+pub const BORDERLESS: f32 = 1.0e6;
 
 /// The split mesh.
 #[derive(Debug, Clone)]
@@ -42,6 +50,8 @@ pub struct SurfaceMesh {
 pub fn build(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result<SurfaceMesh> {
     let split = split_at_uv_seams(mesh, corner_uvs)?;
     let (positions, normals, comb) = (mesh.positions(), mesh.normals(), mesh.comb());
+    let border = border_distances(mesh);
+    let uv_scale = split.uv_scale as f32;
     let vertices = (0..split.len())
         .map(|i| {
             let v = split.source[i] as usize;
@@ -52,6 +62,7 @@ pub fn build(mesh: &FurMesh, corner_uvs: &[[[f32; 2]; 3]]) -> Result<SurfaceMesh
                 dpdv: split.dpdv[i],
                 uv: split.uvs[i],
                 comb: comb.map_or([0.0; 3], |c| c[v]),
+                border: border[v].map(|d| d.map_or(BORDERLESS, |d| (d * uv_scale).min(BORDERLESS))),
             }
         })
         .collect();
