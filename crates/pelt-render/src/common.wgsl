@@ -49,6 +49,9 @@ struct Frame {
     // when the map is drawn, y the normal offset (object units), z the depth bias.
     light_view_proj: mat4x4<f32>,
     shadow: vec4<f32>,
+    // The hair directions' second moment E[d dᵀ] in the tile frame (`tangent_spread.rs`):
+    // (xx, yy, zz, xy), (xz, yz, 0, 0); zero without hair.
+    fin_tangents: array<vec4<f32>, 2>,
     // LOD: the level-0 height (in layers) each layer of the drawn level stands at (none at level
     // 0, whose layers stand at their own), then from `counts.w` on the next coarser level's
     // (`stand_heights.rs`).

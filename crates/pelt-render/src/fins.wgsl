@@ -31,12 +31,14 @@ fn vs_main(v: FinIn) -> model::FinOut {
     let fade = max(0.0, 2.0 * abs(p) - 1.0) * frame.fin.x;
     let second = v.along > 0.5;
     let normal = select(n0, n1, second);
-    let g = growth(normal, skin_vec3(select(v.ends.x, v.ends.y, second), 14u));
+    let end = select(v.ends.x, v.ends.y, second);
+    let g = growth(normal, skin_vec3(end, 14u));
     // uv.y is 0 at the top of the fur (the fin texture's first row) and 1 at the skin.
     let position = select(p0, p1, second) + (1.0 - v.uv.y) * frame.fur.x * v.length * g;
     let clip = select(CULLED, clip_position(position), fade > 0.0);
     let wrap = terminator_wrap(edge_curvature(p0, n0, p1, n1), frame.fur.x * v.length);
-    return model::fin_vertex(v, FinCorner(clip, position, normal, g, fade * v.color.a, wrap));
+    return model::fin_vertex(v, FinCorner(clip, position, normal, g, skin_vec3(end, 6u),
+                                          skin_vec3(end, 9u), fade * v.color.a, wrap));
 }
 
 @fragment

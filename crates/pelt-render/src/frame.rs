@@ -407,6 +407,7 @@ impl Renderer {
                 layer_spacing: scene.layer_spacing,
                 prt: transfer.map_or([0; 3], |t| [(t.order * t.order) as u32, t.textures, t.stride]),
                 fin_spacing: level.fin_spacing,
+                fin_tangents: scene.fin_tangents,
                 strand: (
                     [
                         camera.width as f32,

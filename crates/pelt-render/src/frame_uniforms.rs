@@ -32,6 +32,7 @@ pub(super) struct FrameUniforms {
     ambient_gradient: [[f32; 4]; 3],
     light_view_proj: [f32; 16],
     shadow: [f32; 4],
+    fin_tangents: [[f32; 4]; 2],
     stand: [[f32; 4]; STAND_ROWS],
 }
 
@@ -63,6 +64,8 @@ pub(super) struct SceneFrame<'a> {
     pub planes: (u32, [f32; 2]),
     /// Where the body's shadow map is looked up ([`ShadowFrame::NONE`] when it is not drawn).
     pub shadow: ShadowFrame,
+    /// The hair directions' second moment (`tangent_spread.rs`), which lights the fins.
+    pub fin_tangents: [[f32; 4]; 2],
 }
 
 impl FrameUniforms {
@@ -116,6 +119,7 @@ impl FrameUniforms {
             ambient_gradient: light.ambient_gradient.map(v3),
             light_view_proj: scene.shadow.light_view_proj.to_cols_array(),
             shadow: scene.shadow.params,
+            fin_tangents: scene.fin_tangents,
             stand,
         }
     }

@@ -67,6 +67,7 @@ mod skin;
 mod smoke;
 mod stand_heights;
 mod strands;
+mod tangent_spread;
 mod texture_target;
 mod textures;
 mod transfer;

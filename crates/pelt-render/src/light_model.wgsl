@@ -68,6 +68,9 @@ struct FinCorner {
     // The end's vertex normal and growth direction.
     normal: vec3<f32>,
     growth: vec3<f32>,
+    // The end's tile frame: object units per tile unit along u and v (`SurfaceVertex`).
+    dpdu: vec3<f32>,
+    dpdv: vec3<f32>,
     // Fade × fin opacity × vertex opacity.
     opacity: f32,
     // The terminator band's width at the edge (Kajiya–Kay's `terminator_wrap`).

@@ -88,13 +88,25 @@ fn ambient_at(normal: vec3<f32>) -> vec3<f32> {
 // hair's.
 fn hair_parts(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, wrap: f32,
               shadow: f32) -> HairParts {
+    let u = dot(tangent, frame.light_direction.xyz);
+    let v = dot(tangent, half_vector(normal, view));
+    return spread_hair_parts(tangent, vec2<f32>(u * u, v * v), normal, view, wrap, shadow);
+}
+
+// The Kajiya–Kay half vector between the light and `view` (`normal` where they cancel).
+fn half_vector(normal: vec3<f32>, view: vec3<f32>) -> vec3<f32> {
+    return unit_or(frame.light_direction.xyz + view, normal);
+}
+
+// `hair_parts` over hair whose mean direction is `tangent` and whose squared cosines to the light
+// and to the half vector are `squares` on average ((T·L)², (T·H)²): the terms taken at the mean
+// square, where one tangent standing for spread hair had lit it not at all along the light.
+fn spread_hair_parts(tangent: vec3<f32>, squares: vec2<f32>, normal: vec3<f32>, view: vec3<f32>,
+                     wrap: f32, shadow: f32) -> HairParts {
     let l = frame.light_direction.xyz;
-    let h = unit_or(l + view, normal);
-    let u = dot(tangent, l);
-    let v = dot(tangent, h);
     // The floor keeps pow's base positive (pow(0, y) is undefined in WGSL).
-    let diffuse = pow(max(1.0 - u * u, 1e-8), 0.5 * frame.kajiya_kay.z);
-    let specular = pow(max(1.0 - v * v, 1e-8), 0.5 * frame.kajiya_kay.w);
+    let diffuse = pow(max(1.0 - squares.x, 1e-8), 0.5 * frame.kajiya_kay.z);
+    let specular = pow(max(1.0 - squares.y, 1e-8), 0.5 * frame.kajiya_kay.w);
     let body = clamp((dot(normal, l) + wrap) / (1.0 + wrap), 0.0, 1.0);
     let lit = mix(body, 1.0, shared_path(l, view)) * shadow
         * directional_attenuation(tangent, l, view);
@@ -113,7 +125,13 @@ struct HairTerms {
 // `hair_length` the hair's painted length multiplier.
 fn hair_terms(tangent: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, height: f32,
               hair_length: f32, wrap: f32, shadow: f32) -> HairTerms {
-    let p = hair_parts(tangent, normal, view, wrap, shadow);
+    return parts_terms(hair_parts(tangent, normal, view, wrap, shadow), normal, view, height,
+                       hair_length);
+}
+
+// `hair_terms` of the parts `p` (`hair_parts`, `spread_hair_parts`).
+fn parts_terms(p: HairParts, normal: vec3<f32>, view: vec3<f32>, height: f32,
+               hair_length: f32) -> HairTerms {
     let b = banks_strengths(normal, frame.light_direction.xyz, view, hair_length);
     let direct = banks_at(b.y, height);
     return HairTerms(p.ambient * banks_at(b.x, height) + p.direct * direct, p.shine * direct);

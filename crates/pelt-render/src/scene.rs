@@ -15,6 +15,7 @@ use super::prt_rotate::{RotateOutputs, RotationUniforms};
 use super::shadow_map::ShadowMap;
 use super::shown_heights::shown_heights;
 use super::stand_heights::{composite_groups, stand_heights};
+use super::tangent_spread::tangent_moments;
 use super::textures::VolumeTextures;
 use super::{Renderer, scoped, textures, transfer};
 use pelt_core::FurMesh;
@@ -177,6 +178,8 @@ pub struct FurScene {
     shade: Vec<u8>,
     /// Per array layer of every level, the level-0 height it stands at (`stand_heights.rs`).
     pub(super) stand_heights: Vec<f32>,
+    /// The hair directions' second moment, for the fins' lighting (`tangent_spread.rs`).
+    pub(super) fin_tangents: [[f32; 4]; 2],
     /// Bounding sphere and longest painted length, for the LOD schedule.
     pub(super) extent: Extent,
     pub(super) transfer: Option<SceneTransfer>,
@@ -408,6 +411,7 @@ impl FurScene {
             resolution: volume.resolution,
             levels,
             stand_heights: stand_heights(&alpha, volume.layers, volume.resolution * volume.resolution),
+            fin_tangents: tangent_moments(volume),
             alpha,
             shade,
             extent,
