@@ -82,7 +82,7 @@ def test_prt_preview_is_as_bright_as_the_strands_it_was_baked_from(long_fur, lig
 # Luminance planes / reference measured (side 1.20, top 1.29), a tenth either way; the fringe's
 # mean coverage over the reference's, measured 1.64 and 1.51 (the instanced shells with their
 # fins: 1.55 and 1.45).
-PLANES_LUMINANCE = {"side": (1.10, 1.30), "top": (1.19, 1.39)}
+PLANES_LUMINANCE = {"side": (1.10, 1.30), "top": (1.31, 1.51)}
 FRINGE_RATIO = 1.75
 
 
@@ -97,9 +97,11 @@ def test_virtual_planes_agree_with_the_strands_they_were_sliced_from(long_fur, l
     # The raycast paper's planes, sliced from the same strands the reference traces, under a sun
     # (Kajiya-Kay, no ambient, as the reference has no sky): covering as much of the picture,
     # and brighter by what the method misses where the fur is seen from above (a ray crosses
-    # few planes there and sees the skin, the paper's §3.5): 1.20 from the side and 1.29 from
-    # above, where the instanced shells give 0.98 and 1.03 (docs/accuracy.md). The bounds hold
-    # those figures to a tenth either way. The fringe is held near the shells' own.
+    # few planes there and sees the skin, the paper's §3.5): 1.24 from the side and 1.41 from
+    # above (1.20 and 1.29 while the fins were lit by the growth direction alone, which left the
+    # rim's fins black under a sun along the hair; lit by the hair's spread, they add more than
+    # the reference's fringe), where the instanced shells gave 0.98 and 1.03 (docs/accuracy.md).
+    # The bounds hold the figures to a tenth either way. The fringe is held near the shells' own.
     lighting = {
         "model": "kajiya-kay",
         "direction": tuple(toward_sun),
