@@ -14,6 +14,7 @@ use pelt::render::{
     AdapterChoice, Camera, FurScene, KajiyaKay, LightModel, Lighting, Prt, RenderSettings, Renderer,
     RgbaImage, ShellMethod,
 };
+use pelt::volume::HairVolume;
 use pelt::{FurMesh, MeshInput};
 
 use common::torus::{FurredTorus, covered};
@@ -1028,6 +1029,46 @@ fn row_alpha(rgba: &[u8], width: usize) -> Vec<f64> {
         .collect()
 }
 
+/// The fin tests' scene: one long edge facing an orthographic camera, its fin eight tiles long
+/// but hardly taller than its texture, the shells off.
+struct FaceOnFin {
+    renderer: Renderer,
+    volume: HairVolume,
+    scene: FurScene,
+    camera: Camera,
+    settings: RenderSettings,
+}
+
+/// Half the face-on fin camera's view, object units.
+const FIN_VIEW_HALF: f64 = 1.2;
+/// The face-on fin's fur depth.
+const FIN_DEPTH: f32 = 0.5;
+/// The face-on fin's tile, object units.
+const FIN_TILE: f32 = 0.25;
+
+fn face_on_fin(size: u32) -> FaceOnFin {
+    let renderer = Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe) must exist");
+    let volume = common::volume::small_volume(8);
+    // The edge (−1, 0, 0)–(1, 0, 0) faces −y; the other two run almost along y, so their fins
+    // face sideways and fade out. The triangle itself, and every shell, is seen edge-on.
+    let positions = [[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 10.0, 0.0]];
+    let uv = positions.map(|p| [p[0] / FIN_TILE, p[1] / FIN_TILE]);
+    let mesh = FurMesh::new(MeshInput::new(&positions, &[[0, 1, 2]])).unwrap();
+    let scene = FurScene::new(&renderer, &mesh, &[uv], &volume, FIN_DEPTH).unwrap();
+    let camera = orthographic([0.0, -5.0, 0.0], [0.0, 0.0, 1.0], FIN_VIEW_HALF, size);
+    let settings = RenderSettings {
+        shell_count: Some(0),
+        ..RenderSettings::default()
+    };
+    FaceOnFin {
+        renderer,
+        volume,
+        scene,
+        camera,
+        settings,
+    }
+}
+
 #[test]
 fn a_fin_seen_face_on_shows_its_textures_height_profile_however_often_the_texture_repeats() {
     // One long edge facing an orthographic camera, its fin eight tiles long but hardly taller
@@ -1035,21 +1076,15 @@ fn a_fin_seen_face_on_shows_its_textures_height_profile_however_often_the_textur
     // mip level picked by the larger squeeze blurred the fin's rows into a few texels, spilling
     // the opaque roots up to the tips (the fringe stood too opaque, too high). Each pixel row
     // must show the texture row it stands at, averaged along the fin.
-    let renderer = Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe) must exist");
-    let volume = common::volume::small_volume(8);
-    // The edge (−1, 0, 0)–(1, 0, 0) faces −y; the other two run almost along y, so their fins
-    // face sideways and fade out. The triangle itself, and every shell, is seen edge-on.
-    let positions = [[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 10.0, 0.0]];
-    let tile = 0.25f32;
-    let uv = positions.map(|p| [p[0] / tile, p[1] / tile]);
-    let mesh = FurMesh::new(MeshInput::new(&positions, &[[0, 1, 2]])).unwrap();
-    let (size, half, depth) = (128u32, 1.2f64, 0.5f32);
-    let scene = FurScene::new(&renderer, &mesh, &[uv], &volume, depth).unwrap();
-    let camera = orthographic([0.0, -5.0, 0.0], [0.0, 0.0, 1.0], half, size);
-    let settings = RenderSettings {
-        shell_count: Some(0),
-        ..RenderSettings::default()
-    };
+    let size = 128;
+    let FaceOnFin {
+        renderer,
+        volume,
+        scene,
+        camera,
+        settings,
+    } = face_on_fin(size);
+    let (half, depth) = (FIN_VIEW_HALF, FIN_DEPTH);
     let image = renderer
         .render(&scene, &camera, &Lighting::default(), &settings)
         .unwrap();
@@ -1096,19 +1131,14 @@ fn a_fin_is_lit_by_its_hairs_spread_about_the_growth_direction() {
     // are lit). The ratio of the two images must be what the tangent map's own directions give,
     // averaged here texel by texel: E[sin(T, L)] × N·L for each sun (measured 0.216 against
     // 0.215; before, 0).
-    let renderer = Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe) must exist");
-    let volume = common::volume::small_volume(8);
-    let positions = [[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 10.0, 0.0]];
-    let tile = 0.25f32;
-    let uv = positions.map(|p| [p[0] / tile, p[1] / tile]);
-    let mesh = FurMesh::new(MeshInput::new(&positions, &[[0, 1, 2]])).unwrap();
-    let (size, half, depth) = (64u32, 1.2f64, 0.5f32);
-    let scene = FurScene::new(&renderer, &mesh, &[uv], &volume, depth).unwrap();
-    let camera = orthographic([0.0, -5.0, 0.0], [0.0, 0.0, 1.0], half, size);
-    let settings = RenderSettings {
-        shell_count: Some(0),
-        ..RenderSettings::default()
-    };
+    let FaceOnFin {
+        renderer,
+        volume,
+        scene,
+        camera,
+        settings,
+    } = face_on_fin(64);
+    let (tile, depth) = (FIN_TILE, FIN_DEPTH);
     let suns = [[0.0f32, 0.0, 1.0], [0.0, -0.6, 0.8]];
     let lit = suns.map(|direction| {
         let lighting = Lighting {

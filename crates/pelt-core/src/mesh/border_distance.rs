@@ -163,34 +163,19 @@ mod tests {
     use crate::MeshInput;
     use crate::mesh::shapes;
 
-    /// An `n × n` grid of unit quads in the xy plane, each split along its diagonal.
-    fn grid(n: u32) -> FurMesh {
-        let positions: Vec<[f32; 3]> = (0..=n)
-            .flat_map(|j| (0..=n).map(move |i| [i as f32, j as f32, 0.0]))
-            .collect();
-        let at = |i: u32, j: u32| j * (n + 1) + i;
-        let triangles: Vec<[u32; 3]> = (0..n)
-            .flat_map(|j| (0..n).map(move |i| (i, j)))
-            .flat_map(|(i, j)| {
-                [
-                    [at(i, j), at(i + 1, j), at(i + 1, j + 1)],
-                    [at(i, j), at(i + 1, j + 1), at(i, j + 1)],
-                ]
-            })
-            .collect();
-        FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap()
-    }
-
     #[test]
     fn a_grid_vertex_lies_as_far_from_the_border_as_its_nearest_side_and_the_nearest_across() {
-        let n = 8;
-        let distances = border_distances(&grid(n));
+        let n = 8usize;
+        let (positions, triangles) = shapes::square(n);
+        let distances = border_distances(&FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap());
+        // The square is 2 across: a cell is 2 / n.
+        let cell = 2.0 / n as f32;
         for j in 0..=n {
             for i in 0..=n {
                 // The nearest side along x and along y: one is the nearest, the other runs
                 // across it.
-                let (x, y) = (i.min(n - i) as f32, j.min(n - j) as f32);
-                let got = distances[(j * (n + 1) + i) as usize].map(Option::unwrap);
+                let (x, y) = (i.min(n - i) as f32 * cell, j.min(n - j) as f32 * cell);
+                let got = distances[j * (n + 1) + i].map(Option::unwrap);
                 assert!(
                     (got[0] - x.min(y)).abs() < 1e-5,
                     "({i}, {j}): {got:?}, nearest {}",

@@ -97,6 +97,28 @@ pub fn uv_sphere_polygons(segments: usize, rings: usize) -> Vec<u32> {
     polygons
 }
 
+/// The square `[-1, 1]²` in the xy plane (facing +z) as `n × n` quads (`n >= 1`), each split
+/// along its diagonal from `(i, j)` to `(i + 1, j + 1)`; vertex `(i, j)` is `j (n + 1) + i`. An
+/// open mesh: its four sides are its border.
+pub fn square(n: usize) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
+    let n = n.max(1);
+    let at = |k: usize| k as f32 / n as f32 * 2.0 - 1.0;
+    let positions = (0..=n)
+        .flat_map(|j| (0..=n).map(move |i| [at(i), at(j), 0.0]))
+        .collect();
+    let v = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+    let triangles = (0..n)
+        .flat_map(|j| (0..n).map(move |i| (i, j)))
+        .flat_map(|(i, j)| {
+            [
+                [v(i, j), v(i + 1, j), v(i + 1, j + 1)],
+                [v(i, j), v(i + 1, j + 1), v(i, j + 1)],
+            ]
+        })
+        .collect();
+    (positions, triangles)
+}
+
 /// The cube `[-1, 1]³` with `n × n` quads per side (`n >= 1`); vertices on the cube's edges are
 /// shared, so the mesh is closed with sharp 90° edges.
 pub fn cube(n: usize) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {

@@ -75,29 +75,7 @@ impl Shape {
     fn mesh(self) -> (Vec<[f32; 3]>, Vec<[u32; 3]>, f32) {
         match self {
             Shape::Patch => {
-                let n = 64;
-                let positions = (0..=n)
-                    .flat_map(|j| {
-                        (0..=n).map(move |i| {
-                            [
-                                i as f32 / n as f32 * 2.0 - 1.0,
-                                j as f32 / n as f32 * 2.0 - 1.0,
-                                0.0,
-                            ]
-                        })
-                    })
-                    .collect();
-                let v = |i: usize, j: usize| (j * (n + 1) + i) as u32;
-                let triangles = (0..n)
-                    .flat_map(|j| {
-                        (0..n).flat_map(move |i| {
-                            [
-                                [v(i, j), v(i + 1, j), v(i + 1, j + 1)],
-                                [v(i, j), v(i + 1, j + 1), v(i, j + 1)],
-                            ]
-                        })
-                    })
-                    .collect();
+                let (positions, triangles) = shapes::square(64);
                 (positions, triangles, 1.0)
             }
             Shape::Sphere => {

@@ -150,7 +150,7 @@ pub fn edges(triangles: &[u32], source: &[u32]) -> Vec<[u32; 2]> {
 #[cfg(test)]
 pub mod tests {
     use super::*;
-    use crate::mesh::shapes::{torus, torus_uvs};
+    use crate::mesh::shapes::{square, torus, torus_uvs};
     use crate::scene::surface_mesh;
     use crate::{FurMesh, MeshInput};
 
@@ -285,20 +285,7 @@ pub mod tests {
         // A flat 2 × 2 patch of 64 × 64 quads, tile 0.3: its border distances are min and max of
         // 1 − |x| and 1 − |y|, creased along the diagonals, which a level that cut a corner
         // would flatten.
-        let n = 64;
-        let positions: Vec<[f32; 3]> = (0..=n)
-            .flat_map(|j| (0..=n).map(move |i| [i as f32 / 32.0 - 1.0, j as f32 / 32.0 - 1.0, 0.0]))
-            .collect();
-        let at = |i: u32, j: u32| j * (n + 1) + i;
-        let triangles: Vec<[u32; 3]> = (0..n)
-            .flat_map(|j| (0..n).map(move |i| (i, j)))
-            .flat_map(|(i, j)| {
-                [
-                    [at(i, j), at(i + 1, j), at(i + 1, j + 1)],
-                    [at(i, j), at(i + 1, j + 1), at(i, j + 1)],
-                ]
-            })
-            .collect();
+        let (positions, triangles) = square(64);
         let mesh = FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap();
         let uvs: Vec<[[f32; 2]; 3]> = triangles
             .iter()
