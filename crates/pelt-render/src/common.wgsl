@@ -307,10 +307,63 @@ const FIN_ANISOTROPY: f32 = 8.0;
 // the larger squeeze blurred its rows together, spilling the opaque roots up to the tips. One
 // trilinear read, where the sampler's own anisotropic filtering cost a CPU adapter 2-3 times
 // the fins' time.
-fn fin_texel(uv: vec2<f32>) -> vec4<f32> {
+// `density`: the fin's hairs per unit of its width over the tile's (`spread_out`).
+fn fin_texel(uv: vec2<f32>, density: f32) -> vec4<f32> {
     let size = vec2<f32>(textureDimensions(fin_texture));
     let across = length(dpdx(uv) * size);
     let down = length(dpdy(uv) * size);
     let footprint = max(min(across, down), max(across, down) / FIN_ANISOTROPY);
-    return textureSampleLevel(fin_texture, fin_sampler, uv, log2(max(footprint, 1e-6)));
+    let texel = textureSampleLevel(fin_texture, fin_sampler, uv, log2(max(footprint, 1e-6)));
+    return spread_out(texel, density);
+}
+
+// How far the shells' and fins' hair may thin out or crowd (`hair_density`, `fin_density`): at
+// the focus of a hollow tighter than the fur depth the lifted surface has no area at all.
+const MIN_SPREAD: f32 = 0.25;
+
+// How a triangle's cross-section grows with height: lifted by `h` times its corners' growth
+// vectors (differing by `d1`, `d2` along its edges `e1`, `e2`), it has `1 + a h + b h²` times its
+// own area, projected on its own plane; (a, b), 0 for a triangle of no area. The strands stand on
+// the same lift (`placement`) and keep their count and width, so at height h they cover
+// 1 / (1 + a h + b h²) of the surface that the tile's texel covers: on a sphere of radius R under
+// fur of depth d, (R / (R + h d))².
+fn triangle_spread(e1: vec3<f32>, e2: vec3<f32>, d1: vec3<f32>, d2: vec3<f32>) -> vec2<f32> {
+    let area = cross(e1, e2);
+    let norm = dot(area, area);
+    if (!(norm > 0.0)) {
+        return vec2<f32>(0.0);
+    }
+    let linear = cross(e1, d2) + cross(d1, e2);
+    return vec2<f32>(dot(linear, area), dot(cross(d1, d2), area)) / norm;
+}
+
+// `triangle_spread` of a fragment's triangle from the screen steps of its `position`, lifted
+// `stand` (share of the fur depth) along the interpolated growth vector `up`: the steps of two
+// functions linear over the triangle are its edges' images under one map, whose area cancels.
+// Uniform control flow.
+fn screen_spread(position: vec3<f32>, up: vec3<f32>, stand: f32) -> vec2<f32> {
+    let ux = dpdx(up);
+    let uy = dpdy(up);
+    return triangle_spread(dpdx(position) - stand * ux, dpdy(position) - stand * uy, ux, uy);
+}
+
+// The hair's number per unit area at `height` (share of the fur depth) over the tile's, on a
+// triangle of `spread` (`triangle_spread`).
+fn hair_density(spread: vec2<f32>, height: f32) -> f32 {
+    // Past a hollow's focus the lifted triangle turns over and widens again.
+    let grown = abs(1.0 + height * (spread.x + height * spread.y));
+    return 1.0 / clamp(grown, MIN_SPREAD, 1.0 / MIN_SPREAD);
+}
+
+// A premultiplied texel of the tile's hair where that hair stands at `density` times the tile's
+// number per unit area (or width): the shells and fins are the mesh lifted along diverging
+// growth directions, which stretches the tile over more surface at height on a convex skin
+// (fewer hairs there, each as thin as at the root) and less in a hollow. Hairs fall at random,
+// so the optical depth -ln(1 - a) scales with their number.
+fn spread_out(texel: vec4<f32>, density: f32) -> vec4<f32> {
+    if (density == 1.0 || texel.a <= 0.0) {
+        return texel;
+    }
+    let a = 1.0 - pow(max(1.0 - texel.a, 1e-7), density);
+    return texel * (a / texel.a);
 }

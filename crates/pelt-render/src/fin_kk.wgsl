@@ -14,10 +14,10 @@ struct FinOut {
     @builtin(position) clip: vec4<f32>,
     // Vertex color × opacity × the lighting's scale; fin texture u.
     @location(0) scale_u: vec4<f32>,
-    // Opacity × the highlight's multiple of the light color; fin texture v; opacity. Two
-    // locations, not three: a CPU adapter sets up every location of every fin triangle on one
-    // thread (a fifth of the fins' time on llvmpipe).
-    @location(1) shine_v_opacity: vec3<f32>,
+    // Opacity × the highlight's multiple of the light color; fin texture v; opacity; the hair's
+    // density (`FinCorner`). Two locations, not three: a CPU adapter sets up every location of
+    // every fin triangle on one thread (a fifth of the fins' time on llvmpipe).
+    @location(1) shine_v_opacity_density: vec4<f32>,
 };
 
 // The mean of (d·a)² over the hair's unit directions, carried from the tile frame into object
@@ -57,12 +57,13 @@ fn fin_vertex(v: FinIn, c: FinCorner) -> FinOut {
     let p = spread_hair_parts(t, squares, n, view, c.wrap, body_shadow(c.position, n));
     let k = parts_terms(p, n, view, 1.0 - v.uv.y, v.length);
     return FinOut(c.clip, vec4<f32>(v.color.rgb * c.opacity * k.scale, v.uv.x),
-                  vec3<f32>(c.opacity * k.shine, v.uv.y, c.opacity));
+                  vec4<f32>(c.opacity * k.shine, v.uv.y, c.opacity, c.density));
 }
 
 // Premultiplied: texel × vertex color × opacity, lit.
 fn fin_fragment(f: FinOut) -> vec4<f32> {
-    let texel = fin_texel(vec2<f32>(f.scale_u.w, f.shine_v_opacity.y));
-    let add = frame.light_color.rgb * f.shine_v_opacity.x;
-    return vec4<f32>(texel.rgb * f.scale_u.rgb + texel.a * add, texel.a * f.shine_v_opacity.z);
+    let s = f.shine_v_opacity_density;
+    let texel = fin_texel(vec2<f32>(f.scale_u.w, s.y), s.w);
+    let add = frame.light_color.rgb * s.x;
+    return vec4<f32>(texel.rgb * f.scale_u.rgb + texel.a * add, texel.a * s.z);
 }

@@ -16,17 +16,19 @@ struct FinOut {
     @location(1) color_opacity: vec4<f32>,
     // The surface vertices at the edge's ends.
     @location(2) @interpolate(flat) ends: vec2<u32>,
+    // The hair's density (`FinCorner`).
+    @location(3) density: f32,
 };
 
 fn fin_vertex(v: FinIn, c: FinCorner) -> FinOut {
     return FinOut(c.clip, vec4<f32>(v.uv, v.along, hot_spot(c.position)),
-                  vec4<f32>(v.color.rgb, c.opacity), v.ends);
+                  vec4<f32>(v.color.rgb, c.opacity), v.ends, c.density);
 }
 
 // Premultiplied: texel × vertex color × opacity, lit per fragment.
 fn fin_fragment(f: FinOut) -> vec4<f32> {
     let uv = f.uv_along_hot.xy;
-    let texel = fin_texel(uv);
+    let texel = fin_texel(uv, f.density);
     let opacity = f.color_opacity.w;
     let albedo = texel.rgb * f.color_opacity.rgb * opacity;
     let ids = vec3<u32>(f.ends, f.ends.x);

@@ -5,7 +5,9 @@
 // defines what reaches the fragment (`FinOut`, made by `fin_vertex`) and its color
 // (`fin_fragment`).
 
-#import pelt::common::{frame, skin_vec3, CULLED, clip_position, view_vector, growth, edge_curvature}
+#import pelt::common::{
+    frame, skin_vec3, CULLED, clip_position, view_vector, growth, edge_curvature, MIN_SPREAD,
+}
 #import pelt::lighting::terminator_wrap
 #import pelt::light_model::{FinIn, FinCorner}
 #ifdef PRT
@@ -37,8 +39,21 @@ fn vs_main(v: FinIn) -> model::FinOut {
     let position = select(p0, p1, second) + (1.0 - v.uv.y) * frame.fur.x * v.length * g;
     let clip = select(CULLED, clip_position(position), fade > 0.0);
     let wrap = terminator_wrap(edge_curvature(p0, n0, p1, n1), frame.fur.x * v.length);
+    let lift = frame.fur.x * max(v.length, 0.0) * (growth(n1, skin_vec3(v.ends.y, 14u))
+                                                    - growth(n0, skin_vec3(v.ends.x, 14u)));
+    let density = fin_density(edge, lift, 1.0 - v.uv.y);
     return model::fin_vertex(v, FinCorner(clip, position, normal, g, skin_vec3(end, 6u),
-                                          skin_vec3(end, 9u), fade * v.color.a, wrap));
+                                          skin_vec3(end, 9u), fade * v.color.a, density, wrap));
+}
+
+// The hair's number per unit of the fin's width at `height` (share of the fur depth) over the
+// tile's: the edge `edge` lifted by `height × lift` (the ends' growth vectors' difference) is
+// that much longer along itself, and the hairs it shows stand that much farther apart (as thin
+// as at the root). Linear across the fin quad, as the width is.
+fn fin_density(edge: vec3<f32>, lift: vec3<f32>, height: f32) -> f32 {
+    let e2 = dot(edge, edge);
+    let spread = select(1.0, 1.0 + height * dot(lift, edge) / e2, e2 > 0.0);
+    return 1.0 / clamp(abs(spread), MIN_SPREAD, 1.0 / MIN_SPREAD);
 }
 
 @fragment

@@ -14,6 +14,9 @@
 //     The vertex of `layers` lifted to level-0 height `stand` (in layers: `shell_stand` for a
 //     shell, the hull's own layer for a march), with its painted length or the multiplier 1.
 //   fn surface_fragment(v: SurfaceVarying) -> SurfaceOut
+//   fn surface_spread(s: SurfaceOut, stand: f32) -> vec2<f32>
+//     How the fragment's triangle grows with height (`triangle_spread`), its position standing
+//     `stand` (share of the fur depth) high: call it before any discard.
 //   fn surface_wrap(s: SurfaceOut) -> f32
 //     The terminator band's width there (Kajiya–Kay's `terminator_wrap`; PRT fades its light in
 //     `prt_rotate.wgsl` and returns 0), from screen derivatives: call it before any discard.
@@ -24,8 +27,8 @@
 //   struct SkinVarying (PRT: its `SurfaceVarying`), fn skin_vertex(v: SurfaceIn) -> SkinVarying,
 //   fn skin_fragment(v: SkinVarying) -> vec3<f32>: the skin, opaque, at height 0.
 //   fn march_frame(s: SurfaceOut) -> MarchFrame: the hull fragment's point, tile frame, how the
-//     surface turns there (`SurfaceSteps`) and how far the open border is, with their screen
-//     derivatives (call it before any discard).
+//     surface turns there (`SurfaceSteps`), how far the open border is, with their screen
+//     derivatives, and how its triangle grows with height (call it before any discard).
 //   fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alpha: f32,
 //                  grad: vec4<f32>, heights: Shown) -> HairLight
 //     The lighting of the marched composite, shown by layer `layers` read at `uv` (`alpha` its
@@ -73,6 +76,9 @@ struct FinCorner {
     dpdv: vec3<f32>,
     // Fade × fin opacity × vertex opacity.
     opacity: f32,
+    // The hair's number per unit of the fin's width at this corner's height over the tile's
+    // (`fin_density` in `fins.wgsl`; `spread_out` applies it).
+    density: f32,
     // The terminator band's width at the edge (Kajiya–Kay's `terminator_wrap`).
     wrap: f32,
 };

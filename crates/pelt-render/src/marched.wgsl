@@ -13,6 +13,7 @@
 
 #import pelt::common::{
     frame, shell_texture, tile_sampler, NO_LAYER, Layers, shell_layers, HEIGHT_NODES,
+    hair_density, spread_out,
 }
 #import pelt::surface::Texels
 #import pelt::march::{
@@ -69,7 +70,9 @@ fn vs_main(v: model::SurfaceIn) -> model::SurfaceVarying {
 // cross-faded. (Composited as one, each layer's texels mixed first, "over" is not linear in
 // the mix: mid-fade the upper layers took more of the composite than either level gives them,
 // lit higher in the fur, 5% bright under PRT with a side light.)
-fn march(s: model::SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
+// `spread`: how the hull's triangle grows with height, which thins each layer's hair
+// (`hair_density`).
+fn march(s: model::SurfaceOut, ray: Ray, spread: vec2<f32>, lod: f32, fade: bool) -> Marched {
     let hull = shell_layers(frame.counts.x - 1u);
     var out = empty_march(hull, s.uv);
     // The coarser level's composite (opaque when no cross-fade runs: it never stops the march).
@@ -90,12 +93,13 @@ fn march(s: model::SurfaceOut, ray: Ray, lod: f32, fade: bool) -> Marched {
         }
         let uv = s.uv + ray.uv_rate * t;
         let texels = march_texels(uv, layers, lod, fade);
-        let fine = texels.fine * s.color.a;
+        let density = hair_density(spread, f32(layers.height) * frame.fur.y);
+        let fine = spread_out(texels.fine, density) * s.color.a;
         // The instanced pass's alpha test: such a texel draws nothing.
         if (fine.a >= frame.fur.w) {
             out = composite(out, fine, layers, uv, texels.fine.a, model::march_heights(layers, false, lod));
         }
-        let twin = texels.coarse * s.color.a;
+        let twin = spread_out(texels.coarse, density) * s.color.a;
         if (fade && twin.a >= frame.fur.w) {
             coarse = composite(coarse, twin, layers, uv, texels.coarse.a,
                                model::march_heights(layers, true, lod));
@@ -157,7 +161,7 @@ fn march_level(ray: Ray, lod: f32) -> u32 {
 // The march through the whole stack at LOD level `k`: its groups from the top down to group 1
 // (level-0 layers 1 .. 2^k), each read and lit where the ray crosses its middle height. So 32
 // shells take 1 to 32 reads. Level 0 is the march above, layer by layer.
-fn march_levels(s: model::SurfaceOut, ray: Ray, lod: f32, k: u32) -> Marched {
+fn march_levels(s: model::SurfaceOut, ray: Ray, spread: vec2<f32>, lod: f32, k: u32) -> Marched {
     let top = frame.counts.y - 1u;
     var base = 0u;
     for (var i = 0u; i < k; i++) {
@@ -180,9 +184,9 @@ fn march_levels(s: model::SurfaceOut, ray: Ray, lod: f32, k: u32) -> Marched {
         }
         let uv = s.uv + ray.uv_rate * t;
         let texels = march_texels(uv, layers, lod, false);
-        let texel = texels.fine * s.color.a;
+        let middle = 0.5 * f32(lo + hi);
+        let texel = spread_out(texels.fine, hair_density(spread, middle * frame.fur.y)) * s.color.a;
         if (texel.a >= frame.fur.w) {
-            let middle = 0.5 * f32(lo + hi);
             out = composite(out, texel, layers, uv, texels.fine.a, vec2<f32>(middle, middle * middle));
         }
         j -= 1u;
@@ -204,12 +208,12 @@ fn fs_main(v: model::SurfaceVarying) -> @location(0) vec4<f32> {
     let lod = march_lod(grad);
     var m: Marched;
     if (frame.fin.y > 0.0) {
-        m = march(s, ray, lod, true);
+        m = march(s, ray, f.spread, lod, true);
     } else if (frame.counts.z == 0u && frame.counts.x + 1u == frame.counts.y && MARCH_GROUPS) {
         // The whole stack, no frame-wide LOD: each pixel picks its own level.
-        m = march_levels(s, ray, lod, march_level(ray, lod));
+        m = march_levels(s, ray, f.spread, lod, march_level(ray, lod));
     } else {
-        m = march(s, ray, lod, false);
+        m = march(s, ray, f.spread, lod, false);
     }
     if (m.color.a <= 0.0) {
         discard;

@@ -11,11 +11,12 @@
 // A slice holds a slab 1/N of the tile deep seen square-on; the ray runs through it obliquely
 // and also crosses the other family's planes, so each crossing's opacity is raised to the ray's
 // horizontal run to the next crossing, in slab depths: the hair a ray passes is counted once
-// whatever its heading (the paper's planes double it on the diagonal).
+// whatever its heading (the paper's planes double it on the diagonal). Above a convex skin the
+// hair thins out as the shells' does (`hair_density`).
 
 #import pelt::common::{
     frame, shell_texture, tile_sampler, fin_sampler, NO_LAYER, Layers, shell_layers, clip_position,
-    view_vector, unit_or,
+    view_vector, unit_or, hair_density, spread_out,
 }
 #import pelt::surface::MarchFrame
 #import pelt::march::{
@@ -135,7 +136,8 @@ fn trace(s: model::SurfaceOut, f: MarchFrame, ray: Ray, grad: vec4<f32>) -> Marc
             let uv = s.uv + ray.uv_rate * half_z;
             let height = ray_height(ray, top, half_z);
             let layer = u32(round(height));
-            let texel = textureSampleLevel(shell_texture, tile_sampler, uv, layer, half_z_lod) * (nv * nv);
+            let sampled = textureSampleLevel(shell_texture, tile_sampler, uv, layer, half_z_lod);
+            let texel = spread_out(sampled, hair_density(f.spread, height * frame.fur.y)) * (nv * nv);
             if (texel.a * s.color.a >= frame.fur.w) {
                 out = composite(out, texel * s.color.a, Layers(layer, layer, NO_LAYER), uv, texel.a,
                                 vec2<f32>(height, height * height));
@@ -164,7 +166,8 @@ fn trace(s: model::SurfaceOut, f: MarchFrame, ray: Ray, grad: vec4<f32>) -> Marc
         }
         let run = (min(min(next.x, next.y), end) - t) * slabs_per_length;
         let height = ray_height(ray, top, t);
-        let texel = slice_texel(layer, along, height, run, lod) * s.color.a;
+        let density = hair_density(f.spread, height * frame.fur.y);
+        let texel = spread_out(slice_texel(layer, along, height, run, lod), density) * s.color.a;
         if (texel.a < frame.fur.w) {
             continue;
         }

@@ -97,4 +97,6 @@ struct MarchFrame {
     // (`SurfaceVertex::border`), and their screen steps: d/dx of both (xy), d/dy (zw).
     border: vec2<f32>,
     border_steps: vec4<f32>,
+    // How the hull's triangle grows with height (`triangle_spread`): the hair thins out above it.
+    spread: vec2<f32>,
 };

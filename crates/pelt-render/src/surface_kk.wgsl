@@ -4,7 +4,7 @@
     frame, tangent_texture, tile_sampler, Layers, skin_layers, shading_height,
     level_shading_height, HairLight, Shown,
     clip_position, view_vector, unit_or, surface_curvature, body_shadow, screen_steps,
-    curvature_of_steps,
+    curvature_of_steps, screen_spread,
 }
 #import pelt::lighting::{banks_strengths, hair_parts, shade, shade_skin, terminator_wrap}
 #import pelt::surface::{SurfaceData, lift, Texels, layer_texels, blended, MarchFrame}
@@ -104,6 +104,11 @@ fn skin_fragment(s: SkinVarying) -> vec3<f32> {
                       wrap, shadow);
 }
 
+// How the fragment's triangle grows with height, from the steps of its varyings.
+fn surface_spread(s: SurfaceOut, stand: f32) -> vec2<f32> {
+    return screen_spread(s.position, s.up, stand);
+}
+
 // The terminator band's width under the shell's hair (its painted length × the fur depth).
 fn surface_wrap(s: SurfaceOut) -> f32 {
     let n = unit_or(s.normal, vec3<f32>(0.0, 0.0, 1.0));
@@ -152,7 +157,8 @@ fn tangent_between(uv: vec2<f32>, at: f32, dpdu: vec3<f32>, dpdv: vec3<f32>, up:
 fn march_frame(s: SurfaceOut) -> MarchFrame {
     return MarchFrame(s.position, s.normal, s.dpdu, s.dpdv, s.up,
                       screen_steps(s.normal, s.position), s.border,
-                      vec4<f32>(dpdx(s.border), dpdy(s.border)));
+                      vec4<f32>(dpdx(s.border), dpdy(s.border)),
+                      surface_spread(s, f32(s.height) * frame.fur.y));
 }
 
 // The hair lighting at the marched layer `layers` read at `uv`, before Banks darkening (at the

@@ -3,6 +3,7 @@
 #import pelt::common::{
     frame, skin_vertices, SKIN_FLOATS, skin_vec3, NO_LAYER, Layers, skin_layers, shell_layers,
     HairLight, growth, body_shadow, unit_or, view_vector, HEIGHT_NODES, Shown, SurfaceSteps,
+    triangle_spread,
 }
 #import pelt::prt::{transfer_radiance, node_radiances, hot_spot, shown_heights}
 #import pelt::lighting::shade_skin
@@ -41,6 +42,8 @@ struct SurfaceOut {
     extrapolated: vec3<f32>,
     // The hot spot's share of the lighting at the fragment (`hot_spot`).
     hot: f32,
+    // How the triangle grows with height (`triangle_spread`).
+    spread: vec2<f32>,
 };
 
 // `SurfaceOut` as it crosses from vertex to fragment, in few locations (a CPU adapter sets up
@@ -52,8 +55,8 @@ struct SurfaceVarying {
     @location(1) color: vec4<f32>,
     @location(2) bary: vec3<f32>,
     @location(3) @interpolate(flat) ids: vec3<u32>,
-    // Layer drawn, coarser layer, height.
-    @location(4) @interpolate(flat) layers: vec3<u32>,
+    // Layer drawn, coarser layer, height; the triangle's spread (`packed_spread`).
+    @location(4) @interpolate(flat) layers: vec4<u32>,
 };
 
 // The barycentric weights are clamped to the triangle for the lighting: a fragment of a triangle
@@ -63,7 +66,29 @@ fn surface_fragment(v: SurfaceVarying) -> SurfaceOut {
     let w = max(v.bary, vec3<f32>(0.0));
     let bary = w / max(w.x + w.y + w.z, 1e-6);
     return SurfaceOut(v.uv_length_hot.xy, v.color, v.uv_length_hot.z, v.layers.x, v.layers.y,
-                      v.layers.z, v.ids, bary, v.bary, v.uv_length_hot.w);
+                      v.layers.z, v.ids, bary, v.bary, v.uv_length_hot.w,
+                      unpack2x16snorm(v.layers.w) * SPREAD_RANGE);
+}
+
+// The largest spread coefficient `packed_spread` keeps.
+const SPREAD_RANGE: f32 = 64.0;
+
+// How the triangle of surface vertices `ids` grows with height under its painted lengths
+// (`painted`) or the length multiplier 1, packed to two 16-bit fixed-point numbers (half floats
+// need a capability a device may lack): a triangle's corners read its three vertices once each,
+// where a fragment would read them for every shell.
+fn packed_spread(ids: vec3<u32>, painted: bool) -> u32 {
+    var p: array<vec3<f32>, 3>;
+    var up: array<vec3<f32>, 3>;
+    for (var c = 0u; c < 3u; c++) {
+        let id = ids[c];
+        p[c] = skin_vec3(id, 0u);
+        let length = select(1.0, surface_lengths[id], painted);
+        up[c] = frame.fur.x * length * growth(skin_vec3(id, 3u), skin_vec3(id, 14u));
+    }
+    let spread = triangle_spread(p[1] - p[0], p[2] - p[0], up[1] - up[0], up[2] - up[0]);
+    // Beyond ±SPREAD_RANGE the density is clamped anyway (`hair_density`); in steps of 0.002.
+    return pack2x16snorm(spread / SPREAD_RANGE);
 }
 
 // A skin vertex's distances to the open border (`SurfaceVertex::border`).
@@ -91,7 +116,8 @@ fn surface_vertex(v: SurfaceIn, layers: Layers, stand: f32, painted: bool) -> Su
     bary[v.corner % 3u] = 1.0;
     return SurfaceVarying(lifted.clip, vec4<f32>(d.uv, d.length, hot_spot(lifted.position)),
                           d.color, bary, ids,
-                          vec3<u32>(layers.fine, layers.coarse, layers.height));
+                          vec4<u32>(layers.fine, layers.coarse, layers.height,
+                                    packed_spread(ids, painted)));
 }
 
 // The skin is a surface at height 0, lit by the transfer of its own layer; its `SkinVarying` is
@@ -157,6 +183,11 @@ fn shade_surface(s: SurfaceOut, texels: Texels, opacity: f32, grad: vec4<f32>,
     return vec4<f32>(rgb * tint, blended(texels).a * opacity);
 }
 
+// The triangle's spread, from its corners.
+fn surface_spread(s: SurfaceOut, stand: f32) -> vec2<f32> {
+    return s.spread;
+}
+
 // PRT fades its directional light past each vertex's terminator in `prt_rotate.wgsl`: no band
 // here (`wrap` is unused).
 fn surface_wrap(s: SurfaceOut) -> f32 {
@@ -193,6 +224,8 @@ fn march_frame(s: SurfaceOut) -> MarchFrame {
     var steps: SurfaceSteps;
     var border = vec2<f32>(0.0);
     var border_steps = vec4<f32>(0.0);
+    var corners: array<vec3<f32>, 3>;
+    var ups: array<vec3<f32>, 3>;
     for (var c = 0u; c < 3u; c++) {
         let id = s.ids[c];
         let w = s.bary[c];
@@ -204,7 +237,9 @@ fn march_frame(s: SurfaceOut) -> MarchFrame {
         dpdu += w * skin_vec3(id, 6u);
         dpdv += w * skin_vec3(id, 9u);
         comb += w * k;
-        let lifted = p + height * lift * growth(n, k);
+        corners[c] = p;
+        ups[c] = lift * growth(n, k);
+        let lifted = p + height * ups[c];
         steps.dnx += wx[c] * n;
         steps.dpx += wx[c] * lifted;
         steps.dny += wy[c] * n;
@@ -214,7 +249,11 @@ fn march_frame(s: SurfaceOut) -> MarchFrame {
         border_steps += vec4<f32>(wx[c] * b, wy[c] * b);
     }
     let up = lift * growth(normal, comb);
-    return MarchFrame(position + height * up, normal, dpdu, dpdv, up, steps, border, border_steps);
+    // Under the interpolated painted length: the fragment stage reads no length buffer.
+    let spread = triangle_spread(corners[1] - corners[0], corners[2] - corners[0],
+                                 ups[1] - ups[0], ups[2] - ups[0]);
+    return MarchFrame(position + height * up, normal, dpdu, dpdv, up, steps, border, border_steps,
+                      spread);
 }
 
 // The marched composite's light: each of its color's height nodes (`heights.nodes`) lit by the

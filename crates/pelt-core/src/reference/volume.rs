@@ -15,6 +15,9 @@
 //!   crossings interpolate them linearly. The prism's map is bilinear in `(b, z)` (the corners'
 //!   up vectors differ), so the error is second order in how much `up` turns across a
 //!   triangle: a small share of a texel on the canonical scenes.
+//! - **Density.** The extinction is the bake's at the tile point, divided by how much the
+//!   prism's slice at that height outgrew the triangle: the strands keep their count and width
+//!   as the lift spreads them (a convex skin's tips are sparser than its roots).
 //! - **Estimator.** Each step of the view ray gets the opacity `1 − e^{−σ Δt}`
 //!   ([`super::density`] gives `σ`); one step is drawn in proportion to its share of the
 //!   composite and lit by each light through the transmittance of a march toward it (0 when
@@ -52,7 +55,7 @@ const MAX_SPAN_STEPS: usize = 256;
 
 /// One triangle's prism.
 #[derive(Debug, Clone)]
-struct Prism {
+pub(super) struct Prism {
     /// Bottom corners 0–2 (the skin triangle), top corners 3–5.
     corners: [Vec3A; 6],
     uv: [Vec2; 3],
@@ -68,6 +71,9 @@ struct Prism {
     top: f32,
     /// Object units per tile unit across the triangle.
     scale: f32,
+    /// The slice at height `z` has `1 + a z + b z²` times the triangle's area (projected on its
+    /// plane): `[a, b]` ([`slice_growth`]).
+    growth: [f32; 2],
     /// Side `k` (corners `k`, `k + 1`) is cut from bottom `k` to top `k + 1` when set, else from
     /// bottom `k + 1` to top `k`.
     cut_from_first: [bool; 3],
@@ -341,7 +347,7 @@ impl VolumeScene {
         let across = direction.cross(tangent).length();
         let crossing = tangent.dot(prism.normal).abs().max(MIN_CROSSING_COSINE);
         let sigma = 2.0 * d.coverage * across / (PI * d.radius * prism.scale * crossing);
-        (sigma, tangent)
+        (sigma / prism.slice_area(z), tangent)
     }
 
     /// Transmittance from `point` toward unit `direction`: 0 past the skin.
@@ -394,7 +400,7 @@ impl VolumeScene {
     }
 }
 
-fn prism(
+pub(super) fn prism(
     p: [Vec3A; 3],
     up: [Vec3A; 3],
     top: f32,
@@ -428,11 +434,40 @@ fn prism(
         normal: e1.cross(e2).normalize_or_zero(),
         top,
         scale: lateral_scale(&uv, &p),
+        growth: slice_growth(e1, e2, up[1] - up[0], up[2] - up[0]),
         cut_from_first: [0, 1, 2].map(|k| ids[k] < ids[(k + 1) % 3]),
     }
 }
 
+/// How the slices of a prism grow with height: lifted by `z` times its corners' up vectors
+/// (differing by `d1`, `d2` along its edges `e1`, `e2`), the triangle has `1 + a z + b z²` times
+/// its area, projected on its own plane; `[a, b]`, 0 for no area. The strands stand on the same
+/// lift and keep their count and width, so their density at height `z` is the tile's over that
+/// (the preview's shells thin out alike, `hair_density` in pelt-render).
+fn slice_growth(e1: Vec3A, e2: Vec3A, d1: Vec3A, d2: Vec3A) -> [f32; 2] {
+    let area = e1.cross(e2);
+    let norm = area.length_squared();
+    if norm.is_nan() || norm <= 0.0 {
+        return [0.0; 2];
+    }
+    let linear = e1.cross(d2) + d1.cross(e2);
+    [linear.dot(area) / norm, d1.cross(d2).dot(area) / norm]
+}
+
+/// How far a slice may shrink or grow over the triangle (at a hollow's focus the lifted
+/// surface has no area).
+pub(super) const MIN_SLICE_AREA: f32 = 0.25;
+
 impl Prism {
+    /// The slice at height `z` over the triangle's area (past a hollow's focus the slice turns
+    /// over and grows again), within [`MIN_SLICE_AREA`] and its inverse.
+    pub(super) fn slice_area(&self, z: f32) -> f32 {
+        let [a, b] = self.growth;
+        (1.0 + z * (a + z * b))
+            .abs()
+            .clamp(MIN_SLICE_AREA, 1.0 / MIN_SLICE_AREA)
+    }
+
     /// Every crossing of the line `origin + t · direction` with the prism's eight faces
     /// (bottom, top, two triangles per side), in face order; returns how many.
     fn crossings(&self, origin: Vec3A, direction: Vec3A, out: &mut [Crossing; 8]) -> usize {

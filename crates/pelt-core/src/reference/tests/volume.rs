@@ -5,9 +5,10 @@
 
 use std::f64::consts::PI;
 
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec3, Vec3A};
 
 use super::super::density::DensityField;
+use super::super::volume::{MIN_SLICE_AREA, prism};
 use super::*;
 use crate::lapped::NO_PATCH;
 
@@ -259,4 +260,27 @@ fn an_empty_volume_a_bad_field_and_a_bald_mesh_are_named() {
         panic!("a bald mesh was accepted");
     };
     assert_eq!(name, "volume");
+}
+
+#[test]
+fn a_prism_over_a_sphere_grows_its_slices_as_the_sphere_lifted() {
+    // A triangle with its corners on a sphere of radius 2 about the origin, each lifted along
+    // its radius by the fur depth 0.5 per unit height: every slice is the triangle scaled about
+    // the centre by (2 + 0.5 z) / 2, so its area is that squared, whatever the triangle.
+    let p = [[2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [1.2, 0.0, 1.6]].map(Vec3A::from_array);
+    let lifted_by = |up: [Vec3A; 3]| {
+        let uv = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+        prism(p, up, 1.0, uv, [Vec3::ONE; 3], [0, 1, 2])
+    };
+    let outward = lifted_by(p.map(|c| 0.25 * c));
+    for z in [0.0f32, 0.3, 1.0] {
+        let expected = ((2.0 + 0.5 * z) / 2.0).powi(2);
+        let area = outward.slice_area(z);
+        assert!((area - expected).abs() < 1e-5, "z {z}: {area}");
+    }
+    // A hollow (the same triangle lifted toward the centre) shrinks to its focus, then turns
+    // over; the slice is held within the bounds.
+    let inward = lifted_by(p.map(|c| -0.25 * c));
+    assert!((inward.slice_area(1.0) - 0.5625).abs() < 1e-5);
+    assert_eq!(inward.slice_area(4.0), MIN_SLICE_AREA);
 }
