@@ -67,6 +67,25 @@ fn ring_alpha(pixels: &[f32], inner: f64, outer: f64) -> (f64, usize) {
     (sum / count as f64, count)
 }
 
+/// An orthographic camera at `eye` looking at the origin, z up, spanning `[-HALF, HALF]²`.
+fn looking_from(eye: [f64; 3]) -> Camera {
+    Camera {
+        view: look_at(eye, [0.0, 0.0, 1.0]),
+        projection: common::orthographic(HALF, 0.5, 9.5),
+        width: SIZE,
+        height: SIZE,
+    }
+}
+
+/// Each lighting model's default lighting, by name.
+fn models() -> [(&'static str, Lighting); 2] {
+    let prt = Lighting {
+        model: LightModel::Prt(Prt::default()),
+        ..Lighting::default()
+    };
+    [("Kajiya–Kay", Lighting::default()), ("PRT", prt)]
+}
+
 #[test]
 fn the_top_shell_over_a_sphere_thins_out_as_the_strands_do() {
     let renderer = Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe) must exist");
@@ -84,22 +103,13 @@ fn the_top_shell_over_a_sphere_thins_out_as_the_strands_do() {
     let mut scene = FurScene::new(&renderer, &mesh, &patches.uv, &volume, FUR_DEPTH).unwrap();
     let transfer = small_transfer(&volume, f64::from(FUR_DEPTH) / 0.5);
     scene.set_transfer(&renderer, &transfer).unwrap();
-    let camera = Camera {
-        view: look_at([0.0, -3.0, 0.0], [0.0, 0.0, 1.0]),
-        projection: common::orthographic(HALF, 0.5, 5.5),
-        width: SIZE,
-        height: SIZE,
-    };
+    let camera = looking_from([0.0, -3.0, 0.0]);
     // The top layer stands (LAYERS - 1) / LAYERS of the fur depth up: the top shell is the unit
     // sphere lifted to 1 + h.
     let h = f64::from(FUR_DEPTH) * (LAYERS - 1) as f64 / LAYERS as f64;
     let alpha = f64::from(TOP_ALPHA) / 255.0;
     let expected = 1.0 - (1.0 - alpha).powf((1.0 / (1.0 + h)).powi(2));
-    let prt = Lighting {
-        model: LightModel::Prt(Prt::default()),
-        ..Lighting::default()
-    };
-    for (model, lighting) in [("Kajiya–Kay", Lighting::default()), ("PRT", prt)] {
+    for (model, lighting) in models() {
         for method in [ShellMethod::Instanced, ShellMethod::Marched] {
             let settings = RenderSettings {
                 shell_method: method,
@@ -145,12 +155,7 @@ fn a_fin_whose_edge_widens_with_height_thins_out_as_its_hair_spreads() {
     scene
         .set_transfer(&renderer, &small_transfer(&volume, f64::from(DEPTH) / 0.25))
         .unwrap();
-    let camera = Camera {
-        view: look_at([0.0, -5.0, 0.0], [0.0, 0.0, 1.0]),
-        projection: common::orthographic(HALF, 0.5, 9.5),
-        width: SIZE,
-        height: SIZE,
-    };
+    let camera = looking_from([0.0, -5.0, 0.0]);
     let settings = RenderSettings {
         shell_count: Some(0),
         ..RenderSettings::default()
@@ -158,11 +163,7 @@ fn a_fin_whose_edge_widens_with_height_thins_out_as_its_hair_spreads() {
     let cosine = 1.0 / (1.0 + f64::from(TILT).powi(2)).sqrt();
     let top_spread = 1.0 + f64::from(DEPTH) * f64::from(TILT) * cosine;
     let alpha = f64::from(TOP_ALPHA) / 255.0;
-    let prt = Lighting {
-        model: LightModel::Prt(Prt::default()),
-        ..Lighting::default()
-    };
-    for (model, lighting) in [("Kajiya–Kay", Lighting::default()), ("PRT", prt)] {
+    for (model, lighting) in models() {
         let image = renderer
             .render_linear(&scene, &camera, &lighting, &settings)
             .unwrap();

@@ -317,7 +317,7 @@ fn fin_texel(uv: vec2<f32>, density: f32) -> vec4<f32> {
     return spread_out(texel, density);
 }
 
-// How far the shells' and fins' hair may thin out or crowd (`hair_density`, `fin_density`): at
+// How far the shells' and fins' hair may thin out or crowd (`density_of_growth`): at
 // the focus of a hollow tighter than the fur depth the lifted surface has no area at all.
 const MIN_SPREAD: f32 = 0.25;
 
@@ -350,9 +350,14 @@ fn screen_spread(position: vec3<f32>, up: vec3<f32>, stand: f32) -> vec2<f32> {
 // The hair's number per unit area at `height` (share of the fur depth) over the tile's, on a
 // triangle of `spread` (`triangle_spread`).
 fn hair_density(spread: vec2<f32>, height: f32) -> f32 {
-    // Past a hollow's focus the lifted triangle turns over and widens again.
-    let grown = abs(1.0 + height * (spread.x + height * spread.y));
-    return 1.0 / clamp(grown, MIN_SPREAD, 1.0 / MIN_SPREAD);
+    return density_of_growth(1.0 + height * (spread.x + height * spread.y));
+}
+
+// The hair's density where the surface (or a fin's width) holding it has grown `grown` times:
+// its inverse, within the bounds. Past a hollow's focus the lifted surface turns over and widens
+// again.
+fn density_of_growth(grown: f32) -> f32 {
+    return 1.0 / clamp(abs(grown), MIN_SPREAD, 1.0 / MIN_SPREAD);
 }
 
 // A premultiplied texel of the tile's hair where that hair stands at `density` times the tile's

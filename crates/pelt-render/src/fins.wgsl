@@ -6,7 +6,8 @@
 // (`fin_fragment`).
 
 #import pelt::common::{
-    frame, skin_vec3, CULLED, clip_position, view_vector, growth, edge_curvature, MIN_SPREAD,
+    frame, skin_vec3, CULLED, clip_position, view_vector, growth, edge_curvature,
+    density_of_growth,
 }
 #import pelt::lighting::terminator_wrap
 #import pelt::light_model::{FinIn, FinCorner}
@@ -52,8 +53,7 @@ fn vs_main(v: FinIn) -> model::FinOut {
 // as at the root). Linear across the fin quad, as the width is.
 fn fin_density(edge: vec3<f32>, lift: vec3<f32>, height: f32) -> f32 {
     let e2 = dot(edge, edge);
-    let spread = select(1.0, 1.0 + height * dot(lift, edge) / e2, e2 > 0.0);
-    return 1.0 / clamp(abs(spread), MIN_SPREAD, 1.0 / MIN_SPREAD);
+    return density_of_growth(select(1.0, 1.0 + height * dot(lift, edge) / e2, e2 > 0.0));
 }
 
 @fragment
