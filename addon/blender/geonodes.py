@@ -12,7 +12,8 @@ The node group outputs, joined in this order:
    into one instance, duplicated ``S - 1`` times (Duplicate Elements on the instance domain), each
    copy's layer ``round(j (L - 1) / (S - 1))`` and height ``pelt_height = layer / L`` stored on
    its instance, then realized at once, lifted by ``pelt_height × top`` and ``top`` stored as
-   ``pelt_top``.
+   ``pelt_top``; each face's area over its skin face's, less 1, as the face attribute
+   ``pelt_spread`` (the material thins the hair by it).
    ``top = depth × length × (normal + comb - normal (normal · comb))`` is captured per vertex
    on the whole mesh first, so a shell's border vertices move as the skin's normals say (as
    ``crates/pelt-render/src/shells.wgsl`` does), not as their trimmed copy's would; material
@@ -22,7 +23,8 @@ The node group outputs, joined in this order:
    lifts them): one quad per edge, with the UV map ``pelt_fin_uv``
    (``u`` from a random start per edge, running ``edge length / tile size`` along the edge; ``v``
    0 at the root, 1 at the tip) and the face attribute ``pelt_fin_normal`` (the unsheared fin's
-   normal, for the fade) and the point attribute ``pelt_growth`` (the unit direction of ``top``,
+   normal, for the fade), ``pelt_fin_spread`` (how much wider the fin is at its tip, less 1, for
+   the thinning) and the point attribute ``pelt_growth`` (the unit direction of ``top``,
    the hair the fin shows, which its material lights); material ``Pelt Fin``.
 
 Missing attributes read as Pelt's defaults: ``pelt_length`` 1, ``pelt_comb`` 0, ``pelt_color``
@@ -40,11 +42,13 @@ from . import templates
 from .materials import (
     FIN_NORMAL_ATTRIBUTE,
     FIN_ROLE,
+    FIN_SPREAD_ATTRIBUTE,
     FIN_UV_ATTRIBUTE,
     FUR_ROLE,
     GROWTH_ATTRIBUTE,
     HEIGHT_ATTRIBUTE,
     LAYER_ATTRIBUTE,
+    SPREAD_ATTRIBUTE,
     TOP_ATTRIBUTE,
 )
 from .node_graph import NodeGraph, output
@@ -266,7 +270,12 @@ def _shells(g: NodeGraph, base, top, length, layers, shells):
         domain="FACE",
         mode="ALL",
     ).outputs[0]
-    instance = g.node("GeometryNodeGeometryToInstance", {"Geometry": furred}).outputs[0]
+    skin_area = g.node("GeometryNodeCaptureAttribute", domain="FACE")
+    skin_area.capture_items.new("FLOAT", "Area")
+    g.set(skin_area.inputs["Geometry"], furred)
+    g.set(skin_area.inputs["Area"], g.node("GeometryNodeInputMeshFaceArea").outputs["Area"])
+    instance = g.node("GeometryNodeGeometryToInstance", {"Geometry": skin_area.outputs["Geometry"]})
+    instance = instance.outputs[0]
     copies = g.node(
         "GeometryNodeDuplicateElements",
         {"Geometry": instance, "Amount": g.math("SUBTRACT", shells, 1.0)},
@@ -288,8 +297,13 @@ def _shells(g: NodeGraph, base, top, length, layers, shells):
     lifted = g.node(
         "GeometryNodeSetPosition", {"Geometry": realized, "Offset": g.vector_math("SCALE", top, scale=height)}
     )
+    # How much wider each face is than its skin face: the hair there stands that much further
+    # apart (its number and width are the skin's), which the material thins the coverage by.
+    area = g.node("GeometryNodeInputMeshFaceArea").outputs["Area"]
+    spread = g.math("SUBTRACT", g.math("DIVIDE", area, skin_area.outputs["Area"]), 1.0)
+    shells = _store(g, lifted.outputs[0], SPREAD_ATTRIBUTE, "FLOAT", "FACE", spread)
     # The fur's height here, which tells the material how far a ray is from its own fur.
-    return _store(g, lifted.outputs[0], TOP_ATTRIBUTE, "FLOAT_VECTOR", "POINT", top)
+    return _store(g, shells, TOP_ATTRIBUTE, "FLOAT_VECTOR", "POINT", top)
 
 
 def _fins(g: NodeGraph, base, top, length, tile_size):
@@ -309,10 +323,12 @@ def _fins(g: NodeGraph, base, top, length, tile_size):
     per_edge.capture_items.new("FLOAT", "Start")
     per_edge.capture_items.new("FLOAT", "Span")
     per_edge.capture_items.new("VECTOR", "Fin Normal")
+    per_edge.capture_items.new("FLOAT", "Tip Spread")
     g.set(per_edge.inputs["Geometry"], base)
     g.set(per_edge.inputs["Start"], output(start, "Value"))
     g.set(per_edge.inputs["Span"], span)
     g.set(per_edge.inputs["Fin Normal"], _fin_normal(g, edge))
+    g.set(per_edge.inputs["Tip Spread"], _tip_spread(g, edge, top))
 
     # An edge's length multiplier is the mean of its ends': > 0 when either end has fur.
     furred = g.node(
@@ -344,9 +360,11 @@ def _fins(g: NodeGraph, base, top, length, tile_size):
     per_point = g.node("GeometryNodeCaptureAttribute", domain="POINT")
     per_point.capture_items.new("FLOAT", "U")
     per_point.capture_items.new("VECTOR", "Fin Normal")
+    per_point.capture_items.new("FLOAT", "Tip Spread")
     g.set(per_point.inputs["Geometry"], edges)
     g.set(per_point.inputs["U"], u)
     g.set(per_point.inputs["Fin Normal"], per_edge.outputs["Fin Normal"])
+    g.set(per_point.inputs["Tip Spread"], per_edge.outputs["Tip Spread"])
     roots = per_point.outputs["Geometry"]
 
     root_count = g.node("GeometryNodeAttributeDomainSize", {"Geometry": roots}, component="MESH")
@@ -377,19 +395,38 @@ def _fins(g: NodeGraph, base, top, length, tile_size):
     fins = _store(g, extruded, FIN_UV_ATTRIBUTE, "FLOAT2", "CORNER", output(uv, "Value"))
     # The hair's direction, which the fin material lights (the fin's own plane is not the hair's).
     fins = _store(g, fins, GROWTH_ATTRIBUTE, "FLOAT_VECTOR", "POINT", g.vector_math("NORMALIZE", top))
+    fins = _store(g, fins, FIN_SPREAD_ATTRIBUTE, "FLOAT", "FACE", per_point.outputs["Tip Spread"])
     return _store(g, fins, FIN_NORMAL_ATTRIBUTE, "FLOAT_VECTOR", "FACE", per_point.outputs["Fin Normal"])
+
+
+def _tip_spread(g: NodeGraph, edge, top):
+    """Per edge, how much wider its fin is at the tip than at the root, less 1: the ends' ``top``
+    difference along the edge over its squared length, as ``fin_density`` in
+    ``crates/pelt-render/src/fins.wgsl`` measures it."""
+    tops = _at_ends(g, edge, top)
+    along = g.vector_math("SUBTRACT", edge["Position 2"], edge["Position 1"])
+    lift = g.vector_math("SUBTRACT", tops[1], tops[0])
+    return g.math(
+        "DIVIDE", g.vector_math("DOT_PRODUCT", lift, along), g.vector_math("DOT_PRODUCT", along, along)
+    )
 
 
 def _fin_normal(g: NodeGraph, edge):
     """Per edge, the unit normal of its unsheared fin: edge × (sum of its ends' normals), as
     ``crates/pelt-render/src/fin_mesh.rs`` computes it. The fade uses this plane, not the quad's own (which
     the comb tilts toward the viewer), so a combed fin shows no more than an upright one."""
-    normal = g.node("GeometryNodeInputNormal").outputs["Normal"]
-    ends = [
+    ends = _at_ends(g, edge, g.node("GeometryNodeInputNormal").outputs["Normal"])
+    along = g.vector_math("SUBTRACT", edge["Position 2"], edge["Position 1"])
+    return g.vector_math("NORMALIZE", g.vector_math("CROSS_PRODUCT", along, g.vector_math("ADD", *ends)))
+
+
+def _at_ends(g: NodeGraph, edge, vector):
+    """The point field ``vector`` at an edge's two ends (``edge``: an Edge Vertices node's outputs)."""
+    return [
         output(
             g.node(
                 "GeometryNodeFieldAtIndex",
-                {"Value": normal, "Index": edge[f"Vertex Index {k}"]},
+                {"Value": vector, "Index": edge[f"Vertex Index {k}"]},
                 domain="POINT",
                 data_type="FLOAT_VECTOR",
             ),
@@ -397,5 +434,3 @@ def _fin_normal(g: NodeGraph, edge):
         )
         for k in (1, 2)
     ]
-    along = g.vector_math("SUBTRACT", edge["Position 2"], edge["Position 1"])
-    return g.vector_math("NORMALIZE", g.vector_math("CROSS_PRODUCT", along, g.vector_math("ADD", *ends)))

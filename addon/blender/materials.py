@@ -10,13 +10,15 @@ image, so the sample must never blend two cells: the image is read with Closest 
 (no filtering across a border, and no mipmaps whose texels would straddle two layers) and the
 in-cell coordinate is kept half a texel inside the cell, so even a coordinate landing exactly on a
 border reads its own layer. Color = texel × ``pelt_color`` (× ``HAIR_DIFFUSE`` on the skin, the
-preview's Lambertian ``Kd``); alpha = texel alpha × the color's alpha, 1 on the skin (layer 0).
+preview's Lambertian ``Kd``); alpha = texel alpha × the color's alpha, 1 on the skin (layer 0),
+thinned where the shell is wider than its skin face (``pelt_spread``, ``_thinned``).
 
 ``Pelt Fin`` samples the fin texture at ``pelt_fin_uv`` (``u`` along the edge, repeating; ``v`` 0 at
 the root, 1 at the tip, kept half a texel inside so the tip never wraps to the root) and fades the
 fin by ``max(0, 2|p| - 1)``, ``p`` = fin normal · view direction, so only fins near the silhouette
 show. The fin normal is the unsheared fin's (``pelt_fin_normal``, object space), as in
-``crates/pelt-render/src/fins.wgsl``.
+``crates/pelt-render/src/fins.wgsl``. Its alpha thins as the fin widens toward the tip
+(``pelt_fin_spread``: ``1 + v × spread`` times the edge's width at height ``v``).
 
 Both shade as the preview does (``crates/pelt-render/src/lighting.wgsl``), so that a render agrees
 with it:
@@ -57,6 +59,13 @@ FIN_NORMAL_ATTRIBUTE = "pelt_fin_normal"
 HEIGHT_ATTRIBUTE = "pelt_height"
 GROWTH_ATTRIBUTE = "pelt_growth"
 TOP_ATTRIBUTE = "pelt_top"
+# A shell face's area over its skin face's, less 1 (face attribute); a fin's width at its tip
+# over its edge's, less 1 (face attribute): how far the hair there stands apart (`_thinned`).
+SPREAD_ATTRIBUTE = "pelt_spread"
+FIN_SPREAD_ATTRIBUTE = "pelt_fin_spread"
+# How far the hair may thin out or crowd: the preview's bound (`MIN_SPREAD` in
+# crates/pelt-render/src/common.wgsl), where a hollow's focus leaves a lifted face no area.
+MIN_SPREAD = 0.25
 # Fur depths a shadow or diffuse ray may run through its own fur's shells (the Banks term stands
 # for that shadow) before a shell stops it: a light 75° off the normal crosses the fur within 4.
 SELF_REACH = 4.0
@@ -122,6 +131,8 @@ def new_fur_material(name: str):
     )
     color = _color_attribute(g)
     coverage = g.math("MULTIPLY", texel.outputs["Alpha"], color.outputs["Alpha"])
+    spread = g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=SPREAD_ATTRIBUTE)
+    coverage = _thinned(g, coverage, g.math("ADD", spread.outputs["Fac"], 1.0))
     skin = g.math("LESS_THAN", layer, 0.5)
     reach = g.vector_math("LENGTH", _world_vector(g, TOP_ATTRIBUTE))
     path = g.node("ShaderNodeLightPath").outputs
@@ -152,9 +163,9 @@ def new_fin_material(name: str):
     nodes that ``build_fin_material`` sets."""
     material, g = _new_material(name)
     uv_node = g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=FIN_UV_ATTRIBUTE)
-    u, v, _ = g.separate(uv_node.outputs["Vector"])
+    u, height, _ = g.separate(uv_node.outputs["Vector"])
     inset = g.value(FIN_INSET_NODE, 0.0)
-    v = _inside(g, v, inset, g.math("SUBTRACT", 1.0, inset))
+    v = _inside(g, height, inset, g.math("SUBTRACT", 1.0, inset))
     texel = g.node(
         "ShaderNodeTexImage",
         {"Vector": g.combine(u, v)},
@@ -177,7 +188,10 @@ def new_fin_material(name: str):
     p = g.vector_math("DOT_PRODUCT", g.vector_math("NORMALIZE", fin_normal), geometry["Incoming"])
     fade = g.math("MAXIMUM", g.math("MULTIPLY_ADD", g.math("ABSOLUTE", p), 2.0, -1.0), 0.0)
     color = _color_attribute(g)
-    alpha = g.math("MULTIPLY", g.math("MULTIPLY", texel.outputs["Alpha"], color.outputs["Alpha"]), fade)
+    tip_spread = g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=FIN_SPREAD_ATTRIBUTE)
+    width = g.math("MULTIPLY_ADD", height, tip_spread.outputs["Fac"], 1.0)
+    alpha = g.math("MULTIPLY", _thinned(g, texel.outputs["Alpha"], width), color.outputs["Alpha"])
+    alpha = g.math("MULTIPLY", alpha, fade)
     hair = _world_attribute(g, GROWTH_ATTRIBUTE)
     lit = _hair_lobes(g, _self_shadowed(g, _tinted(g, texel, color), v), hair, geometry)
     _output(g, lit, _seen_alpha(g, g.node("ShaderNodeLightPath").outputs, alpha, casts=0.0))
@@ -244,6 +258,16 @@ def _inside(g: NodeGraph, coordinate, low, high):
 
 def _color_attribute(g: NodeGraph):
     return g.node("ShaderNodeAttribute", attribute_type="GEOMETRY", attribute_name=COLOR)
+
+
+def _thinned(g: NodeGraph, alpha, grown):
+    """``alpha`` of the tile's hair standing ``grown`` times as far apart (the shells and fins lift
+    the mesh along diverging growth directions; their hairs keep their count and width): the
+    optical depth ``-ln(1 - alpha)`` over ``grown``, held within the preview's bounds
+    (``spread_out`` and ``density_of_growth`` in ``crates/pelt-render/src/common.wgsl``)."""
+    grown = g.math("MAXIMUM", g.math("MINIMUM", grown, 1.0 / MIN_SPREAD), MIN_SPREAD)
+    clear = g.math("POWER", g.math("SUBTRACT", 1.0, alpha), g.math("DIVIDE", 1.0, grown))
+    return g.math("SUBTRACT", 1.0, clear)
 
 
 def _tinted(g: NodeGraph, texel, color):

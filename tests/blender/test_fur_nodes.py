@@ -574,3 +574,132 @@ def test_painted_length_sets_how_much_fur_shadows_the_skin_and_bald_skin_has_non
     clear = 1.0 - materials.SELF_SHADOW
     assert mean[0.0] / mean[1.0] == pytest.approx(1.0 / clear, rel=0.01)
     assert mean[0.5] / mean[1.0] == pytest.approx(clear**-0.5, rel=0.01)
+
+
+# --- the hair thins out where the fur's surfaces widen -------------------------------------
+
+
+def polygon_areas(mesh) -> np.ndarray:
+    """Each polygon's area from its corners' positions: half the length of its vector area."""
+    co = read(mesh.vertices, "co", len(mesh.vertices), 3)
+    corners = co[read(mesh.loops, "vertex_index", len(mesh.loops), 1, np.int32)]
+    starts = read(mesh.polygons, "loop_start", len(mesh.polygons), 1, np.int32)
+    counts = read(mesh.polygons, "loop_total", len(mesh.polygons), 1, np.int32)
+    following = np.arange(len(corners)) + 1
+    following[starts + counts - 1] = starts  # each polygon's last corner closes on its first
+    vector_area = np.add.reduceat(np.cross(corners, corners[following]), starts)
+    return 0.5 * np.linalg.norm(vector_area, axis=1)
+
+
+def test_shells_and_fins_carry_how_far_they_widen(addon):
+    # Lifted along diverging normals, a shell face is wider than its skin face and a fin wider at
+    # its tip than at its edge: the faces carry how much, less 1, for the materials to thin their
+    # hair by. A fin's tip is its edge lifted by each end's own top: wider by the lift's
+    # difference along the edge over the edge's length², as the preview's fin_density has it.
+    rng = np.random.default_rng(3)
+    obj, images, layout = furred_sphere(addon, length=lambda p: rng.uniform(0.3, 1.7, len(p)))
+    position, normal = base_arrays(obj.data)
+    top = 0.4 * attribute(obj.data, "pelt_length")[:, None] * normal
+    ends = read(obj.data.edges, "vertices", len(obj.data.edges), 2, np.int32)
+    faces = len(obj.data.polygons)
+    build(addon, obj, images, layout, settings_for(addon, layers=8, shells=3, depth=0.4))
+    out = evaluated(obj)
+    assert out.attributes["pelt_spread"].domain == "FACE"
+    assert out.attributes["pelt_fin_spread"].domain == "FACE"
+    area = polygon_areas(out)
+    spread = attribute(out, "pelt_spread")
+    for j in (1, 2):
+        widened = area[j * faces : (j + 1) * faces] / area[:faces] - 1.0
+        assert widened.mean() > 0.3
+        np.testing.assert_allclose(spread[j * faces : (j + 1) * faces], widened, atol=1e-4)
+    along = position[ends[:, 1]] - position[ends[:, 0]]
+    lift = top[ends[:, 1]] - top[ends[:, 0]]
+    expected = np.sum(lift * along, axis=1) / np.sum(along * along, axis=1)
+    assert np.ptp(expected) > 0.5
+    np.testing.assert_allclose(attribute(out, "pelt_fin_spread")[3 * faces :], expected, atol=1e-5)
+
+
+def strip_of_faces(name: str, face_values: np.ndarray):
+    """``len(face_values)`` unit squares in a row along x, centered at the origin, facing +z,
+    each one's ``face_values`` a face attribute to set; returns the object."""
+    n = len(face_values)
+    x = np.arange(n + 1) - n / 2.0
+    vertices = [(float(v), y, 0.0) for y in (-0.5, 0.5) for v in x]
+    faces = [(i, i + 1, n + 2 + i, n + 1 + i) for i in range(n)]
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(vertices, [], faces)
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def set_attribute(mesh, name, data_type, domain, values):
+    prop = {"FLOAT": "value", "FLOAT_VECTOR": "vector", "FLOAT2": "vector", "FLOAT_COLOR": "color"}
+    attribute = mesh.attributes.new(name, data_type, domain)
+    attribute.data.foreach_set(prop[data_type], np.asarray(values, np.float32).ravel())
+
+
+def seen_from_above(size: int, width: float):
+    """Cycles looking straight down on the origin over ``width`` units, film transparent; 64
+    samples, since it lets a ray through a surface of alpha a at random, with probability 1 - a."""
+    scene = staged_scene("CYCLES", size, 64)
+    camera = scene.camera
+    camera.data.type = "ORTHO"
+    camera.data.ortho_scale = width
+    camera.location = (0.0, 0.0, 5.0)
+    camera.rotation_euler = (0.0, 0.0, 0.0)
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    return scene
+
+
+def half_alpha(addon, image):
+    """``image`` rewritten white, every texel's alpha 128 of 255."""
+    flat = np.full((image.size[1], image.size[0], 4), 255, np.uint8)
+    flat[..., 3] = 128
+    addon.io.bridge.write_image(bpy.data.images, image.name, flat, image=image)
+    return 128 / 255
+
+
+def test_the_materials_thin_the_hair_where_their_faces_widened(addon, tmp_path):
+    # Optical depth -ln(1 - a) over the growth g, held within [1/4, 4] as the preview holds it:
+    # alpha 1 - (1 - a)^(1/g). Shell faces widened 0, 1, 3 and -0.5 times (g = 1, 2, 4, 0.5) and
+    # a fin widening to twice its edge at the tip. Before, every face showed the texel's alpha.
+    materials = addon.blender.materials
+    sphere, images, layout = furred_sphere(addon)
+    build(addon, sphere, images, layout, settings_for(addon, shells=2))
+    sphere.hide_render = True
+    a = half_alpha(addon, images["shells"])
+    half_alpha(addon, images["fin"])
+    grown = np.array([1.0, 2.0, 4.0, 0.5])
+
+    shells = strip_of_faces("Shells", grown - 1.0)
+    mesh = shells.data
+    set_attribute(mesh, "pelt_spread", "FLOAT", "FACE", grown - 1.0)
+    set_attribute(mesh, "pelt_layer", "FLOAT", "POINT", np.ones(len(mesh.vertices)))
+    set_attribute(mesh, "pelt_color", "FLOAT_COLOR", "POINT", np.ones((len(mesh.vertices), 4)))
+    uv = mesh.uv_layers.new(name="PeltUV")
+    uv.data.foreach_set("uv", np.full(2 * len(mesh.loops), 0.5, np.float32))
+    mesh.materials.append(bpy.data.materials[materials.fur_material_name(sphere)])
+    scene = seen_from_above(64, 4.0)
+    pixels = render(scene, tmp_path / "shells.exr")
+    # Each face's inner 10 by 10 pixels (16 to a face), left to right.
+    inner = pixels[27:37, :, 3].reshape(10, 4, 16)[:, :, 3:13]
+    np.testing.assert_allclose(inner.mean(axis=(0, 2)), 1.0 - (1.0 - a) ** (1.0 / grown), atol=0.015)
+
+    shells.hide_render = True
+    fin = strip_of_faces("Fin", np.zeros(1))
+    mesh = fin.data
+    set_attribute(mesh, "pelt_fin_spread", "FLOAT", "FACE", [1.0])
+    set_attribute(mesh, "pelt_fin_normal", "FLOAT_VECTOR", "FACE", [0.0, 0.0, 1.0])
+    set_attribute(mesh, "pelt_growth", "FLOAT_VECTOR", "POINT", np.tile([0.0, 1.0, 0.0], (4, 1)))
+    set_attribute(mesh, "pelt_color", "FLOAT_COLOR", "POINT", np.ones((4, 4)))
+    corners = read(mesh.loops, "vertex_index", len(mesh.loops), 1, np.int32)
+    v = read(mesh.vertices, "co", 4, 3)[corners, 1] + 0.5  # 0 at the root (y = -0.5), 1 at the tip
+    set_attribute(mesh, "pelt_fin_uv", "FLOAT2", "CORNER", np.stack([np.full(4, 0.3), v], axis=1))
+    mesh.materials.append(bpy.data.materials[materials.fin_material_name(sphere)])
+    scene.camera.data.ortho_scale = 1.0
+    pixels = render(scene, tmp_path / "fin.exr")
+    # Bands of 8 rows, bottom (the root, v = 0) to top; the outer pixels blend with the film.
+    seen = pixels[:, 2:62, 3].reshape(8, 8 * 60).mean(axis=1)
+    height = (np.arange(8) + 0.5) / 8
+    np.testing.assert_allclose(seen, 1.0 - (1.0 - a) ** (1.0 / (1.0 + height)), atol=0.015)
