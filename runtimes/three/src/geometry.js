@@ -119,7 +119,7 @@ export function finGeometry( skin, attributes, stack, curvature = skinCurvature(
 		peltDpdv: [ flat( attributes.dpdv, 3 ), 3 ],
 		peltCurvature: [ curvature, 1 ],
 	};
-	const other = { peltOther: [ position, 3 ], peltOtherNormal: [ normal, 3 ] };
+	const other = { peltOther: [ position, 3 ], peltOtherNormal: [ normal, 3 ], peltOtherComb: own.peltComb };
 	let joints = null;
 	let weights = null;
 	if ( skinned ) {

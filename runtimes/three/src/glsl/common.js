@@ -29,6 +29,35 @@ vec3 peltViewVector( vec3 p ) {
 	return normalize( cameraPosition - p );
 }
 
+// common.wgsl MIN_SPREAD, triangle_spread(), density_of_growth() and
+// hair_density(): the shells and fins lift the mesh along diverging growth directions, which
+// stretches the tile's hair over 1 + a h + b h² times a triangle's area at height h (share of the
+// fur depth), while the strands keep their count and width; the hair there thins by as much,
+// within [MIN_SPREAD, 1 / MIN_SPREAD].
+const float PELT_MIN_SPREAD = 0.25;
+
+vec2 peltTriangleSpread( vec3 e1, vec3 e2, vec3 d1, vec3 d2 ) {
+	vec3 area = cross( e1, e2 );
+	float norm = dot( area, area );
+	if ( ! ( norm > 0.0 ) ) return vec2( 0.0 );
+	vec3 linear = cross( e1, d2 ) + cross( d1, e2 );
+	return vec2( dot( linear, area ), dot( cross( d1, d2 ), area ) ) / norm;
+}
+
+float peltDensityOfGrowth( float grown ) {
+	return 1.0 / clamp( abs( grown ), PELT_MIN_SPREAD, 1.0 / PELT_MIN_SPREAD );
+}
+
+float peltHairDensity( vec2 spread, float height ) {
+	return peltDensityOfGrowth( 1.0 + height * ( spread.x + height * spread.y ) );
+}
+
+// common.wgsl spread_out() on a straight alpha: the optical depth -ln(1 - a) times density.
+float peltSpreadOut( float alpha, float density ) {
+	if ( density == 1.0 || alpha <= 0.0 ) return alpha;
+	return 1.0 - pow( max( 1.0 - alpha, 1e-7 ), density );
+}
+
 // The atlas coordinates of tile UV uv in layer's cell (docs/export.md "Atlas"; what the WGSL's
 // array layers do): fract(uv) in the cell at column layer % columns, row layer / columns from
 // the top, kept half a texel inside the cell so bilinear reads never cross into a neighbour.

@@ -23,6 +23,7 @@ attribute vec3 peltOther;
 attribute vec3 peltOtherNormal;
 attribute vec4 peltOtherJoints;
 attribute vec4 peltOtherWeights;
+attribute vec3 peltOtherComb;
 attribute vec3 peltComb;
 attribute vec4 peltColor;
 // Fin texture u, v (0 at the top of the fur, 1 at the skin) and the end's length multiplier.
@@ -35,10 +36,11 @@ attribute float peltCurvature;
 uniform float peltFinOpacity;
 
 // fin_kk.wgsl FinOut in straight alpha: color × the lighting's scale and u; the highlight's
-// multiple of the light color, v and the opacity. fin_prt.wgsl's: color, the hot spot in place of
-// the highlight, and the end's lighting (vPeltLight).
+// multiple of the light color, v, the opacity and the hair's density (fins.wgsl fin_density).
+// fin_prt.wgsl's: color, the hot spot in place of the highlight, and the end's lighting
+// (vPeltLight).
 varying vec4 vScaleU;
-varying vec3 vShineVOpacity;
+varying vec4 vShineVOpacityDensity;
 
 #ifdef USE_SKINNING
 // The blended bone matrix of joints / weights, as three.js's skinnormal_vertex builds it.
@@ -58,6 +60,7 @@ void main() {
 	vec3 p1 = peltOther;
 	vec3 n1 = peltOtherNormal;
 	vec3 comb = peltComb;
+	vec3 comb1 = peltOtherComb;
 	vec3 dpdu = peltDpdu;
 	vec3 dpdv = peltDpdv;
 #ifdef USE_SKINNING
@@ -70,6 +73,7 @@ void main() {
 	dpdv = ( own * vec4( dpdv, 0.0 ) ).xyz;
 	p1 = ( other * vec4( p1, 1.0 ) ).xyz;
 	n1 = ( other * vec4( n1, 0.0 ) ).xyz;
+	comb1 = ( other * vec4( comb1, 0.0 ) ).xyz;
 #endif
 	mat3 toWorld = mat3( modelMatrix );
 	mat3 normalToWorld = transpose( inverse( toWorld ) );
@@ -91,10 +95,15 @@ void main() {
 	gl_Position = fade > 0.0 ? projectionMatrix * viewMatrix * world : PELT_CULLED;
 	float opacity = fade * peltColor.a;
 	vec3 n = peltUnitOr( wn0, vec3( 0.0, 0.0, 1.0 ) );
+	// fins.wgsl fin_density(): the edge lifted by the ends' growth vectors' difference is that
+	// much longer along itself at this corner's height, its hairs that much farther apart.
+	vec3 lift = toWorld * ( peltFurDepth * max( peltFin.z, 0.0 ) * ( peltGrowth( n1, comb1 ) - g ) );
+	float e2 = dot( edge, edge );
+	float density = peltDensityOfGrowth( e2 > 0.0 ? 1.0 + ( 1.0 - peltFin.y ) * dot( lift, edge ) / e2 : 1.0 );
 #ifdef PELT_PRT
 	// fin_prt.wgsl fin_vertex(): lit per fragment from the ends' lighting.
 	vScaleU = vec4( peltColor.rgb, peltFin.x );
-	vShineVOpacity = vec3( peltHotSpot( world.xyz ), peltFin.y, opacity );
+	vShineVOpacityDensity = vec4( peltHotSpot( world.xyz ), peltFin.y, opacity, density );
 	peltTileLighting( wn0, toWorld * dpdu, toWorld * dpdv,
 		peltTerminatorWrap( peltCurvature, peltFurDepth ) );
 #else
@@ -104,7 +113,7 @@ void main() {
 	float wrap = peltTerminatorWrap( peltEdgeCurvature( p0, n0, p1, n1 ), peltFurDepth * peltFin.z );
 	vec4 k = peltHairTerms( t, n, peltViewVector( world.xyz ), 1.0 - peltFin.y, peltFin.z, wrap );
 	vScaleU = vec4( peltColor.rgb * k.rgb, peltFin.x );
-	vShineVOpacity = vec3( k.w, peltFin.y, opacity );
+	vShineVOpacityDensity = vec4( k.w, peltFin.y, opacity, density );
 #endif
 }
 `;
@@ -121,7 +130,7 @@ ${order > 0 ? prtCommon( order, textures ) + prtFragment( textures, true ) : ''}
 uniform sampler2D peltFinTexture;
 
 varying vec4 vScaleU;
-varying vec3 vShineVOpacity;
+varying vec4 vShineVOpacityDensity;
 
 // common.wgsl FIN_ANISOTROPY and fin_texel(): the mip level follows the footprint along the fur's
 // height (up to 8 times finer than along the edge), so that fins near the silhouette, squeezed
@@ -137,15 +146,15 @@ vec4 peltFinTexel( vec2 uv ) {
 }
 
 void main() {
-	vec2 uv = vec2( vScaleU.w, vShineVOpacity.y );
+	vec2 uv = vec2( vScaleU.w, vShineVOpacityDensity.y );
 	vec4 texel = peltFinTexel( uv );
-	float alpha = texel.a * vShineVOpacity.z;
+	float alpha = peltSpreadOut( texel.a, vShineVOpacityDensity.w ) * vShineVOpacityDensity.z;
 #ifdef PELT_PRT
 	// fin_prt.wgsl fin_fragment(): texel × color × the mean transfer at the row's height, lit.
-	gl_FragColor = vec4( texel.rgb * vScaleU.rgb * peltMeanRadiance( 1.0 - uv.y, vShineVOpacity.x ), alpha );
+	gl_FragColor = vec4( texel.rgb * vScaleU.rgb * peltMeanRadiance( 1.0 - uv.y, vShineVOpacityDensity.x ), alpha );
 #else
 	// fin_kk.wgsl fin_fragment() in straight alpha.
-	gl_FragColor = vec4( texel.rgb * vScaleU.rgb + peltLightColor * vShineVOpacity.x, alpha );
+	gl_FragColor = vec4( texel.rgb * vScaleU.rgb + peltLightColor * vShineVOpacityDensity.x, alpha );
 #endif
 	#include <tonemapping_fragment>
 	#include <colorspace_fragment>

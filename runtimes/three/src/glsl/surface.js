@@ -9,16 +9,17 @@ import { lighting } from './lighting.js';
 import { prtCommon, prtFragment, prtVertex } from './prt.js';
 
 // surface_kk.wgsl SurfaceVarying, in world space: position and painted length, normal and
-// uv.x, dP/du and uv.y, dP/dv, the tile's up axis, color, layer. PRT needs no frame in the
-// fragment (surface_prt.wgsl), but the lighting (vPeltLight).
+// uv.x, dP/du and uv.y, dP/dv, the tile's up axis (the growth vector, which also tells how the
+// hair thins), color, layer. PRT needs no dP/dv in the fragment (surface_prt.wgsl), but the
+// lighting (vPeltLight).
 const varyings = /* glsl */`
 varying vec4 vPositionLength;
 varying vec4 vNormalU;
 varying vec4 vDpduV;
 #ifndef PELT_PRT
 varying vec3 vDpdv;
-varying vec3 vUp;
 #endif
+varying vec3 vUp;
 varying vec4 vColor;
 flat varying int vLayer;
 `;
@@ -101,8 +102,8 @@ void main() {
 		peltTerminatorWrap( peltCurvature, peltFurDepth ) );
 #else
 	vDpdv = toWorld * dpdv;
-	vUp = toWorld * up;
 #endif
+	vUp = toWorld * up;
 	vColor = peltColor;
 	vLayer = layer;
 }
@@ -130,6 +131,14 @@ uniform sampler2D peltTangentAtlas;
 uniform float peltAlphaTest;
 
 ${varyings}
+
+// common.wgsl screen_spread(): triangle_spread() from the screen steps of the lifted position
+// and its growth vector up (stand: the lift's share of up). Uniform control flow.
+vec2 peltScreenSpread( vec3 position, vec3 up, float stand ) {
+	vec3 ux = dFdx( up );
+	vec3 uy = dFdy( up );
+	return peltTriangleSpread( dFdx( position ) - stand * ux, dFdy( position ) - stand * uy, ux, uy );
+}
 
 #ifndef PELT_PRT
 // surface_kk.wgsl hair_tangent(): the tangent map's direction d (rgb = 0.5 d + 0.5, tile frame)
@@ -178,17 +187,19 @@ void main() {
 	gl_FragColor = vec4( peltShadeSkin( albedo, n, view, vPositionLength.w, wrap ), 1.0 );
 	#endif
 #else
-	// shells.wgsl fs_main: bald faces and (nearly) empty texels draw nothing.
+	// shells.wgsl fs_main: the hair's density at the shell's height over its triangle (screen
+	// derivatives: before any discard); bald faces and (nearly) empty texels draw nothing.
+	float height = float( vLayer ) * peltLayerSpacing;
+	float density = peltHairDensity( peltScreenSpread( position, vUp, height ), height );
 	float alpha = texel.a * vColor.a;
 	if ( vPositionLength.w <= 0.0 || alpha < peltAlphaTest ) discard;
+	alpha = peltSpreadOut( alpha, density );
 	vec3 albedo = texel.rgb * vColor.rgb;
 	#ifdef PELT_PRT
 	// surface_prt.wgsl shade_surface(): texel × color × the transfer dotted with the light.
-	float height = float( vLayer ) * peltLayerSpacing;
 	gl_FragColor = vec4( albedo * peltTransferRadiance( atlasUv, height, peltHotSpot( position ) ), alpha );
 	#else
 	// surface_kk.wgsl shade_surface(), straight alpha: the blend premultiplies.
-	float height = float( vLayer ) * peltLayerSpacing;
 	gl_FragColor = vec4( peltShade( albedo, peltHairTangent( atlasUv, n ), n, view, height, vPositionLength.w, wrap ), alpha );
 	#endif
 #endif
