@@ -99,10 +99,13 @@ fn march(s: model::SurfaceOut, ray: Ray, spread: vec2<f32>, lod: f32, fade: bool
         if (fine.a >= frame.fur.w) {
             out = composite(out, fine, layers, uv, texels.fine.a, model::march_heights(layers, false, lod));
         }
-        let twin = spread_out(texels.coarse, density) * s.color.a;
-        if (fade && twin.a >= frame.fur.w) {
-            coarse = composite(coarse, twin, layers, uv, texels.coarse.a,
-                               model::march_heights(layers, true, lod));
+        // Thinned only when a cross-fade reads it: each `pow` counts on every step.
+        if (fade) {
+            let twin = spread_out(texels.coarse, density) * s.color.a;
+            if (twin.a >= frame.fur.w) {
+                coarse = composite(coarse, twin, layers, uv, texels.coarse.a,
+                                   model::march_heights(layers, true, lod));
+            }
         }
     }
     if (!fade) {
