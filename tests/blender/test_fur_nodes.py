@@ -396,6 +396,11 @@ def test_settings_for_a_trimmed_volume_keep_the_layer_spacing(addon):
 
 # --- renders -------------------------------------------------------------------------------
 
+EEVEE_ON_REQUEST = pytest.mark.skipif(
+    not os.environ.get("PELT_TEST_EEVEE"),
+    reason="EEVEE compiles its shaders on the CPU here (about 60 s with llvmpipe): PELT_TEST_EEVEE=1 runs it",
+)
+
 
 def staged_scene(engine: str, size: int, samples: int):
     scene = bpy.context.scene
@@ -475,10 +480,7 @@ def test_cycles_renders_the_fur(addon, tmp_path):
     fur_grows_the_silhouette(addon, tmp_path, "CYCLES", 96, 4)
 
 
-@pytest.mark.skipif(
-    not os.environ.get("PELT_TEST_EEVEE"),
-    reason="EEVEE compiles its shaders on the CPU here (about 60 s with llvmpipe): PELT_TEST_EEVEE=1 runs it",
-)
+@EEVEE_ON_REQUEST
 def test_eevee_renders_the_fur(addon, tmp_path):
     fur_grows_the_silhouette(addon, tmp_path, "BLENDER_EEVEE", 96, 4)
 
@@ -639,10 +641,10 @@ def set_attribute(mesh, name, data_type, domain, values):
     attribute.data.foreach_set(prop[data_type], np.asarray(values, np.float32).ravel())
 
 
-def seen_from_above(size: int, width: float):
-    """Cycles looking straight down on the origin over ``width`` units, film transparent; 64
-    samples, since it lets a ray through a surface of alpha a at random, with probability 1 - a."""
-    scene = staged_scene("CYCLES", size, 64)
+def seen_from_above(engine: str, size: int, width: float):
+    """``engine`` looking straight down on the origin over ``width`` units, film transparent; 64
+    samples, since both let a ray through a surface of alpha a at random, with probability 1 - a."""
+    scene = staged_scene(engine, size, 64)
     camera = scene.camera
     camera.data.type = "ORTHO"
     camera.data.ortho_scale = width
@@ -660,7 +662,8 @@ def half_alpha(addon, image):
     return 128 / 255
 
 
-def test_the_materials_thin_the_hair_where_their_faces_widened(addon, tmp_path):
+@pytest.mark.parametrize("engine", ["CYCLES", pytest.param("BLENDER_EEVEE", marks=EEVEE_ON_REQUEST)])
+def test_the_materials_thin_the_hair_where_their_faces_widened(addon, tmp_path, engine):
     # Optical depth -ln(1 - a) over the growth g, held within [1/4, 4] as the preview holds it:
     # alpha 1 - (1 - a)^(1/g). Shell faces widened 0, 1, 3 and -0.5 times (g = 1, 2, 4, 0.5) and
     # a fin widening to twice its edge at the tip. Before, every face showed the texel's alpha.
@@ -680,7 +683,7 @@ def test_the_materials_thin_the_hair_where_their_faces_widened(addon, tmp_path):
     uv = mesh.uv_layers.new(name="PeltUV")
     uv.data.foreach_set("uv", np.full(2 * len(mesh.loops), 0.5, np.float32))
     mesh.materials.append(bpy.data.materials[materials.fur_material_name(sphere)])
-    scene = seen_from_above(64, 4.0)
+    scene = seen_from_above(engine, 64, 4.0)
     pixels = render(scene, tmp_path / "shells.exr")
     # Each face's inner 10 by 10 pixels (16 to a face), left to right.
     inner = pixels[27:37, :, 3].reshape(10, 4, 16)[:, :, 3:13]
