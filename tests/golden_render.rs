@@ -13,7 +13,6 @@ use common::golden::{RENDER_FLIP, check_render, flip_mean, golden_dir, read_png}
 use common::volume::{small_hair, small_volume};
 use common::{column_major, perspective, view_matrix};
 use pelt::hair::grow_strands;
-use pelt::lapped::{PatchParams, build_patches};
 use pelt::mesh::shapes::{uv_sphere, uv_sphere_polygons};
 use pelt::prt::pack::{PackedF16, pack_f16};
 use pelt::prt::sh;
@@ -84,14 +83,7 @@ fn scene(comb: Option<&[[f32; 3]]>, length: Option<&[f32]>) -> FurScene {
         input = input.with_length(l);
     }
     let mesh = FurMesh::new(input).unwrap();
-    let patches = build_patches(
-        &mesh,
-        &PatchParams {
-            tile_size: TILE,
-            ..PatchParams::default()
-        },
-    )
-    .unwrap();
+    let patches = common::patches_at(&mesh, TILE);
     let mut scene = FurScene::new(&f.renderer, &mesh, &patches.uv, &f.volume, FUR_DEPTH).unwrap();
     scene.set_transfer(&f.renderer, &f.transfer).unwrap();
     scene

@@ -10,7 +10,6 @@ mod common;
 
 use common::look_at;
 use common::volume::{small_transfer, small_volume};
-use pelt::lapped::{PatchParams, build_patches};
 use pelt::mesh::shapes::uv_sphere;
 use pelt::render::{
     AdapterChoice, Camera, FurScene, LightModel, Lighting, Prt, RenderSettings, Renderer, ShellMethod,
@@ -91,14 +90,7 @@ fn the_top_shell_over_a_sphere_thins_out_as_the_strands_do() {
     let renderer = Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe) must exist");
     let (positions, triangles) = uv_sphere(64, 32);
     let mesh = FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap();
-    let patches = build_patches(
-        &mesh,
-        &PatchParams {
-            tile_size: 0.5,
-            ..PatchParams::default()
-        },
-    )
-    .unwrap();
+    let patches = common::patches_at(&mesh, 0.5);
     let volume = top_layer_only();
     let mut scene = FurScene::new(&renderer, &mesh, &patches.uv, &volume, FUR_DEPTH).unwrap();
     let transfer = small_transfer(&volume, f64::from(FUR_DEPTH) / 0.5);

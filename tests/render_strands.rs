@@ -13,7 +13,7 @@ use std::sync::OnceLock;
 use glam::{DMat4, Vec3};
 use pelt::guard::guard_hairs;
 use pelt::hair::HairParams;
-use pelt::lapped::{PatchParams, Patches, build_patches};
+use pelt::lapped::Patches;
 use pelt::mesh::shapes::torus;
 use pelt::placement::PlacedStrands;
 use pelt::render::{
@@ -44,14 +44,7 @@ fn fixture() -> &'static Fixture {
             Renderer::new(AdapterChoice::Cpu).expect("a CPU adapter (lavapipe) must exist under make test");
         let (positions, triangles) = torus(32, 16);
         let mesh = FurMesh::new(MeshInput::new(&positions, &triangles)).unwrap();
-        let patches = build_patches(
-            &mesh,
-            &PatchParams {
-                tile_size: 0.4,
-                ..PatchParams::default()
-            },
-        )
-        .unwrap();
+        let patches = common::patches_at(&mesh, 0.4);
         let defaults = HairParams::default();
         let mut hair = HairParams {
             density: 2000,

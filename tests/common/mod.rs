@@ -15,6 +15,15 @@ pub mod golden;
 pub mod torus;
 pub mod volume;
 
+/// The lapped patches of `mesh` at `tile_size` object units per tile, the rest at defaults.
+pub fn patches_at(mesh: &pelt::FurMesh, tile_size: f64) -> pelt::lapped::Patches {
+    let params = pelt::lapped::PatchParams {
+        tile_size,
+        ..pelt::lapped::PatchParams::default()
+    };
+    pelt::lapped::build_patches(mesh, &params).unwrap()
+}
+
 /// `m` as the column-major f32 array the renderer takes.
 pub fn column_major(m: DMat4) -> [f32; 16] {
     m.as_mat4().to_cols_array()
