@@ -15,9 +15,10 @@ import flip_evaluator as flip
 import numpy as np
 import pelt
 
-# Measured 0.046 when this runtime landed; the same preview with its light 10 % brighter scores
-# 0.047 against itself, 5 % brighter 0.029.
-FLIP_BOUND = 0.06
+# Measured 0.046 when this runtime landed, 0.021 since its fins are drawn farthest first and lit
+# by the hair's spread; the same preview with its light 10 % brighter scores 0.047 against itself,
+# 5 % brighter 0.029.
+FLIP_BOUND = 0.03
 # The scene with guard hairs (make check-three passes it): measured 0.091 with the ribbons and
 # their strand LOD (0.085 without the LOD), 0.122 with the ribbons hidden (the shells alone
 # against the preview's strands).

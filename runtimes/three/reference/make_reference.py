@@ -13,7 +13,10 @@ renders it with the test's camera and light. Writes, into the folder given:
 - `strands_character.glb`, `strands_scene.json`, `strands_preview.png`: the same with a longer
   coat whose guard hairs are strands (the runtime's ribbons against the preview's strands);
 - `prt_character.glb`, `prt_scene.json`, `prt_preview.png`: the painted coat with its transfer,
-  lit by PRT (a sun and a uniform sky).
+  lit by PRT (a sun and a uniform sky);
+- `thin_character.glb`, `thin_scene.json`, `thin_preview.png`: a small sphere under a coat half
+  its radius deep, whose shells spread up to 2.25 times their skin's area (the hair thins by as
+  much, in both renderers).
 
 Run with the project's virtual environment: `python make_reference.py OUT_DIR`.
 """
@@ -31,12 +34,13 @@ SIZE = 384
 NOD = 0.5  # radians
 
 
-def suzanne():
-    """Blender's monkey: float32 positions and uint32 loop triangles."""
+def blender_mesh(add, **options):
+    """A Blender primitive (``add``, a ``bpy.ops.mesh`` operator's name): float32 positions and
+    uint32 loop triangles."""
     import bpy
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    bpy.ops.mesh.primitive_monkey_add()
+    getattr(bpy.ops.mesh, add)(**options)
     mesh = bpy.context.active_object.data
     mesh.calc_loop_triangles()
     positions = np.empty(3 * len(mesh.vertices), np.float32)
@@ -104,35 +108,49 @@ def perspective(fov_y, aspect, near, far):
 
 def main(out: Path) -> None:
     out.mkdir(parents=True, exist_ok=True)
-    positions, triangles = suzanne()
+    positions, triangles = blender_mesh("primitive_monkey_add")
     write_scene(out, "", positions, triangles, guard_hairs=False)
     write_scene(out, "strands_", positions, triangles, guard_hairs=True)
     write_scene(out, "prt_", positions, triangles, guard_hairs=False, prt=True)
+    positions, triangles = blender_mesh("primitive_ico_sphere_add", subdivisions=4, radius=THIN_RADIUS)
+    write_scene(out, "thin_", positions, triangles, guard_hairs=False, fur_depth=THIN_RADIUS / 2)
 
 
 # The PRT scene's sky: a uniform radiance (linear RGB), and the sun's cap radius.
 PRT_SKY = 0.15
 PRT_LIGHT_RADIUS = 0.2
+# The thinning scene's sphere radius (its fur is half as deep).
+THIN_RADIUS = 0.5
 
 
 def write_scene(
-    out: Path, prefix: str, positions, triangles, *, guard_hairs: bool, prt: bool = False
+    out: Path,
+    prefix: str,
+    positions,
+    triangles,
+    *,
+    guard_hairs: bool,
+    prt: bool = False,
+    fur_depth: float | None = None,
 ) -> None:
     """The scene's files under ``out``, named with ``prefix``: with ``guard_hairs``, a longer coat
     whose guard hairs are strands (the preview composites them in its "depth" order, as the
-    three.js runtime draws them); with ``prt``, the coat's transfer baked and PRT lighting."""
+    three.js runtime draws them); with ``prt``, the coat's transfer baked and PRT lighting; with
+    ``fur_depth``, a coat that deep and unpainted (length 1 everywhere)."""
     count = len(positions)
     comb = np.tile(np.array([0.0, 0.0, -0.4], np.float32), (count, 1))
     color = np.tile(np.array([0.85, 0.6, 0.35, 1.0], np.float32), (count, 1))
     # The short coat is painted: bald on the head's right (the viewer's left), growing to full
     # length across the face, so the runtime's painted lengths (the skin's self-shadow too) are
-    # compared; the guard-hair coat keeps length 1.
-    length = np.clip((positions[:, 0] + 0.1) / 0.5, 0.0, 1.0) if not guard_hairs else np.ones(count)
+    # compared; the guard-hair coat and a coat of a given depth keep length 1.
+    painted = not guard_hairs and fur_depth is None
+    length = np.clip((positions[:, 0] + 0.1) / 0.5, 0.0, 1.0) if painted else np.ones(count)
     mesh = pelt.FurMesh(positions, triangles, comb=comb, color=color, length=length.astype(np.float32))
     strands = {"guard_hairs": True, "guard_share": 0.5} if guard_hairs else {}
     hair = pelt.HairParams(density=2500, guard_fraction=0.1 if guard_hairs else 0.05)
+    depth = fur_depth if fur_depth is not None else 0.15 if guard_hairs else 0.08
     asset = pelt.Pipeline().bake(
-        mesh, tile_size=0.3, fur_depth=0.15 if guard_hairs else 0.08, layers=16, resolution=64, hair=hair,
+        mesh, tile_size=0.3, fur_depth=depth, layers=16, resolution=64, hair=hair,
         transfer=prt, seed=7, **strands,
     )  # fmt: skip
 

@@ -3,10 +3,12 @@
 // alpha-blended after the opaque pass; with guard hairs, their ribbons in one more draw
 // (strands.js). The ribbons are created first, then the fins: three.js draws transparent
 // objects at the same depth in creation order, and the renderer draws the fins (pass b) before
-// the shells (pass c).
+// the shells (pass c). The fins within their draw go farthest first (finorder.js), re-sorted
+// when the eye moves.
 
-import { Mesh, SkinnedMesh, Sphere, Vector2, Vector3 } from 'three';
+import { Matrix4, Mesh, SkinnedMesh, Sphere, Vector2, Vector3 } from 'three';
 
+import { backToFront, finCenters } from './finorder.js';
 import { aliasFurAttributes, finGeometry, furAttributes, shellGeometry, skinCurvature } from './geometry.js';
 import { finMaterial, strandMaterial, surfaceMaterial } from './materials.js';
 import { keptIndices, ribbonGeometry } from './strands.js';
@@ -15,16 +17,22 @@ import { lodShells, pixelsPerUnit } from './stack.js';
 const _size = new Vector2();
 const _sphere = new Sphere();
 const _eye = new Vector3();
+const _toLocal = new Matrix4();
+
+// The fins are re-sorted when the eye, in their own space, has moved this share of its
+// distance to the fur (or turned this many radians, seen by an orthographic camera).
+const FIN_RESORT = 1e-3;
 
 export class PeltFur {
 
 	/**
 	 * `skin`: the skin primitive's Mesh or SkinnedMesh; `ext`: its extension object; `textures`:
 	 * loadFurTextures' result; `light`: lightingValues' result; `prt`: whether PRT lights it;
-	 * `layerMeans`: the hair's mean transfer texture under PRT; `guardHairs`: the three.js lines of
-	 * the extension's guard-hair primitive, when it has one; `options`: the plugin's.
+	 * `layerMeans`: the hair's mean transfer texture under PRT; `finTangents`: the hair
+	 * directions' second moment under Kajiya–Kay (tangents.js); `guardHairs`: the three.js lines
+	 * of the extension's guard-hair primitive, when it has one; `options`: the plugin's.
 	 */
-	constructor( { skin, ext, textures, light, prt, layerMeans = null, guardHairs = null, options = {} } ) {
+	constructor( { skin, ext, textures, light, prt, layerMeans = null, finTangents = null, guardHairs = null, options = {} } ) {
 
 		const stack = ext.stack;
 		this.skin = skin;
@@ -73,8 +81,11 @@ export class PeltFur {
 		const finsGeometry = options.fins === false ? null : finGeometry( skin.geometry, attributes, stack, curvature );
 		if ( finsGeometry ) {
 
-			const material = finMaterial( { ...common, finOpacity: options.finOpacity ?? 1 } );
+			const material = finMaterial( { ...common, finOpacity: options.finOpacity ?? 1, finTangents } );
 			this.fins = make( finsGeometry, material, 'fins' );
+			this.finCenters = finCenters( finsGeometry.getAttribute( 'position' ).array, finsGeometry.userData.fins );
+			this.sortedEye = null;
+			this.fins.onBeforeRender = ( renderer, scene, camera ) => this.sortFins( camera );
 
 		}
 
@@ -146,6 +157,34 @@ export class PeltFur {
 		this.drawnShells = drawn;
 		this.shells.geometry.instanceCount = drawn;
 		this.shells.material.uniforms.peltDrawn.value = drawn;
+
+	}
+
+	/**
+	 * Draws the fins farthest from the eye first (finorder.js): re-sorts their triangles when the
+	 * eye, in the fins' space (the rest pose), moved by more than FIN_RESORT of its distance to
+	 * the fur since the last sort.
+	 */
+	sortFins( camera ) {
+
+		// Homogeneous: a position (w = 1) or, orthographic, the unit direction toward the viewer.
+		const w = camera.isOrthographicCamera ? 0 : 1;
+		_toLocal.copy( this.fins.matrixWorld ).invert();
+		const eye = w === 0
+			? new Vector3().setFromMatrixColumn( camera.matrixWorld, 2 ).transformDirection( _toLocal )
+			: new Vector3().setFromMatrixPosition( camera.matrixWorld ).applyMatrix4( _toLocal );
+		const last = this.sortedEye;
+		if ( last && last.w === w ) {
+
+			const reach = w === 0 ? 1 : eye.distanceTo( this.restSphere.center ) + this.restSphere.radius;
+			if ( last.eye.distanceTo( eye ) <= FIN_RESORT * reach ) return;
+
+		}
+
+		const index = this.fins.geometry.index;
+		backToFront( this.finCenters, [ eye.x, eye.y, eye.z, w ], index.array );
+		index.needsUpdate = true;
+		this.sortedEye = { eye, w };
 
 	}
 

@@ -116,8 +116,11 @@ export function surfaceMaterial( { stack, textures, light, prt, layerMeans, skin
 
 }
 
-/** The fins' material; `layerMeans` is the PRT's mean transfer texture. */
-export function finMaterial( { stack, textures, light, prt, finOpacity, layerMeans } ) {
+/**
+ * The fins' material; `layerMeans` is the PRT's mean transfer texture, `finTangents` (Kajiya–Kay)
+ * the hair directions' packed second moment (tangents.js).
+ */
+export function finMaterial( { stack, textures, light, prt, finOpacity, layerMeans, finTangents } ) {
 
 	const order = prt ? stack.transfer.order : 0;
 	const uniforms = {
@@ -126,6 +129,13 @@ export function finMaterial( { stack, textures, light, prt, finOpacity, layerMea
 		peltFinOpacity: { value: finOpacity },
 	};
 	if ( prt ) Object.assign( uniforms, prtUniforms( stack, light, textures, layerMeans ) );
+	else {
+
+		// Without the moment (zeros), the fins are lit along the growth direction.
+		const m = finTangents ?? new Array( 8 ).fill( 0 );
+		uniforms.peltFinTangents = { value: [ new Vector4( ...m.slice( 0, 4 ) ), new Vector4( ...m.slice( 4, 8 ) ) ] };
+
+	}
 
 	return new ShaderMaterial( {
 		name: 'PELT_shell_fur fins',

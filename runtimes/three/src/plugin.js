@@ -20,6 +20,7 @@ import { PeltFur } from './fur.js';
 import { lightingValues, resolveLighting, usesPrt } from './lighting.js';
 import { imageBytes } from './pixels.js';
 import { layerMeans } from './sh.js';
+import { tangentMoments } from './tangents.js';
 import { loadFurTextures } from './textures.js';
 
 /**
@@ -45,6 +46,14 @@ function layerMeansTexture( textures, stack ) {
 	texture.magFilter = NearestFilter;
 	texture.needsUpdate = true;
 	return texture;
+
+}
+
+/** The hair directions' second moment for the fins' Kajiya–Kay lighting (tangents.js). */
+function finTangentMoments( textures, stack ) {
+
+	const [ tangents, shells ] = imageBytes( [ textures.tangentsAtlas.image, textures.shellsAtlas.image ] );
+	return tangentMoments( tangents, shells, stack );
 
 }
 
@@ -93,6 +102,7 @@ export class PeltShellFurPlugin {
 			const prt = usesPrt( lighting, ext.stack );
 			const light = lightingValues( lighting, prt ? ext.stack.transfer.order : 0 );
 			const means = prt ? layerMeansTexture( textures, ext.stack ) : null;
+			const finTangents = prt || this.options.fins === false ? null : finTangentMoments( textures, ext.stack );
 			for ( const skin of skins ) {
 
 				for ( const f of ext.fallback ) {
@@ -118,7 +128,7 @@ export class PeltShellFurPlugin {
 
 				}
 
-				const fur = new PeltFur( { skin, ext, textures, light, prt, layerMeans: means, guardHairs: lines, options: this.options } );
+				const fur = new PeltFur( { skin, ext, textures, light, prt, layerMeans: means, finTangents, guardHairs: lines, options: this.options } );
 				this.furs.push( fur );
 				this.options.onFur?.( fur );
 

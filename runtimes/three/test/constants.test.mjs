@@ -1,5 +1,6 @@
-// The lighting constants the GLSL chunks restate from the preview's WGSL (GLSL cannot import
-// WGSL): a change on one side that the other misses fails here, not as a picture that drifts.
+// The lighting and density constants the GLSL chunks restate from the preview's WGSL (GLSL
+// cannot import WGSL): a change on one side that the other misses fails here, not as a picture
+// that drifts.
 
 import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
@@ -17,6 +18,7 @@ const RESTATED = [
 	[ 'prt.js', 'PELT_PRT_TERMINATOR_WRAP', 'prt_rotate.wgsl', 'TERMINATOR_WRAP' ],
 	[ 'prt.js', 'PELT_HOT_SPOT_FLOOR', 'hot_spot.wgsl', 'HOT_SPOT_FLOOR' ],
 	[ 'fins.js', 'PELT_FIN_ANISOTROPY', 'common.wgsl', 'FIN_ANISOTROPY' ],
+	[ 'common.js', 'PELT_MIN_SPREAD', 'common.wgsl', 'MIN_SPREAD' ],
 ];
 
 // The one value `pattern` captures in `file` under `dir`; fails when it is missing or repeated.

@@ -1,8 +1,8 @@
 // GLSL of the fins (Lengyel et al. 2001, §2.3): crates/pelt-render/src/fins.wgsl (`vs_main`: the quad on its
 // edge along each end's growth direction, the fade max(0, 2|p| − 1) with p = fin normal · view at
 // the edge's midpoint), common.wgsl (`fin_texel`), fin_kk.wgsl (lit at the corners, Kajiya–Kay
-// with the hair along the growth direction) and fin_prt.wgsl (the hair's mean transfer at the
-// row's height).
+// of the hair spread about the growth direction as the tangent atlas's directions are,
+// src/tangents.js) and fin_prt.wgsl (the hair's mean transfer at the row's height).
 // A corner carries its own end (position, normal, JOINTS_0 / WEIGHTS_0 as skinIndex /
 // skinWeight) and the other end's position, normal and skin, and skins both, so that all four
 // corners find the same fin plane. Defines: PELT_PRT.
@@ -34,6 +34,37 @@ attribute vec3 peltDpdv;
 attribute float peltCurvature;
 
 uniform float peltFinOpacity;
+
+#ifndef PELT_PRT
+// fin_kk.wgsl frame.fin_tangents: E[d dᵀ] of the hair's directions in the tile frame, packed
+// (xx, yy, zz, xy), (xz, yz, 0, 0) (src/tangents.js); zero without hair.
+uniform vec4 peltFinTangents[ 2 ];
+
+// fin_kk.wgsl moment_of(): aᵀ M a for the packed symmetric M.
+float peltMomentOf( vec3 a, vec4 m0, vec4 m1 ) {
+	return m0.x * a.x * a.x + m0.y * a.y * a.y + m0.z * a.z * a.z
+		+ 2.0 * ( m0.w * a.x * a.y + m1.x * a.x * a.z + m1.y * a.y * a.z );
+}
+
+// fin_kk.wgsl spread_squares(): the mean of (d·a)² over the hair's unit directions d carried from
+// the tile frame by the columns du, dv, up, for a = the light and the half vector; the growth
+// direction t's own squares where there is no hair to take them from.
+vec2 peltSpreadSquares( vec3 du, vec3 dv, vec3 up, vec3 t, vec3 halfway ) {
+	vec4 m0 = peltFinTangents[ 0 ];
+	vec4 m1 = peltFinTangents[ 1 ];
+	vec3 light = peltLightDirection;
+	float norm = m0.x * dot( du, du ) + m0.y * dot( dv, dv ) + m0.z * dot( up, up )
+		+ 2.0 * ( m0.w * dot( du, dv ) + m1.x * dot( du, up ) + m1.y * dot( dv, up ) );
+	if ( ! ( norm > 1e-20 ) ) {
+		float u = dot( t, light );
+		float v = dot( t, halfway );
+		return vec2( u * u, v * v );
+	}
+	vec3 l = vec3( dot( du, light ), dot( dv, light ), dot( up, light ) );
+	vec3 h = vec3( dot( du, halfway ), dot( dv, halfway ), dot( up, halfway ) );
+	return vec2( peltMomentOf( l, m0, m1 ), peltMomentOf( h, m0, m1 ) ) / norm;
+}
+#endif
 
 // fin_kk.wgsl FinOut in straight alpha: color × the lighting's scale and u; the highlight's
 // multiple of the light color, v, the opacity and the hair's density (fins.wgsl fin_density).
@@ -107,11 +138,15 @@ void main() {
 	peltTileLighting( wn0, toWorld * dpdu, toWorld * dpdv,
 		peltTerminatorWrap( peltCurvature, peltFurDepth ) );
 #else
-	// fin_kk.wgsl fin_vertex(): the hair runs along the growth direction; lit at the corner.
+	// fin_kk.wgsl fin_vertex(): the hair stands about the growth direction, spread as the
+	// tangent atlas's directions are; lit at the corner.
 	vec3 t = peltUnitOr( toWorld * g, n );
+	vec3 view = peltViewVector( world.xyz );
+	vec3 up = toWorld * ( peltFurDepth * max( peltFin.z, 0.0 ) * g );
+	vec2 squares = peltSpreadSquares( toWorld * dpdu, toWorld * dpdv, up, t, peltHalfVector( n, view ) );
 	// fins.wgsl vs_main: the terminator band at the edge, from how its normals turn.
 	float wrap = peltTerminatorWrap( peltEdgeCurvature( p0, n0, p1, n1 ), peltFurDepth * peltFin.z );
-	vec4 k = peltHairTerms( t, n, peltViewVector( world.xyz ), 1.0 - peltFin.y, peltFin.z, wrap );
+	vec4 k = peltSpreadHairTerms( squares, n, view, 1.0 - peltFin.y, peltFin.z, wrap );
 	vScaleU = vec4( peltColor.rgb * k.rgb, peltFin.x );
 	vShineVOpacityDensity = vec4( k.w, peltFin.y, opacity, density );
 #endif

@@ -61,16 +61,19 @@ vec3 peltAmbientAt( vec3 normal ) {
 	return max( a, vec3( 0.0 ) );
 }
 
-// lighting.wgsl hair_parts(), as its HairParts: ambient, direct (rgb) and the highlight's
-// multiple of the light color (shine).
-void peltHairParts( vec3 tangent, vec3 normal, vec3 view, float wrap, out vec3 ambient, out vec3 direct, out float shine ) {
+// lighting.wgsl half_vector(): between the light and view (normal where they cancel).
+vec3 peltHalfVector( vec3 normal, vec3 view ) {
+	return peltUnitOr( peltLightDirection + view, normal );
+}
+
+// lighting.wgsl spread_hair_parts(), as its HairParts: ambient, direct (rgb) and the highlight's
+// multiple of the light color (shine), for hair whose squared cosines to the light and to the
+// half vector are squares ((T·L)², (T·H)²) on average.
+void peltSpreadHairParts( vec2 squares, vec3 normal, vec3 view, float wrap, out vec3 ambient, out vec3 direct, out float shine ) {
 	vec3 l = peltLightDirection;
-	vec3 h = peltUnitOr( l + view, normal );
-	float u = dot( tangent, l );
-	float v = dot( tangent, h );
 	// The floor keeps pow's base positive.
-	float diffuse = pow( max( 1.0 - u * u, 1e-8 ), 0.5 * peltKajiyaKay.z );
-	float specular = pow( max( 1.0 - v * v, 1e-8 ), 0.5 * peltKajiyaKay.w );
+	float diffuse = pow( max( 1.0 - squares.x, 1e-8 ), 0.5 * peltKajiyaKay.z );
+	float specular = pow( max( 1.0 - squares.y, 1e-8 ), 0.5 * peltKajiyaKay.w );
 	// The body's shadow, wrapped over the terminator, fading at the hot spot.
 	float body = clamp( ( dot( normal, l ) + wrap ) / ( 1.0 + wrap ), 0.0, 1.0 );
 	float lit = mix( body, 1.0, peltSharedPath( l, view ) );
@@ -79,16 +82,24 @@ void peltHairParts( vec3 tangent, vec3 normal, vec3 view, float wrap, out vec3 a
 	shine = lit * ( peltKajiyaKay.y * specular );
 }
 
-// lighting.wgsl hair_terms(): the lighting's scale (rgb, multiplies the albedo) and shine (w,
-// times the light color) at height (share of the fur depth) of hair of painted length hairLength.
-vec4 peltHairTerms( vec3 tangent, vec3 normal, vec3 view, float height, float hairLength, float wrap ) {
+// lighting.wgsl parts_terms() of spread_hair_parts(): peltHairTerms of spread hair.
+vec4 peltSpreadHairTerms( vec2 squares, vec3 normal, vec3 view, float height, float hairLength, float wrap ) {
 	vec3 ambient;
 	vec3 direct;
 	float shine;
-	peltHairParts( tangent, normal, view, wrap, ambient, direct, shine );
+	peltSpreadHairParts( squares, normal, view, wrap, ambient, direct, shine );
 	vec2 b = peltBanksStrengths( normal, peltLightDirection, view, hairLength );
 	float darkened = peltBanksAt( b.y, height );
 	return vec4( ambient * peltBanksAt( b.x, height ) + direct * darkened, shine * darkened );
+}
+
+// lighting.wgsl hair_terms() (hair_parts: one tangent's squared cosines): the lighting's scale
+// (rgb, multiplies the albedo) and shine (w, times the light color) at height (share of the fur
+// depth) of hair of painted length hairLength.
+vec4 peltHairTerms( vec3 tangent, vec3 normal, vec3 view, float height, float hairLength, float wrap ) {
+	float u = dot( tangent, peltLightDirection );
+	float v = dot( tangent, peltHalfVector( normal, view ) );
+	return peltSpreadHairTerms( vec2( u * u, v * v ), normal, view, height, hairLength, wrap );
 }
 
 // lighting.wgsl shade() in straight alpha: the lit color of hair of straight albedo (the texel's
