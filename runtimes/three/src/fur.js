@@ -18,6 +18,7 @@ const _size = new Vector2();
 const _sphere = new Sphere();
 const _eye = new Vector3();
 const _toLocal = new Matrix4();
+const _joint = new Matrix4();
 
 // The fins are re-sorted when the eye, in their own space, has moved this share of its
 // distance to the fur (or turned this many radians, seen by an orthographic camera).
@@ -162,14 +163,26 @@ export class PeltFur {
 
 	/**
 	 * Draws the fins farthest from the eye first (finorder.js): re-sorts their triangles when the
-	 * eye, in the fins' space (the rest pose), moved by more than FIN_RESORT of its distance to
-	 * the fur since the last sort.
+	 * eye, in the fins' rest space (following a skin's first joint), moved by more than
+	 * FIN_RESORT of its distance to the fur since the last sort.
 	 */
 	sortFins( camera ) {
 
 		// Homogeneous: a position (w = 1) or, orthographic, the unit direction toward the viewer.
 		const w = camera.isOrthographicCamera ? 0 : 1;
-		_toLocal.copy( this.fins.matrixWorld ).invert();
+		// Into the fins' rest space: a skinned mesh's vertices move with the skeleton's first
+		// joint (the armature in Pelt's exports, whose rest bind also holds the object's
+		// placement), as three.js skins them: bindMatrix⁻¹ · joint · inverse bind · bindMatrix.
+		_toLocal.copy( this.fins.matrixWorld );
+		const skeleton = this.fins.isSkinnedMesh ? this.fins.skeleton : null;
+		if ( skeleton && skeleton.bones.length > 0 ) {
+
+			_joint.multiplyMatrices( skeleton.bones[ 0 ].matrixWorld, skeleton.boneInverses[ 0 ] );
+			_toLocal.multiply( this.fins.bindMatrixInverse ).multiply( _joint ).multiply( this.fins.bindMatrix );
+
+		}
+
+		_toLocal.invert();
 		const eye = w === 0
 			? new Vector3().setFromMatrixColumn( camera.matrixWorld, 2 ).transformDirection( _toLocal )
 			: new Vector3().setFromMatrixPosition( camera.matrixWorld ).applyMatrix4( _toLocal );
