@@ -19,6 +19,7 @@ const _sphere = new Sphere();
 const _eye = new Vector3();
 const _toLocal = new Matrix4();
 const _joint = new Matrix4();
+const _finEye = new Vector3();
 
 // The fins are re-sorted when the eye, in their own space, has moved this share of its
 // distance to the fur (or turned this many radians, seen by an orthographic camera).
@@ -183,9 +184,10 @@ export class PeltFur {
 		}
 
 		_toLocal.invert();
+		// A scratch vector: this runs every frame, and most frames stop at the test below.
 		const eye = w === 0
-			? new Vector3().setFromMatrixColumn( camera.matrixWorld, 2 ).transformDirection( _toLocal )
-			: new Vector3().setFromMatrixPosition( camera.matrixWorld ).applyMatrix4( _toLocal );
+			? _finEye.setFromMatrixColumn( camera.matrixWorld, 2 ).transformDirection( _toLocal )
+			: _finEye.setFromMatrixPosition( camera.matrixWorld ).applyMatrix4( _toLocal );
 		const last = this.sortedEye;
 		if ( last && last.w === w ) {
 
@@ -197,7 +199,7 @@ export class PeltFur {
 		const index = this.fins.geometry.index;
 		backToFront( this.finCenters, [ eye.x, eye.y, eye.z, w ], index.array );
 		index.needsUpdate = true;
-		this.sortedEye = { eye, w };
+		this.sortedEye = { eye: eye.clone(), w };
 
 	}
 
