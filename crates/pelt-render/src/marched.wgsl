@@ -3,19 +3,21 @@
 // raycast-fur-virtual-planes §3, through Lengyel's horizontal layers instead of vertical planes).
 // Each layer is read where the ray crosses its height, in the tile frame of the hull fragment
 // (the surface taken as flat under it), and composited front to back; the march stops once the
-// pixel is opaque, or where the ray passes the mesh's open border. The geometry is one mesh instead of one per shell, and the layers cost a
-// texture read each instead of a rasterized triangle, which is what a CPU adapter pays for.
-// Lighting is evaluated once per pixel: Kajiya-Kay at the layer where the composite passes half
-// opacity, which has hair where the ray crosses it, with the Banks darkening, linear in height,
-// applied to the composite exactly (the ambient's and the direct light's apart); PRT by the
-// hair's mean transfer at the heights the composite holds (`Shown`).
+// pixel is opaque, or where the ray passes the mesh's open border. The geometry is one mesh
+// instead of one per shell, and the layers cost a texture read each instead of a rasterized
+// triangle, which is what a CPU adapter pays for.
+// Lighting is evaluated once per pixel (once per level during an LOD cross-fade): Kajiya-Kay at
+// the layer where the composite passes half opacity, which has hair where the ray crosses it,
+// with the Banks darkening, linear in height, applied to the composite exactly (the ambient's and
+// the direct light's apart); PRT by the hair's mean transfer at the heights the composite holds
+// (`Shown`).
 // The ray, the composite and its lighting are `march.wgsl`'s.
 
 #import pelt::common::{
     frame, shell_texture, tile_sampler, NO_LAYER, Layers, shell_layers, HEIGHT_NODES,
     hair_density, spread_out,
 }
-#import pelt::surface::Texels
+#import pelt::surface::{Texels, MarchFrame}
 #import pelt::march::{
     OPAQUE, Ray, ray_length, Marched, empty_march, composite, shown, lit, hull_fragment,
 }
@@ -38,6 +40,17 @@ const GROUP_SPREAD: f32 = 1.0;
 const MARCH_GROUPS: bool = false;
 #else
 const MARCH_GROUPS: bool = true;
+#endif
+
+// Whether an LOD cross-fade lights each level's composite apart and mixes the lit colors: under
+// Kajiya-Kay a composite's light reads the hair tangent at the layer it shows, which differs
+// between the two levels, so lighting their mix at one of them stepped as the fade passed half
+// way (the short patch's LOD image by 10% between dolly frames 16% apart). PRT lights a composite
+// by the heights it holds, which mix with it: one lighting serves.
+#ifdef PRT
+const LIGHT_EACH_LEVEL: bool = false;
+#else
+const LIGHT_EACH_LEVEL: bool = true;
 #endif
 
 // The mip level of the shell texture for the whole march: the hull's footprint, rounded to one
@@ -72,7 +85,7 @@ fn vs_main(v: model::SurfaceIn) -> model::SurfaceVarying {
 // lit higher in the fur, 5% bright under PRT with a side light.)
 // `spread`: how the hull's triangle grows with height, which thins each layer's hair
 // (`hair_density`).
-fn march(s: model::SurfaceOut, ray: Ray, spread: vec2<f32>, lod: f32, fade: bool) -> Marched {
+fn march(s: model::SurfaceOut, ray: Ray, spread: vec2<f32>, lod: f32, fade: bool) -> Faded {
     let hull = shell_layers(frame.counts.x - 1u);
     var out = empty_march(hull, s.uv);
     // The coarser level's composite (opaque when no cross-fade runs: it never stops the march).
@@ -108,11 +121,14 @@ fn march(s: model::SurfaceOut, ray: Ray, spread: vec2<f32>, lod: f32, fade: bool
             }
         }
     }
-    if (!fade) {
-        return out;
-    }
-    return mixed(out, coarse, frame.fin.y);
+    return Faded(out, coarse);
 }
+
+// What a march composites: the level drawn's, and during a cross-fade its coarser twin's.
+struct Faded {
+    fine: Marched,
+    coarse: Marched,
+};
 
 // The composites `a` and `b` mixed by `t`; the layer shown is the one of the composite that
 // weighs more.
@@ -139,15 +155,24 @@ fn top_level() -> u32 {
     return k;
 }
 
+// The coarsest level a pixel marches: groups of a quarter of the hair layers. A group is read
+// and lit at its middle height; the two coarsest levels, one or two groups for the whole depth,
+// put that height far from where the ray sees the hair (the short patch's single group 4% bright,
+// its pair 6% dark against the march layer by layer), and as the mip level rose along a dolly
+// the pixels switched to them together: the image without LOD stepped by 8%.
+fn coarsest_march_level() -> u32 {
+    return max(top_level(), 2u) - 2u;
+}
+
 // Layers of LOD level `k <= top_level()` of the volume (`frame.counts.y` layers at level 0): the
 // skin and ⌈(L - 1) / 2^k⌉ groups (`pelt_core::volume::lod`).
 fn level_count(k: u32) -> u32 {
     return 1u + ((frame.counts.y - 1u + (1u << k) - 1u) >> k);
 }
 
-// The coarsest level whose groups the ray crosses within GROUP_SPREAD texels, for a march of the
-// whole stack: head-on a few composited groups stand for 32 layers, toward the limb it steps
-// through every layer.
+// The coarsest level whose groups the ray crosses within GROUP_SPREAD texels, at most
+// `coarsest_march_level`, for a march of the whole stack: head-on four composited groups stand
+// for 32 layers, toward the limb it steps through every layer.
 fn march_level(ray: Ray, lod: f32) -> u32 {
     let per_layer = ray_length(ray, 1.0);
     // A ray that leaves the fur within a layer (at the limb) reads the top layers one by one.
@@ -158,7 +183,7 @@ fn march_level(ray: Ray, lod: f32) -> u32 {
     let spread = length(ray.uv_rate * texels) * per_layer;
     let k = floor(log2(GROUP_SPREAD / spread));
     // Head-on (no spread, k = +inf) the coarsest level; NaN from a degenerate frame, the finest.
-    return u32(clamp(select(k, 0.0, k != k), 0.0, f32(top_level())));
+    return u32(clamp(select(k, 0.0, k != k), 0.0, f32(coarsest_march_level())));
 }
 
 // The march through the whole stack at LOD level `k`: its groups from the top down to group 1
@@ -211,15 +236,29 @@ fn fs_main(v: model::SurfaceVarying) -> @location(0) vec4<f32> {
     let lod = march_lod(grad);
     var m: Marched;
     if (frame.fin.y > 0.0) {
-        m = march(s, ray, f.spread, lod, true);
+        let faded = march(s, ray, f.spread, lod, true);
+        if (LIGHT_EACH_LEVEL) {
+            let color = mix(lit_march(s, f, grad, faded.fine), lit_march(s, f, grad, faded.coarse),
+                            frame.fin.y);
+            if (color.a <= 0.0) {
+                discard;
+            }
+            return color;
+        }
+        m = mixed(faded.fine, faded.coarse, frame.fin.y);
     } else if (frame.counts.z == 0u && frame.counts.x + 1u == frame.counts.y && MARCH_GROUPS) {
         // The whole stack, no frame-wide LOD: each pixel picks its own level.
         m = march_levels(s, ray, f.spread, lod, march_level(ray, lod));
     } else {
-        m = march(s, ray, f.spread, lod, false);
+        m = march(s, ray, f.spread, lod, false).fine;
     }
     if (m.color.a <= 0.0) {
         discard;
     }
+    return lit_march(s, f, grad, m);
+}
+
+// The composite `m` lit where it shows its hair.
+fn lit_march(s: model::SurfaceOut, f: MarchFrame, grad: vec4<f32>, m: Marched) -> vec4<f32> {
     return lit(s, f, m, model::march_light(s, f, m.uv, m.shown, m.alpha, grad, shown(m)));
 }

@@ -539,9 +539,10 @@ fn case(
                 .map(|bins| bins.into_iter().map(|b| b.is_finite().then_some(b)).collect()),
             detail_ratio: errors.detail_ratio,
             detail_noise_share: errors.detail_noise_share,
-            dolly_jump: dolly.map(|d| d.jump),
-            dolly_drift: dolly.map(|d| d.drift),
-            dolly_view_change: dolly.map(|d| d.view_change),
+            dolly_jump: dolly.as_ref().map(|d| d.jump),
+            dolly_drift: dolly.as_ref().map(|d| d.drift),
+            dolly_view_change: dolly.as_ref().map(|d| d.view_change),
+            dolly_steps: dolly.map(|d| d.steps),
             volume_error: None,
             volume_luminance_ratio: None,
         }),
@@ -704,7 +705,7 @@ fn covered_luminance(
 }
 
 /// What LOD does to the covered pixels' mean luminance along a dolly, each figure relative.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 struct Dolly {
     /// The largest frame-to-frame change of the LOD image over the all-shells image: the pop
     /// the LOD adds. The all-shells image itself changes by 2–7% between steps on the canonical
@@ -715,6 +716,8 @@ struct Dolly {
     drift: f64,
     /// The largest frame-to-frame change of the all-shells image.
     view_change: f64,
+    /// Each step's distance over the framed one and both images' mean luminance.
+    steps: Vec<[f64; 3]>,
 }
 
 /// Dollies the camera out from the framed distance to 30 times as far with LOD on, each step
@@ -763,6 +766,7 @@ fn dolly(
             previous = None;
             continue;
         }
+        figures.steps.push([f64::from(scale), all, lod]);
         let ratio = lod / all;
         figures.drift = figures.drift.max((ratio - 1.0).abs());
         if let Some((all_before, ratio_before)) = previous {

@@ -80,6 +80,10 @@ pub struct ImageFigures {
     /// along the dolly (the view's own, which the jump leaves out).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub dolly_view_change: Option<f64>,
+    /// LOD cases: each step of the dolly, `[distance over the framed one, the all-shells
+    /// image's mean luminance, the LOD image's]` (where the figures above come from).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dolly_steps: Option<Vec<[f64; 3]>>,
     /// Preview cases: the relative MSE against the reference's volume mode (the volume against
     /// the shells, where the `error` is the strands against the shells).
     #[serde(skip_serializing_if = "Option::is_none")]
