@@ -164,14 +164,12 @@ fn march_frame(s: SurfaceOut) -> MarchFrame {
 // The hair lighting at the marched layer `layers` read at `uv`, before Banks darkening (at the
 // top of the fur it is none), which the march applies layer by layer (`march_banks`); the
 // body's shadow is read at the composite's mean height (`heights.mean`), the hair direction at
-// the layer of its lit height (`heights.lit`: an LOD group's middle, rounded down, where the
-// instanced shells read it too; at the group's top, the tips, the marched LOD of the short
-// patch was 10% bright). Read between the two middle layers, the per-pixel groups' highlights
-// smoothed over and ꟻLIP rose by 0.005 on the short-furred cells; one read serves.
+// its lit layer's (`heights.lit`: an LOD group's middle, as the instanced shells read it; at the
+// group's top, the tips, the marched LOD of the short patch was 10% bright).
 fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alpha: f32,
                grad: vec4<f32>, heights: Shown) -> HairLight {
     let n = unit_or(f.normal, vec3<f32>(0.0, 0.0, 1.0));
-    let t = hair_tangent(uv, u32(heights.lit), f.dpdu, f.dpdv, f.up, n);
+    let t = tangent_between(uv, heights.lit, f.dpdu, f.dpdv, f.up, n);
     let wrap = terminator_wrap(curvature_of_steps(f.steps), frame.fur.x * s.length);
     // Shadowed where the composite stands: its mean height, below the hull.
     let below = f.up * (f32(s.height) * frame.fur.y - heights.mean);
