@@ -199,9 +199,6 @@ struct Shown {
     mean: f32,
     // Its premultiplied color split among the HEIGHT_NODES heights (PRT only; zero otherwise).
     nodes: array<vec3<f32>, HEIGHT_NODES>,
-    // The level-0 height, in layers, of the hair its lit layer holds (an LOD group's middle):
-    // where Kajiya-Kay reads the hair direction.
-    lit: f32,
 };
 
 // Lighting at one point, affine in the (premultiplied) texel: lit = albedo × scale + alpha × add.

@@ -122,8 +122,6 @@ struct Marched {
     uv: vec2<f32>,
     // The shown layer's own texel opacity (level drawn).
     alpha: f32,
-    // The mean level-0 height, in layers, of the hair the shown layer holds (`Shown::lit`).
-    lit: f32,
 };
 
 // A march that has composited nothing yet, its lit layer `shown` read at `uv`.
@@ -132,7 +130,6 @@ fn empty_march(shown: Layers, uv: vec2<f32>) -> Marched {
     m.shown = shown;
     m.uv = uv;
     m.alpha = 1.0;
-    m.lit = f32(shown.height);
     return m;
 }
 
@@ -158,7 +155,6 @@ fn composite(out: Marched, texel: vec4<f32>, layers: Layers, uv: vec2<f32>, alph
         next.shown = layers;
         next.uv = uv;
         next.alpha = alpha;
-        next.lit = heights.x;
     }
     let share = (1.0 - out.color.a) * texel;
     next.color += share;
@@ -180,7 +176,7 @@ fn composite(out: Marched, texel: vec4<f32>, layers: Layers, uv: vec2<f32>, alph
 // What `m` holds, for its light: the mean height of its layers, weighed by what it shows of
 // each, and its color by height.
 fn shown(m: Marched) -> Shown {
-    return Shown(m.raised.a / max(m.color.a, 1e-6), m.nodes, m.lit);
+    return Shown(m.raised.a / max(m.color.a, 1e-6), m.nodes);
 }
 
 // The composite `m` lit by `k`: the Banks darkening, linear in height, applied to the composite

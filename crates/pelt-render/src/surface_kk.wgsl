@@ -163,13 +163,11 @@ fn march_frame(s: SurfaceOut) -> MarchFrame {
 
 // The hair lighting at the marched layer `layers` read at `uv`, before Banks darkening (at the
 // top of the fur it is none), which the march applies layer by layer (`march_banks`); the
-// body's shadow is read at the composite's mean height (`heights.mean`), the hair direction at
-// its lit layer's (`heights.lit`: an LOD group's middle, as the instanced shells read it; at the
-// group's top, the tips, the marched LOD of the short patch was 10% bright).
+// body's shadow is read at the composite's mean height (`heights.mean`).
 fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alpha: f32,
                grad: vec4<f32>, heights: Shown) -> HairLight {
     let n = unit_or(f.normal, vec3<f32>(0.0, 0.0, 1.0));
-    let t = tangent_between(uv, heights.lit, f.dpdu, f.dpdv, f.up, n);
+    let t = hair_tangent(uv, layers.height, f.dpdu, f.dpdv, f.up, n);
     let wrap = terminator_wrap(curvature_of_steps(f.steps), frame.fur.x * s.length);
     // Shadowed where the composite stands: its mean height, below the hull.
     let below = f.up * (f32(s.height) * frame.fur.y - heights.mean);
@@ -178,12 +176,10 @@ fn march_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, alph
 }
 
 // The virtual planes' lighting: the marched layer's, at the height where their composite passes
-// half opacity (`planes.wgsl`), its hair direction read at that layer.
+// half opacity (`planes.wgsl`).
 fn plane_light(s: SurfaceOut, f: MarchFrame, uv: vec2<f32>, layers: Layers, grad: vec4<f32>,
                heights: Shown) -> HairLight {
-    var at = heights;
-    at.lit = f32(layers.height);
-    return march_light(s, f, uv, layers, 1.0, grad, at);
+    return march_light(s, f, uv, layers, 1.0, grad, heights);
 }
 
 // The heights the march composites a layer of `layers` at (`march.wgsl` `composite`), that of the
