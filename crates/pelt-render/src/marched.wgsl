@@ -130,8 +130,8 @@ struct Faded {
     coarse: Marched,
 };
 
-// The composites `a` and `b` mixed by `t`; the layer shown is the one of the composite that
-// weighs more.
+// The composites `a` and `b` mixed by `t`, to be lit once (PRT, `LIGHT_EACH_LEVEL`); the layer
+// shown is the one of the composite that weighs more.
 fn mixed(a: Marched, b: Marched, t: f32) -> Marched {
     var m = a;
     if (t > 0.5) {
