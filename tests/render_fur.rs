@@ -579,22 +579,19 @@ impl LitView {
         }
     }
 
-    fn render(&self, camera: &Camera, settings: &RenderSettings) -> Vec<[f32; 4]> {
-        let image = fixture()
+    /// The linear RGBA channels, pixel after pixel.
+    fn render(&self, camera: &Camera, settings: &RenderSettings) -> Vec<f32> {
+        fixture()
             .renderer
             .render_linear(&self.scene, camera, &self.lighting, settings)
-            .unwrap();
-        image
+            .unwrap()
             .pixels
-            .chunks_exact(4)
-            .map(|p| [p[0], p[1], p[2], p[3]])
-            .collect()
     }
 
     fn mean(&self, camera: &Camera, settings: &RenderSettings) -> f64 {
         let (lum, alpha) = self
             .render(camera, settings)
-            .iter()
+            .chunks_exact(4)
             .fold((0.0, 0.0), |(l, a), p| {
                 let lum = 0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2]);
                 (l + f64::from(p[3]) * lum, a + f64::from(p[3]))
@@ -635,7 +632,7 @@ fn a_marched_lod_cross_fade_passes_its_middle_without_a_step() {
         let worst = a
             .iter()
             .zip(&b)
-            .flat_map(|(x, y)| (0..4).map(move |c| (x[c] - y[c]).abs()))
+            .map(|(x, y)| (x - y).abs())
             .fold(0.0f32, f32::max);
         // The blend moves by 3e-5: the images differ by 4e-5 at most (by 0.02 when one of the
         // two composites' layers was lit).
