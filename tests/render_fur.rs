@@ -519,7 +519,7 @@ fn a_coarse_lod_level_keeps_the_all_shells_brightness_its_fins_included() {
     // with all that hair, where the full stack thins out toward the tips, and hid more of the
     // fins drawn over it: 2% darker than all shells here at two shells, 3% on the benchmark's
     // long-furred sphere. It stands where its coverage seen edge on matches the layers' it holds.
-    // (Levels from the default `min_shells`, 2, on; one shell is all the fur in one.)
+    // (Levels of 2 shells and more; one shell is all the fur in one.)
     // Seen from the side, so that much of the image is silhouette, lit from the eye.
     let view = LitView::torus();
     let camera = view.camera(2 * SIZE);

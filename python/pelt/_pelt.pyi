@@ -598,7 +598,7 @@ class Preview:
         linear: bool = False,
         texture: bool = False,
         background: tuple[float, float, float, float] = ...,
-        min_shells: int = 2,
+        min_shells: int = 4,
         max_shells: int = 64,
         shells_per_pixel: float = 1.0,
         shell_method: Literal["instanced", "marched", "planes", "auto"] = "instanced",

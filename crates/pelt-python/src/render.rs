@@ -266,7 +266,7 @@ impl PyPreview {
     #[pyo3(signature = (
         view_matrix, projection_matrix, width, height, *, lighting=None, shells=None, fins=true,
         body_shadow=true, lod=false, linear=false, texture=false,
-        background=(0.0, 0.0, 0.0, 0.0), min_shells=2, max_shells=64, shells_per_pixel=1.0,
+        background=(0.0, 0.0, 0.0, 0.0), min_shells=4, max_shells=64, shells_per_pixel=1.0,
         shell_method="instanced", mesh_error=1.0, guard_hairs=true, strand_order="stochastic",
         strand_bands=4, strand_pixels=1.0, plane_loop_limit=16, occluders=None, occluder_bias=None
     ))]

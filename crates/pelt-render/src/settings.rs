@@ -103,7 +103,10 @@ pub struct RenderSettings {
     /// gaps.
     pub shells_per_pixel: f32,
     /// LOD: fewest shells, however small the object (0 allows the skin alone, which then shows
-    /// the whole fur composited into it).
+    /// the whole fur composited into it). By default 4, the add-on's too: a group of a quarter
+    /// of the layers or fewer is lit at its middle as its layers would be, while the pair and
+    /// the single group of the two coarsest levels stray (the benchmark's short-furred patch 5%
+    /// dark from 2.4× its framed distance out with 2; 1.5% with 4).
     pub min_shells: u32,
     /// LOD: most shells, `≥ min_shells` (the volume's `layers − 1` caps it).
     pub max_shells: u32,
@@ -161,7 +164,7 @@ impl Default for RenderSettings {
             shell_count: None,
             lod: false,
             shells_per_pixel: 1.0,
-            min_shells: 2,
+            min_shells: 4,
             max_shells: 64,
             shell_method: ShellMethod::Instanced,
             mesh_error: 1.0,
