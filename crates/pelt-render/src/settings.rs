@@ -106,7 +106,7 @@ pub struct RenderSettings {
     /// the whole fur composited into it). By default 4, the add-on's too: a group of a quarter
     /// of the layers or fewer is lit at its middle as its layers would be, while the pair and
     /// the single group of the two coarsest levels stray (the benchmark's short-furred patch 5%
-    /// dark from 2.4× its framed distance out with 2; 1.5% with 4).
+    /// dark from 2.4× its framed distance out with 2; within 1.6% with 4).
     pub min_shells: u32,
     /// LOD: most shells, `≥ min_shells` (the volume's `layers − 1` caps it).
     pub max_shells: u32,
