@@ -386,26 +386,32 @@ fn lod_levels_keep_the_skin_and_halve_the_hair_down_to_one_layer() {
     assert_eq!(Levels::new(16).counts, [16, 9, 5, 3, 2, 1]);
 }
 
-#[test]
-fn the_default_lod_draws_groups_of_a_quarter_of_the_layers_at_most() {
-    // The two coarsest levels hold the hair in one or two groups, each lit at one height far
-    // from where the eye sees most of its hair: from 2.4× its framed distance out the
-    // benchmark's short-furred patch was 5% darker with them than with all shells. However
-    // small the object, the default stops at four groups.
-    use super::lod::{Extent, Levels, choose};
-    let levels = Levels::new(65); // 64, 32, 16, 8, 4, 2, 1, 0 shells
-    let extent = Extent {
+/// The LOD schedule's test view: a unit bounding sphere (painted length 1) at the origin, seen
+/// orthographically over [-2, 2]² on 200² pixels: 50 pixels per unit.
+fn unit_sphere_at_50_pixels_per_unit() -> (super::lod::Extent, Camera) {
+    let extent = super::lod::Extent {
         center: glam::DVec3::ZERO,
         radius: 1.0,
         max_length: 1.0,
     };
-    // Orthographic over [-2, 2]² on 200² pixels: 50 pixels per unit.
     let camera = Camera {
         view: look_at([0.0, 0.0, 3.0], [0.0; 3], [0.0, 1.0, 0.0]),
         projection: orthographic(2.0, 0.5, 5.5),
         width: 200,
         height: 200,
     };
+    (extent, camera)
+}
+
+#[test]
+fn the_default_lod_draws_groups_of_a_quarter_of_the_layers_at_most() {
+    // The two coarsest levels hold the hair in one or two groups, each lit at one height far
+    // from where the eye sees most of its hair: from 2.4× its framed distance out the
+    // benchmark's short-furred patch was 5% darker with them than with all shells. However
+    // small the object, the default stops at four groups.
+    use super::lod::{Levels, choose};
+    let levels = Levels::new(65); // 64, 32, 16, 8, 4, 2, 1, 0 shells
+    let (extent, camera) = unit_sphere_at_50_pixels_per_unit();
     let lod = RenderSettings {
         lod: true,
         ..RenderSettings::default()
@@ -423,20 +429,10 @@ fn the_default_lod_draws_groups_of_a_quarter_of_the_layers_at_most() {
 
 #[test]
 fn lod_follows_the_projected_fur_depth_between_the_levels() {
-    use super::lod::{Extent, Levels, choose};
+    use super::lod::{Levels, choose};
     let levels = Levels::new(17); // 16, 8, 4, 2, 1, 0 shells
-    let extent = Extent {
-        center: glam::DVec3::ZERO,
-        radius: 1.0,
-        max_length: 1.0,
-    };
-    // Orthographic over [-2, 2]² on 200² pixels: 50 pixels per unit, fur 0.1 deep = 5 pixels.
-    let camera = Camera {
-        view: look_at([0.0, 0.0, 3.0], [0.0; 3], [0.0, 1.0, 0.0]),
-        projection: orthographic(2.0, 0.5, 5.5),
-        width: 200,
-        height: 200,
-    };
+    // 50 pixels per unit: fur 0.1 deep = 5 pixels.
+    let (extent, camera) = unit_sphere_at_50_pixels_per_unit();
     let settings = RenderSettings {
         lod: true,
         min_shells: 1,
